@@ -1,0 +1,97 @@
+//! The interface between the executor and the world: behavior sets and observers.
+
+use crate::node::{Leaf, NodeId};
+use crate::status::{NodeStatus, Status};
+
+/// What a behavior is told when it is ticked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Context {
+    /// The leaf's node id: lets a behavior set keep per-node state.
+    pub node: NodeId,
+    /// The caller's clock, as given to [`Executor::tick`](crate::Executor::tick).
+    pub now: u32,
+    /// For actions, true on the first tick of an activation (the action was not Running);
+    /// false while it continues. Always true for conditions.
+    pub starting: bool,
+}
+
+/// The conditions and actions a tree's leaves run, implemented by the caller over its
+/// world. Behavior ids and arities are declared by a [`Catalog`](crate::Catalog).
+pub trait BehaviorSet {
+    /// Evaluates a condition. Must return Success or Failure: Running is a usage error
+    /// that the tick reports as [`TickError::ConditionRunning`].
+    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status;
+
+    /// Starts or continues an action.
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status;
+
+    /// Stops a Running action that the tree no longer wants. Called exactly once per
+    /// preemption, before any other action starts in its place.
+    fn halt(&mut self, leaf: &Leaf, node: NodeId);
+}
+
+impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
+    #[inline(always)]
+    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        (**self).condition(leaf, ctx)
+    }
+
+    #[inline(always)]
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        (**self).action(leaf, ctx)
+    }
+
+    #[inline(always)]
+    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
+        (**self).halt(leaf, node);
+    }
+}
+
+/// Receives every change of a node's status, in the order they happen: how traces, logs
+/// and visualizations are made. `()` is the observer that does nothing and costs nothing.
+pub trait Observer {
+    /// False for observers that ignore everything; the executor then skips the
+    /// comparison and the call at compile time.
+    const ENABLED: bool = true;
+
+    /// Node `node` went from `old` to `new`.
+    fn on_change(&mut self, node: NodeId, old: NodeStatus, new: NodeStatus);
+}
+
+impl Observer for () {
+    const ENABLED: bool = false;
+
+    #[inline(always)]
+    fn on_change(&mut self, _: NodeId, _: NodeStatus, _: NodeStatus) {}
+}
+
+impl<O: Observer + ?Sized> Observer for &mut O {
+    const ENABLED: bool = O::ENABLED;
+
+    #[inline(always)]
+    fn on_change(&mut self, node: NodeId, old: NodeStatus, new: NodeStatus) {
+        (**self).on_change(node, old, new);
+    }
+}
+
+/// Why a tick stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TickError {
+    /// A condition returned Running (rule 1): a bug in the behavior set.
+    #[error("condition node {node} (behavior {behavior}) returned Running; conditions return Success or Failure")]
+    ConditionRunning {
+        /// The condition's node id.
+        node: NodeId,
+        /// Its behavior id.
+        behavior: u16,
+    },
+    /// An index left the node array. Cannot happen with a tree made by
+    /// [`Tree::validate`](crate::Tree::validate) or [`load`](crate::load); reported
+    /// instead of panicking.
+    #[error("internal error: node index {node} out of range")]
+    OutOfRange {
+        /// The index.
+        node: usize,
+    },
+}

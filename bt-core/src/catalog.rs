@@ -1,0 +1,174 @@
+//! What a behavior set declares about its behaviors: names, kinds and arities, and the
+//! 64-bit fingerprint that lets host and controller agree on them without sharing code.
+
+use crate::node::{BehaviorId, LeafKind};
+
+/// The declaration of one behavior.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BehaviorInfo<'a> {
+    /// Human-readable name, e.g. `MoveTo` or `picked 0?`.
+    pub name: &'a str,
+    /// Condition or action.
+    pub kind: LeafKind,
+    /// Number of grounded arguments a leaf of this behavior carries.
+    pub arity: u8,
+}
+
+impl<'a> BehaviorInfo<'a> {
+    /// A condition with `arity` arguments.
+    #[must_use]
+    pub const fn condition(name: &'a str, arity: u8) -> Self {
+        Self { name, kind: LeafKind::Condition, arity }
+    }
+
+    /// An action with `arity` arguments.
+    #[must_use]
+    pub const fn action(name: &'a str, arity: u8) -> Self {
+        Self { name, kind: LeafKind::Action, arity }
+    }
+}
+
+/// The behaviors a tree may use, indexed by [`BehaviorId`].
+///
+/// Implemented for slices of [`BehaviorInfo`]; the host implements it over its own
+/// name tables.
+pub trait Catalog {
+    /// Number of behaviors; ids run from 0 to `len() - 1`.
+    fn len(&self) -> usize;
+
+    /// True when there are no behaviors.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The declaration of behavior `id`.
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>>;
+
+    /// The fingerprint of this set: see [`fingerprint`].
+    fn fingerprint(&self) -> u64 {
+        let mut h = Fnv1a::new().u64(self.len() as u64);
+        let mut id: BehaviorId = 0;
+        while usize::from(id) < self.len() {
+            if let Some(info) = self.info(id) {
+                h = h.behavior(&info);
+            }
+            id = match id.checked_add(1) {
+                Some(n) => n,
+                None => break,
+            };
+        }
+        h.finish()
+    }
+
+    /// Writes argument `value` at `position` of a leaf of `behavior`, for the renderer.
+    /// Prints the number by default; the host overrides it to print object names.
+    ///
+    /// # Errors
+    /// Whatever the formatter returns.
+    fn write_arg(
+        &self,
+        f: &mut core::fmt::Formatter<'_>,
+        behavior: BehaviorId,
+        position: usize,
+        value: u16,
+    ) -> core::fmt::Result {
+        let _ = (behavior, position);
+        write!(f, "{value}")
+    }
+}
+
+impl Catalog for [BehaviorInfo<'_>] {
+    fn len(&self) -> usize {
+        <[BehaviorInfo<'_>]>::len(self)
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.get(usize::from(id)).copied()
+    }
+
+    fn fingerprint(&self) -> u64 {
+        fingerprint(self)
+    }
+}
+
+impl<const N: usize> Catalog for [BehaviorInfo<'_>; N] {
+    fn len(&self) -> usize {
+        N
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.get(usize::from(id)).copied()
+    }
+
+    fn fingerprint(&self) -> u64 {
+        fingerprint(self)
+    }
+}
+
+/// The stable 64-bit fingerprint of a behavior set.
+///
+/// FNV-1a (64-bit) over: the number of behaviors as a little-endian `u64`, then for each
+/// behavior in id order its kind (`0` condition, `1` action), its arity, its name's
+/// length in bytes as a little-endian `u64`, and the name's UTF-8 bytes. Anyone can
+/// compute it from the names alone; a `const fn`, so firmware can bake it in.
+///
+/// ```
+/// use bt_core::{fingerprint, BehaviorInfo};
+/// const SET: [BehaviorInfo<'static>; 2] =
+///     [BehaviorInfo::condition("at goal?", 0), BehaviorInfo::action("MoveTo", 1)];
+/// const FP: u64 = fingerprint(&SET);
+/// assert_ne!(FP, fingerprint(&[BehaviorInfo::condition("at goal?", 0)]));
+/// ```
+#[must_use]
+pub const fn fingerprint(behaviors: &[BehaviorInfo<'_>]) -> u64 {
+    let mut h = Fnv1a::new().u64(behaviors.len() as u64);
+    let mut rest = behaviors;
+    while let Some((first, tail)) = rest.split_first() {
+        h = h.behavior(first);
+        rest = tail;
+    }
+    h.finish()
+}
+
+/// FNV-1a, 64 bit: tiny, `const`, and fixed by its published constants. Written here
+/// because hashing crates' `Hasher`s are neither `const` nor promised stable.
+#[derive(Clone, Copy)]
+struct Fnv1a(u64);
+
+impl Fnv1a {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+
+    const fn new() -> Self {
+        Self(Self::OFFSET)
+    }
+
+    const fn byte(self, b: u8) -> Self {
+        Self((self.0 ^ b as u64).wrapping_mul(Self::PRIME))
+    }
+
+    const fn bytes(mut self, bytes: &[u8]) -> Self {
+        let mut rest = bytes;
+        while let Some((&first, tail)) = rest.split_first() {
+            self = self.byte(first);
+            rest = tail;
+        }
+        self
+    }
+
+    const fn u64(self, v: u64) -> Self {
+        self.bytes(&v.to_le_bytes())
+    }
+
+    const fn behavior(self, info: &BehaviorInfo<'_>) -> Self {
+        let kind = match info.kind {
+            LeafKind::Condition => 0,
+            LeafKind::Action => 1,
+        };
+        self.byte(kind).byte(info.arity).u64(info.name.len() as u64).bytes(info.name.as_bytes())
+    }
+
+    const fn finish(self) -> u64 {
+        self.0
+    }
+}

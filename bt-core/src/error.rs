@@ -1,0 +1,266 @@
+//! Errors: one variant per fault, each naming what and where.
+
+use crate::node::{Arity, BehaviorId, LeafError, LeafKind, NodeId};
+
+/// Why an image (or a node array) was refused. One variant per fault.
+///
+/// [`load`](crate::load) checks, in this order: the envelope's length, magic, version
+/// and CRC, the behavior-set fingerprint, the node count, the decoding of each node, the
+/// trailing bytes, then the tree's structure and leaves ([`Tree::validate`](crate::Tree::validate)
+/// returns only the structural variants).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LoadError {
+    /// The image is shorter than its envelope, or its node payload ends inside a node.
+    #[error("image truncated: {len} bytes, {}", match .inside_node {
+        Some(n) => TruncatedAt::Node(*n),
+        None => TruncatedAt::Envelope,
+    })]
+    Truncated {
+        /// Length of the image in bytes.
+        len: usize,
+        /// The node being decoded when the payload ran out, if any.
+        inside_node: Option<NodeId>,
+    },
+    /// The image does not start with [`MAGIC`](crate::image::MAGIC).
+    #[error("not a behavior-tree image: starts with {found:02x?}, expected {:02x?} (\"BTIM\")", crate::image::MAGIC)]
+    BadMagic {
+        /// The first four bytes.
+        found: [u8; 4],
+    },
+    /// The image has a format version this build cannot read.
+    #[error("image format version {found} is not supported (this build reads version {supported})")]
+    UnsupportedVersion {
+        /// Version in the image.
+        found: u16,
+        /// The version this build reads.
+        supported: u16,
+    },
+    /// The CRC-32 at the end does not match the bytes before it.
+    #[error("image corrupted: stored CRC-32 {stored:#010x}, computed {computed:#010x}")]
+    CrcMismatch {
+        /// CRC stored in the image.
+        stored: u32,
+        /// CRC computed over the image.
+        computed: u32,
+    },
+    /// The image was built for a different behavior set.
+    #[error(
+        "image built for behavior set {image:#018x}, this controller has {expected:#018x}"
+    )]
+    ForeignBehaviorSet {
+        /// Fingerprint in the image.
+        image: u64,
+        /// Fingerprint of the behavior set given to the loader.
+        expected: u64,
+    },
+    /// More nodes than the storage (or the `u16` node ids) can hold.
+    #[error("tree has {count} nodes, capacity is {capacity}")]
+    TooManyNodes {
+        /// Nodes in the image or array.
+        count: usize,
+        /// Nodes that fit.
+        capacity: usize,
+    },
+    /// A node's bytes do not decode: an unknown kind tag, a bad varint, too many arguments.
+    #[error("node {node} is malformed (bytes from offset {offset} do not decode as a node)")]
+    MalformedNode {
+        /// Index of the node.
+        node: NodeId,
+        /// Byte offset of the node in the image.
+        offset: usize,
+    },
+    /// Bytes left between the last node and the CRC.
+    #[error("{count} unexpected bytes after the last node")]
+    TrailingBytes {
+        /// How many.
+        count: usize,
+    },
+    /// A tree needs at least one node.
+    #[error("the tree has no nodes")]
+    EmptyTree,
+    /// A subtree size that does not fit its parent or the array.
+    #[error("node {node} claims a subtree of {size} nodes, which does not fit inside its parent")]
+    SubtreeSizeInconsistent {
+        /// Index of the node.
+        node: NodeId,
+        /// Its stored subtree size.
+        size: u16,
+    },
+    /// A node with a number of children its kind does not allow.
+    #[error("node {node} is a {kind} with {children} children, {}", match .expected {
+        Arity::Leaf => "a leaf has none",
+        Arity::One => "a decorator has exactly one",
+        Arity::AtLeastOne => "a control node needs at least one",
+    })]
+    WrongArity {
+        /// Index of the node.
+        node: NodeId,
+        /// Its kind's name.
+        kind: &'static str,
+        /// How many children it has.
+        children: u16,
+        /// How many its kind takes.
+        expected: Arity,
+    },
+    /// The tree is deeper than the executor's stack allows.
+    #[error("node {node} is deeper than the limit of {limit} levels")]
+    DepthOverLimit {
+        /// First node found beyond the limit.
+        node: NodeId,
+        /// The depth limit (root at depth 1).
+        limit: usize,
+    },
+    /// A leaf names a behavior the behavior set does not have.
+    #[error("node {node} uses behavior {behavior}, which the behavior set does not have")]
+    UnknownBehavior {
+        /// Index of the node.
+        node: NodeId,
+        /// The behavior id.
+        behavior: BehaviorId,
+    },
+    /// A condition node naming an action, or the other way round.
+    #[error("node {node} uses behavior {behavior} as {}, but it is declared as {}",
+        article(.declared.flip()), article(*.declared))]
+    WrongLeafKind {
+        /// Index of the node.
+        node: NodeId,
+        /// The behavior id.
+        behavior: BehaviorId,
+        /// What the behavior set declares it to be.
+        declared: LeafKind,
+    },
+    /// A leaf's argument count or a decorator's or parallel's parameter is out of range.
+    #[error("node {node}: {fault}")]
+    BadArgument {
+        /// Index of the node.
+        node: NodeId,
+        /// What is wrong.
+        fault: ArgumentFault,
+    },
+}
+
+/// What is wrong with a node's arguments or parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ArgumentFault {
+    /// The leaf's argument count differs from the behavior's declared arity.
+    #[error("behavior {behavior} takes {expected} arguments, the leaf has {found}")]
+    Count {
+        /// The behavior id.
+        behavior: BehaviorId,
+        /// Declared arity.
+        expected: u8,
+        /// Arguments in the leaf.
+        found: u8,
+    },
+    /// An argument is `u16::MAX`, which is reserved.
+    #[error("argument {position} is 65535, a reserved value")]
+    Reserved {
+        /// Position of the argument.
+        position: u8,
+    },
+    /// `Repeat`, `Retry` or `Timeout` with a count of zero.
+    #[error("{kind}(0): the count must be at least 1")]
+    ZeroCount {
+        /// The decorator's name.
+        kind: &'static str,
+    },
+    /// A parallel threshold of zero or above the number of children.
+    #[error("parallel {which} threshold {threshold} is outside 1..={children}")]
+    Threshold {
+        /// `success` or `failure`.
+        which: &'static str,
+        /// The threshold.
+        threshold: u16,
+        /// Number of children.
+        children: u16,
+    },
+}
+
+/// Why the [`Builder`](crate::Builder) refused an operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BuildError {
+    /// The caller's node storage is full.
+    #[error("node storage is full ({capacity} nodes)")]
+    Full {
+        /// Capacity of the storage.
+        capacity: usize,
+    },
+    /// More open nodes than the builder's depth.
+    #[error("tree deeper than the builder's limit of {limit} levels")]
+    TooDeep {
+        /// The builder's depth limit.
+        limit: usize,
+    },
+    /// `end` without an open control node or decorator.
+    #[error("end() without an open node")]
+    NothingOpen,
+    /// `finish` while nodes are still open.
+    #[error("{open} nodes are still open; close each with end()")]
+    Unclosed {
+        /// How many.
+        open: usize,
+    },
+    /// A second root, or `finish` before any node.
+    #[error("a tree has exactly one root node")]
+    NotOneRoot,
+    /// `open` with a leaf kind; use `condition` or `action`.
+    #[error("open() takes a control node or decorator; leaves are added with condition() or action()")]
+    LeafOpened,
+    /// A leaf's arguments are not valid.
+    #[error(transparent)]
+    Leaf(#[from] LeafError),
+}
+
+/// Why an image could not be written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EncodeError {
+    /// The output buffer is too small; [`max_image_len`](crate::image::max_image_len) tells how big.
+    #[error("output buffer of {capacity} bytes is too small for the image")]
+    BufferTooSmall {
+        /// Size of the given buffer.
+        capacity: usize,
+    },
+    /// More nodes than an image can hold (`u16::MAX`).
+    #[error("tree has {count} nodes; an image holds at most 65535")]
+    TooManyNodes {
+        /// Node count.
+        count: usize,
+    },
+}
+
+enum TruncatedAt {
+    Envelope,
+    Node(NodeId),
+}
+
+impl core::fmt::Display for TruncatedAt {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Envelope => write!(
+                f,
+                "shorter than the {} bytes of header and CRC",
+                crate::image::HEADER_LEN + crate::image::CRC_LEN
+            ),
+            Self::Node(n) => write!(f, "the payload ends inside node {n}"),
+        }
+    }
+}
+
+fn article(kind: LeafKind) -> &'static str {
+    match kind {
+        LeafKind::Condition => "a condition",
+        LeafKind::Action => "an action",
+    }
+}
+
+impl LeafKind {
+    const fn flip(self) -> Self {
+        match self {
+            Self::Condition => Self::Action,
+            Self::Action => Self::Condition,
+        }
+    }
+}

@@ -1,0 +1,123 @@
+//! A `core::fmt` renderer: the indented view people know from py_trees, with behavior
+//! names and, optionally, each node's last status. Works on host and target alike.
+//!
+//! ```text
+//! [o] Fallback [*]
+//!     --> cube on goal? [✕]
+//!     {-} Sequence [*]
+//!         --> MoveTo(cube) [*]
+//! ```
+//!
+//! Glyphs: `{-}` sequence, `[o]` fallback, `{*}`/`[*]` their with-memory forms, `/_/`
+//! parallel, `-^-` decorator, `-->` leaf. Marks: `[✓]` success, `[✕]` failure, `[*]`
+//! running; Idle nodes have none.
+
+use core::fmt;
+
+use crate::catalog::Catalog;
+use crate::exec::NodeState;
+use crate::node::{Leaf, NodeKind};
+use crate::status::NodeStatus;
+use crate::tree::Tree;
+
+/// Displays a tree; made by [`Tree::display`].
+#[derive(Debug)]
+pub struct Render<'t, 'c, 's, const DEPTH: usize, C: ?Sized> {
+    tree: Tree<'t, DEPTH>,
+    catalog: &'c C,
+    states: Option<&'s [NodeState]>,
+}
+
+impl<'t, const DEPTH: usize> Tree<'t, DEPTH> {
+    /// A [`Display`](fmt::Display) of this tree with names from `catalog`.
+    #[must_use]
+    pub fn display<'c, C: Catalog + ?Sized>(&self, catalog: &'c C) -> Render<'t, 'c, 'static, DEPTH, C> {
+        Render { tree: *self, catalog, states: None }
+    }
+}
+
+impl<'t, 'c, const DEPTH: usize, C: Catalog + ?Sized> Render<'t, 'c, '_, DEPTH, C> {
+    /// Also shows each node's status from `states` (e.g. [`Executor::states`](crate::Executor::states)).
+    #[must_use]
+    pub fn with_states<'s>(self, states: &'s [NodeState]) -> Render<'t, 'c, 's, DEPTH, C> {
+        Render { tree: self.tree, catalog: self.catalog, states: Some(states) }
+    }
+}
+
+impl<const DEPTH: usize, C: Catalog + ?Sized> fmt::Display for Render<'_, '_, '_, DEPTH, C> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut ends: heapless::Vec<usize, DEPTH> = heapless::Vec::new();
+        for (i, node) in self.tree.nodes().iter().enumerate() {
+            while ends.last().is_some_and(|&e| e <= i) {
+                ends.pop();
+            }
+            for _ in 0..ends.len() {
+                f.write_str("    ")?;
+            }
+            write_label(f, self.catalog, node.kind())?;
+            let status = self.states.and_then(|s| s.get(i)).map_or(NodeStatus::Idle, NodeState::status);
+            f.write_str(match status {
+                NodeStatus::Idle => "",
+                NodeStatus::Success => " [✓]",
+                NodeStatus::Failure => " [✕]",
+                NodeStatus::Running => " [*]",
+            })?;
+            f.write_str("\n")?;
+            if node.kind().arity() != crate::node::Arity::Leaf {
+                // Validated depth <= DEPTH, so this cannot overflow; if it did, the
+                // indentation would merely flatten.
+                let _ = ends.push(i + usize::from(node.size()));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Writes one node's label (glyph, name, parameters or arguments) without a newline.
+///
+/// # Errors
+/// Whatever the formatter returns.
+pub fn write_label<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C, kind: &NodeKind) -> fmt::Result {
+    match *kind {
+        NodeKind::Sequence => f.write_str("{-} Sequence"),
+        NodeKind::Fallback => f.write_str("[o] Fallback"),
+        NodeKind::SequenceWithMemory => f.write_str("{*} SequenceWithMemory"),
+        NodeKind::FallbackWithMemory => f.write_str("[*] FallbackWithMemory"),
+        NodeKind::Parallel { success_threshold, failure_threshold } => {
+            write!(f, "/_/ Parallel(success {success_threshold}, failure {failure_threshold})")
+        }
+        NodeKind::Inverter => f.write_str("-^- Inverter"),
+        NodeKind::ForceSuccess => f.write_str("-^- ForceSuccess"),
+        NodeKind::ForceFailure => f.write_str("-^- ForceFailure"),
+        NodeKind::Repeat(n) => write!(f, "-^- Repeat({n})"),
+        NodeKind::Retry(n) => write!(f, "-^- Retry({n})"),
+        NodeKind::Timeout(n) => write!(f, "-^- Timeout({n} ticks)"),
+        NodeKind::Condition(ref leaf) | NodeKind::Action(ref leaf) => {
+            f.write_str("--> ")?;
+            write_leaf(f, catalog, leaf)
+        }
+    }
+}
+
+/// Writes a leaf as `name` or `name(arg, ...)`, with names from `catalog`.
+///
+/// # Errors
+/// Whatever the formatter returns.
+pub fn write_leaf<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C, leaf: &Leaf) -> fmt::Result {
+    match catalog.info(leaf.behavior()) {
+        Some(info) => f.write_str(info.name)?,
+        None => write!(f, "#{}", leaf.behavior())?,
+    }
+    let args = leaf.args();
+    if !args.is_empty() {
+        f.write_str("(")?;
+        for (pos, &a) in args.iter().enumerate() {
+            if pos > 0 {
+                f.write_str(", ")?;
+            }
+            catalog.write_arg(f, leaf.behavior(), pos, a)?;
+        }
+        f.write_str(")")?;
+    }
+    Ok(())
+}

@@ -1,0 +1,215 @@
+//! The validated tree: the only thing the executor accepts.
+
+use crate::catalog::Catalog;
+use crate::error::{ArgumentFault, LoadError};
+use crate::node::{Arity, Node, NodeId, NodeKind};
+
+/// A node array that passed validation against a behavior set, with a depth of at most
+/// `DEPTH` levels (the root is level 1).
+///
+/// Made only by [`Tree::validate`] or [`load`](crate::load). Whatever it holds, the
+/// executor cannot panic or index out of bounds on it: subtree sizes nest, every kind
+/// has the children it needs, parameters are in range, every leaf names a behavior of
+/// the set with the declared kind and arity, and the depth fits the executor's stack.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tree<'a, const DEPTH: usize> {
+    nodes: &'a [Node],
+    depth: u16,
+}
+
+#[derive(Clone, Copy)]
+struct Open {
+    node: NodeId,
+    end: usize,
+    children: u16,
+}
+
+impl<'a, const DEPTH: usize> Tree<'a, DEPTH> {
+    /// Checks `nodes` against `catalog` and the depth limit. One pass, no recursion.
+    ///
+    /// # Errors
+    /// The first fault found, as a structural [`LoadError`] naming the node.
+    pub fn validate<C: Catalog + ?Sized>(nodes: &'a [Node], catalog: &C) -> Result<Self, LoadError> {
+        let Some(root) = nodes.first() else {
+            return Err(LoadError::EmptyTree);
+        };
+        if nodes.len() > usize::from(u16::MAX) {
+            return Err(LoadError::TooManyNodes { count: nodes.len(), capacity: usize::from(u16::MAX) });
+        }
+        if usize::from(root.size()) != nodes.len() {
+            return Err(LoadError::SubtreeSizeInconsistent { node: 0, size: root.size() });
+        }
+        let mut open: heapless::Vec<Open, DEPTH> = heapless::Vec::new();
+        let mut depth = 0usize;
+        for (i, node) in nodes.iter().enumerate() {
+            let id = i as NodeId; // nodes.len() <= u16::MAX, checked above
+            while let Some(top) = open.last().copied() {
+                if top.end > i {
+                    break;
+                }
+                open.pop();
+                check_children(nodes, top)?;
+            }
+            let end = i + usize::from(node.size());
+            if node.size() == 0 {
+                return Err(LoadError::SubtreeSizeInconsistent { node: id, size: 0 });
+            }
+            if let Some(parent) = open.last_mut() {
+                if end > parent.end {
+                    return Err(LoadError::SubtreeSizeInconsistent { node: id, size: node.size() });
+                }
+                parent.children = parent.children.saturating_add(1);
+            }
+            if open.push(Open { node: id, end, children: 0 }).is_err() {
+                return Err(LoadError::DepthOverLimit { node: id, limit: DEPTH });
+            }
+            depth = depth.max(open.len());
+            check_node(id, node, catalog)?;
+        }
+        while let Some(top) = open.pop() {
+            check_children(nodes, top)?;
+        }
+        Ok(Self { nodes, depth: depth as u16 })
+    }
+
+    /// The nodes, in pre-order.
+    #[inline(always)]
+    #[must_use]
+    pub fn nodes(&self) -> &'a [Node] {
+        self.nodes
+    }
+
+    /// Number of nodes (at least one).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Always false: a valid tree has a root.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Levels from the root to the deepest leaf, both included.
+    #[must_use]
+    pub fn depth(&self) -> usize {
+        usize::from(self.depth)
+    }
+
+    /// Node `id`.
+    #[must_use]
+    pub fn node(&self, id: NodeId) -> Option<&'a Node> {
+        self.nodes.get(usize::from(id))
+    }
+
+    /// The children of node `id`, in order.
+    #[must_use]
+    pub fn children(&self, id: NodeId) -> Children<'a> {
+        children(self.nodes, id)
+    }
+
+    /// The parent of node `id` (`None` for the root). Walks the array; for tools, not
+    /// for the tick path.
+    #[must_use]
+    pub fn parent(&self, id: NodeId) -> Option<NodeId> {
+        let target = usize::from(id);
+        let mut best = None;
+        for (i, n) in self.nodes.iter().enumerate().take(target) {
+            if i + usize::from(n.size()) > target {
+                best = Some(i as NodeId);
+            }
+        }
+        best
+    }
+}
+
+/// The children of a node in a pre-order array.
+#[derive(Clone, Debug)]
+pub struct Children<'a> {
+    nodes: &'a [Node],
+    next: usize,
+    end: usize,
+}
+
+impl Iterator for Children<'_> {
+    type Item = NodeId;
+
+    fn next(&mut self) -> Option<NodeId> {
+        if self.next >= self.end {
+            return None;
+        }
+        let id = self.next;
+        let size = self.nodes.get(id)?.size();
+        self.next = id + usize::from(size).max(1);
+        Some(id as NodeId)
+    }
+}
+
+/// The children of node `id` of `nodes`, by subtree sizes (an empty iterator past the end).
+#[must_use]
+pub fn children(nodes: &[Node], id: NodeId) -> Children<'_> {
+    let i = usize::from(id);
+    let end = nodes.get(i).map_or(i, |n| (i + usize::from(n.size())).min(nodes.len()));
+    Children { nodes, next: i + 1, end }
+}
+
+fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, catalog: &C) -> Result<(), LoadError> {
+    let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
+    match node.kind() {
+        NodeKind::Repeat(0) => zero("Repeat"),
+        NodeKind::Retry(0) => zero("Retry"),
+        NodeKind::Timeout(0) => zero("Timeout"),
+        NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+            let used = if matches!(node.kind(), NodeKind::Condition(_)) {
+                crate::LeafKind::Condition
+            } else {
+                crate::LeafKind::Action
+            };
+            let behavior = leaf.behavior();
+            let Some(info) = catalog.info(behavior) else {
+                return Err(LoadError::UnknownBehavior { node: id, behavior });
+            };
+            if info.kind != used {
+                return Err(LoadError::WrongLeafKind { node: id, behavior, declared: info.kind });
+            }
+            let found = leaf.argc() as u8;
+            if found != info.arity {
+                return Err(LoadError::BadArgument {
+                    node: id,
+                    fault: ArgumentFault::Count { behavior, expected: info.arity, found },
+                });
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
+    let Some(node) = nodes.get(usize::from(open.node)) else {
+        return Err(LoadError::SubtreeSizeInconsistent { node: open.node, size: 0 });
+    };
+    let kind = node.kind();
+    let children = open.children;
+    let expected = kind.arity();
+    let ok = match expected {
+        Arity::Leaf => children == 0,
+        Arity::One => children == 1,
+        Arity::AtLeastOne => children >= 1,
+    };
+    if !ok {
+        return Err(LoadError::WrongArity { node: open.node, kind: kind.name(), children, expected });
+    }
+    if let NodeKind::Parallel { success_threshold, failure_threshold } = *kind {
+        for (which, threshold) in [("success", success_threshold), ("failure", failure_threshold)] {
+            if threshold == 0 || threshold > children {
+                return Err(LoadError::BadArgument {
+                    node: open.node,
+                    fault: ArgumentFault::Threshold { which, threshold, children },
+                });
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,129 @@
+//! Test fixtures shared by the per-family tests: a scripted behavior set that counts
+//! ticks and halts per behavior and logs every call in order.
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use bt_core::{BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeStatus, Observer, Status};
+
+/// Behaviors `0..16` are conditions `C0?`..`C15?`, `16..32` actions `A0!`..`A15!`.
+pub const N: u16 = 16;
+
+pub fn cond(i: u16) -> u16 {
+    i
+}
+
+pub fn act(i: u16) -> u16 {
+    N + i
+}
+
+pub fn catalog() -> Vec<BehaviorInfo<'static>> {
+    let mut v = Vec::new();
+    for i in 0..N {
+        v.push(BehaviorInfo::condition(Box::leak(format!("C{i}?").into_boxed_str()), 0));
+    }
+    for i in 0..N {
+        v.push(BehaviorInfo::action(Box::leak(format!("A{i}!").into_boxed_str()), 0));
+    }
+    v
+}
+
+/// One call the executor made, in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Call {
+    /// A condition or action was ticked (`starting` for actions not Running before).
+    Tick { behavior: u16, starting: bool },
+    /// An action was halted.
+    Halt { behavior: u16 },
+}
+
+/// Every behavior returns what `results[id]` says; counts and logs every call.
+#[derive(Debug)]
+pub struct Scripted {
+    pub results: Vec<Status>,
+    pub ticks: Vec<u32>,
+    pub halts: Vec<u32>,
+    pub log: Vec<Call>,
+}
+
+impl Scripted {
+    pub fn new() -> Self {
+        let n = usize::from(2 * N);
+        let mut results = vec![Status::Failure; n];
+        for r in results.iter_mut().skip(usize::from(N)) {
+            *r = Status::Running;
+        }
+        Self { results, ticks: vec![0; n], halts: vec![0; n], log: Vec::new() }
+    }
+
+    pub fn set(&mut self, behavior: u16, s: Status) -> &mut Self {
+        self.results[usize::from(behavior)] = s;
+        self
+    }
+
+    pub fn ticks(&self, behavior: u16) -> u32 {
+        self.ticks[usize::from(behavior)]
+    }
+
+    pub fn halts(&self, behavior: u16) -> u32 {
+        self.halts[usize::from(behavior)]
+    }
+
+    /// Forgets counts and log (results stay).
+    pub fn clear(&mut self) {
+        self.ticks.fill(0);
+        self.halts.fill(0);
+        self.log.clear();
+    }
+
+    fn run(&mut self, leaf: &Leaf, starting: bool) -> Status {
+        let b = leaf.behavior();
+        self.ticks[usize::from(b)] += 1;
+        self.log.push(Call::Tick { behavior: b, starting });
+        self.results[usize::from(b)]
+    }
+}
+
+impl BehaviorSet for Scripted {
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        self.run(leaf, true)
+    }
+
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        self.run(leaf, ctx.starting)
+    }
+
+    fn halt(&mut self, leaf: &Leaf, _: NodeId) {
+        let b = leaf.behavior();
+        self.halts[usize::from(b)] += 1;
+        self.log.push(Call::Halt { behavior: b });
+    }
+}
+
+/// Records every status change.
+#[derive(Debug, Default)]
+pub struct Changes(pub Vec<(NodeId, NodeStatus, NodeStatus)>);
+
+impl Observer for Changes {
+    fn on_change(&mut self, node: NodeId, old: NodeStatus, new: NodeStatus) {
+        self.0.push((node, old, new));
+    }
+}
+
+/// Builds a tree with `f` into a leaked 256-node buffer and returns the nodes.
+pub fn build(f: impl FnOnce(&mut Builder<'_, 32>) -> Result<(), bt_core::BuildError>) -> &'static [Node] {
+    let storage: &'static mut [Node] = Box::leak(vec![Node::EMPTY; 256].into_boxed_slice());
+    let mut b = Builder::<32>::new(storage);
+    f(&mut b).expect("tree builds");
+    b.finish().expect("tree finishes")
+}
+
+/// Declares `$exec`, an executor over `$nodes` checked against the test catalog.
+#[macro_export]
+macro_rules! executor {
+    ($exec:ident, $nodes:expr) => {
+        let catalog = $crate::common::catalog();
+        let tree = bt_core::Tree::<32>::validate($nodes, catalog.as_slice()).expect("valid tree");
+        let mut state = vec![bt_core::NodeState::IDLE; tree.len()];
+        #[allow(unused_mut)]
+        let mut $exec = bt_core::Executor::new(tree, &mut state).expect("state fits");
+    };
+}
