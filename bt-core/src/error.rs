@@ -88,7 +88,7 @@ pub enum LoadError {
         size: u16,
     },
     /// A node with a number of children its kind does not allow.
-    #[error("node {node} is a {kind} with {children} children, {}", match .expected {
+    #[error("node {node} ({kind}) has {children} children; {}", match .expected {
         Arity::Leaf => "a leaf has none",
         Arity::One => "a decorator has exactly one",
         Arity::AtLeastOne => "a control node needs at least one",
