@@ -64,21 +64,87 @@ pub struct StateTooSmall {
     pub given: usize,
 }
 
+/// What a frame's node is: all the ascent needs to know without reading the node.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(u8)]
+enum FrameKind {
+    // The ordered kinds come first: see `is_ordered` and `goes_on_after`.
+    #[default]
+    Sequence = 0,
+    Fallback = 1,
+    SequenceWithMemory = 2,
+    FallbackWithMemory = 3,
+    Parallel,
+    Inverter,
+    ForceSuccess,
+    ForceFailure,
+    Repeat,
+    Retry,
+    Timeout,
+}
+
+impl FrameKind {
+    /// The frame kind of an ordered node kind (Sequence or Fallback, either flavour).
+    #[inline(always)]
+    fn ordered(kind: &NodeKind) -> Self {
+        match kind {
+            NodeKind::Fallback => Self::Fallback,
+            NodeKind::SequenceWithMemory => Self::SequenceWithMemory,
+            NodeKind::FallbackWithMemory => Self::FallbackWithMemory,
+            _ => Self::Sequence,
+        }
+    }
+
+    /// For an ordered kind: with memory.
+    #[inline(always)]
+    fn has_memory(self) -> bool {
+        (self as u8) & 2 != 0
+    }
+
+    /// Sequence or Fallback, with or without memory.
+    #[inline(always)]
+    fn is_ordered(self) -> bool {
+        (self as u8) < 4
+    }
+
+    /// For an ordered kind: the status after which it ticks the next child.
+    #[inline(always)]
+    fn goes_on_after(self) -> Status {
+        if (self as u8) & 1 == 0 { Status::Success } else { Status::Failure }
+    }
+}
+
+/// One level of the path from the root to the node being ticked. 8 bytes, so the
+/// innermost frame lives in a register.
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(8))]
 struct Frame {
     /// The control node or decorator.
     node: u16,
     /// One past its last descendant.
     end: u16,
-    /// Sequence/Fallback: the child returned at last time (0: none). Decorators: the
-    /// count so far. Parallel: successes.
+    /// Sequence/Fallback (either flavour): the child it returned at when last ticked
+    /// (0: none). Repeat/Retry/Timeout: the count so far. Parallel: unused.
     a: u16,
-    /// Parallel: failures.
-    b: u16,
-    /// Parallel: number of children.
-    c: u16,
+    kind: FrameKind,
     /// The node was Running when the tick reached it (not a new activation).
     running: bool,
+}
+
+/// What a Parallel or a counting decorator needs beyond its [`Frame`], kept at the
+/// same depth in a side stack so that frames stay small.
+#[derive(Clone, Copy, Debug, Default)]
+struct Extra {
+    /// Parallel: children that succeeded. Repeat/Retry/Timeout: `n`.
+    ok: u16,
+    /// Parallel: children that failed.
+    failed: u16,
+    /// Parallel: number of children.
+    children: u16,
+    /// Parallel: success threshold.
+    success: u16,
+    /// Parallel: failure threshold.
+    failure: u16,
 }
 
 /// Ticks one validated tree against a behavior set.
@@ -89,8 +155,14 @@ struct Frame {
 pub struct Executor<'t, 's, const DEPTH: usize> {
     tree: Tree<'t, DEPTH>,
     state: &'s mut [NodeState],
+    stack: Stack<DEPTH>,
+}
+
+#[derive(Debug)]
+struct Stack<const DEPTH: usize> {
     frames: [Frame; DEPTH],
-    halt_stack: [u16; DEPTH],
+    extra: [Extra; DEPTH],
+    halt: [u16; DEPTH],
 }
 
 impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
@@ -104,7 +176,8 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             return Err(StateTooSmall { needed: tree.len(), given: state.len() });
         }
         state.fill(NodeState::IDLE);
-        Ok(Self { tree, state, frames: [Frame::default(); DEPTH], halt_stack: [0; DEPTH] })
+        let stack = Stack { frames: [Frame::default(); DEPTH], extra: [Extra::default(); DEPTH], halt: [0; DEPTH] };
+        Ok(Self { tree, state, stack })
     }
 
     /// The tree being ticked.
@@ -145,14 +218,15 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         now: u32,
         observer: &mut O,
     ) -> Result<Status, TickError> {
-        let mut run = Run {
-            nodes: self.tree.nodes(),
-            state: self.state,
-            halt_stack: &mut self.halt_stack,
-            behaviors,
-            observer,
+        let Stack { frames, extra, halt } = &mut self.stack;
+        let nodes = self.tree.nodes();
+        // Exactly one state per node: lets the compiler drop the state bounds checks.
+        let state = match self.state.get_mut(..nodes.len()) {
+            Some(s) => s,
+            None => return Err(oob(nodes.len())),
         };
-        let result = run.tick(&mut self.frames, now);
+        let mut run = Run { nodes, state, halt_stack: halt, behaviors, observer };
+        let result = run.tick(frames, extra, now);
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
             run.reset(0, Scan::All);
@@ -170,7 +244,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         let mut run = Run {
             nodes: self.tree.nodes(),
             state: self.state,
-            halt_stack: &mut self.halt_stack,
+            halt_stack: &mut self.stack.halt,
             behaviors,
             observer,
         };
@@ -235,214 +309,285 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         Ok(i + usize::from(self.node(i)?.size()))
     }
 
-    /// One tick from the root. Frames `0..sp` are the path from the root to the parent
-    /// of node `idx`.
+    /// One tick from the root.
+    ///
+    /// `frames[..depth]` is the path from the root to the parent of node `c`, the node
+    /// about to be ticked; `extra[d]` belongs to the frame at depth `d` when it is a
+    /// Parallel or a counting decorator.
     #[inline(always)]
-    fn tick(&mut self, frames: &mut [Frame; DEPTH], now: u32) -> Result<Status, TickError> {
-        let mut sp = 0usize;
-        let mut idx = 0usize;
-        'enter: loop {
-            let node = *self.node(idx)?;
-            let st = self.state.get(idx).copied().unwrap_or_default();
-            let running = st.status == NodeStatus::Running;
-            let mut result = match *node.kind() {
+    fn tick(&mut self, frames: &mut [Frame; DEPTH], extra: &mut [Extra; DEPTH], now: u32) -> Result<Status, TickError> {
+        let nodes = self.nodes;
+        let mut depth = 0usize;
+        let mut c = 0usize;
+        'descend: loop {
+            let Some(node) = nodes.get(c) else {
+                return Err(oob(c));
+            };
+            // Tick node `c`: a leaf returns at once; a control node or decorator pushes a
+            // frame and descends into its first child.
+            let (mut r, mut child_end) = match node.kind() {
                 NodeKind::Condition(leaf) => {
-                    let ctx = Context { node: idx as NodeId, now, starting: true };
-                    let r = self.behaviors.condition(&leaf, ctx);
+                    let r = self.behaviors.condition(leaf, Context { node: c as NodeId, now, starting: true });
                     if r == Status::Running {
-                        return Err(TickError::ConditionRunning { node: idx as NodeId, behavior: leaf.behavior() });
+                        return Err(TickError::ConditionRunning { node: c as NodeId, behavior: leaf.behavior() });
                     }
-                    r
+                    (r, c + 1)
                 }
                 NodeKind::Action(leaf) => {
-                    if !running {
-                        self.preempt(frames, sp, idx)?;
+                    let starting = self.status(c) != NodeStatus::Running;
+                    if starting {
+                        self.preempt(frames, depth, c);
                     }
-                    let ctx = Context { node: idx as NodeId, now, starting: !running };
-                    self.behaviors.action(&leaf, ctx)
+                    (self.behaviors.action(leaf, Context { node: c as NodeId, now, starting }), c + 1)
                 }
-                _ => match self.enter(frames, sp, idx, node, st)? {
-                    Entered::Child(first) => {
-                        sp += 1;
-                        idx = first;
-                        continue 'enter;
-                    }
-                    Entered::Decided(r) => r,
-                },
-            };
-
-            // Ascend: deliver `result` of node `idx` to its parent frames.
-            loop {
-                self.set_status(idx, result.into());
-                if sp == 0 {
-                    return Ok(result);
-                }
-                let Some(f) = frames.get(sp - 1).copied() else {
-                    return Err(oob(idx));
-                };
-                let parent = usize::from(f.node);
-                let next = self.end_of(idx)?;
-                let more = next < usize::from(f.end);
-                match *self.node(parent)?.kind() {
-                    NodeKind::Sequence | NodeKind::SequenceWithMemory => {
-                        if result == Status::Success && more {
-                            idx = next;
-                            continue 'enter;
-                        }
-                        self.finish_ordered(&f, idx, next)?;
-                    }
-                    NodeKind::Fallback | NodeKind::FallbackWithMemory => {
-                        if result == Status::Failure && more {
-                            idx = next;
-                            continue 'enter;
-                        }
-                        self.finish_ordered(&f, idx, next)?;
-                    }
-                    kind @ NodeKind::Parallel { .. } => {
-                        let mut f = f;
-                        match result {
-                            Status::Success => f.a = f.a.saturating_add(1),
-                            Status::Failure => f.b = f.b.saturating_add(1),
-                            Status::Running => {}
-                        }
-                        let step = match parallel_verdict(&f, kind) {
-                            Some(v) => ParStep::Done(v, next),
-                            None => self.parallel_step(&mut f, next, kind)?,
+                kind @ (NodeKind::Sequence
+                | NodeKind::Fallback
+                | NodeKind::SequenceWithMemory
+                | NodeKind::FallbackWithMemory) => 'ordered: {
+                    // Ticks the leading leaf children in place: a frame is pushed only
+                    // when a child is itself a control node or decorator.
+                    let st = self.state.get(c).copied().unwrap_or_default();
+                    let running = st.status == NodeStatus::Running;
+                    // The child returned at last time; children after it are Idle.
+                    let last = if st.status == NodeStatus::Idle { 0 } else { usize::from(st.aux) };
+                    let end = c + usize::from(node.size());
+                    let fkind = FrameKind::ordered(kind);
+                    let go_on = fkind.goes_on_after();
+                    // With memory: resume at the child that was Running.
+                    let mut k = if running && fkind.has_memory() { last } else { c + 1 };
+                    loop {
+                        let Some(child) = nodes.get(k) else {
+                            return Err(oob(k));
                         };
-                        if let Some(slot) = frames.get_mut(sp - 1) {
-                            *slot = f;
-                        }
-                        match step {
-                            ParStep::Tick(c) => {
-                                idx = c;
-                                continue 'enter;
-                            }
-                            ParStep::Done(v, reached) => {
-                                if v != Status::Running {
-                                    self.finish_parallel(&f, reached)?;
+                        let r = match child.kind() {
+                            NodeKind::Condition(leaf) => {
+                                let r = self.behaviors.condition(leaf, Context { node: k as NodeId, now, starting: true });
+                                if r == Status::Running {
+                                    return Err(TickError::ConditionRunning { node: k as NodeId, behavior: leaf.behavior() });
                                 }
-                                result = v;
+                                r
                             }
-                        }
-                    }
-                    NodeKind::Inverter => {
-                        result = match result {
-                            Status::Success => Status::Failure,
-                            Status::Failure => Status::Success,
-                            Status::Running => Status::Running,
+                            NodeKind::Action(leaf) => {
+                                let starting = self.status(k) != NodeStatus::Running;
+                                if starting {
+                                    // Rule 4: this node's own old branch first, then the
+                                    // ancestors'.
+                                    if running && last > k {
+                                        self.reset_subtree(last);
+                                    }
+                                    self.preempt(frames, depth, c);
+                                }
+                                self.behaviors.action(leaf, Context { node: k as NodeId, now, starting })
+                            }
+                            _ => {
+                                let Some(slot) = frames.get_mut(depth) else {
+                                    return Err(oob(c));
+                                };
+                                *slot = Frame { node: c as u16, end: end as u16, a: last as u16, kind: fkind, running };
+                                depth += 1;
+                                c = k;
+                                continue 'descend;
+                            }
                         };
-                    }
-                    NodeKind::ForceSuccess => {
-                        if result == Status::Failure {
-                            result = Status::Success;
+                        self.set_status(k, r.into());
+                        if r == go_on && k + 1 < end {
+                            k += 1;
+                            continue;
                         }
-                    }
-                    NodeKind::ForceFailure => {
-                        if result == Status::Success {
-                            result = Status::Failure;
+                        // Returns at child `k`.
+                        if last > k {
+                            self.reset_range(k + 1, last.min(end - 1))?;
                         }
+                        self.set_aux(c, k as u16);
+                        break 'ordered (r, end);
                     }
-                    NodeKind::Repeat(n) => {
-                        if result == Status::Success {
-                            let count = f.a.saturating_add(1);
-                            if count < n {
-                                self.set_aux(parent, count);
-                                result = Status::Running;
-                            }
-                        } else if result == Status::Running {
-                            self.set_aux(parent, f.a);
-                        }
-                    }
-                    NodeKind::Retry(n) => {
-                        if result == Status::Failure {
-                            let count = f.a.saturating_add(1);
-                            if count < n {
-                                self.set_aux(parent, count);
-                                result = Status::Running;
-                            }
-                        } else if result == Status::Running {
-                            self.set_aux(parent, f.a);
-                        }
-                    }
-                    NodeKind::Timeout(n) => {
-                        if result == Status::Running {
-                            let count = f.a.saturating_add(1);
-                            if count >= n {
-                                self.reset_subtree(idx);
-                                result = Status::Failure;
-                            } else {
-                                self.set_aux(parent, count);
-                            }
-                        }
-                    }
-                    NodeKind::Condition(_) | NodeKind::Action(_) => return Err(oob(parent)),
                 }
-                sp -= 1;
-                idx = parent;
+                kind => 'enter: {
+                    let Some(slot) = frames.get_mut(depth) else {
+                        return Err(oob(c));
+                    };
+                    let st = self.state.get(c).copied().unwrap_or_default();
+                    let end = c + usize::from(node.size());
+                    *slot = Frame {
+                        node: c as u16,
+                        end: end as u16,
+                        a: if st.status == NodeStatus::Idle { 0 } else { st.aux },
+                        kind: FrameKind::Sequence,
+                        running: st.status == NodeStatus::Running,
+                    };
+                    let Some(x) = extra.get_mut(depth) else {
+                        return Err(oob(c));
+                    };
+                    let first = match self.enter_other(kind, st, slot, x)? {
+                        Entered::Child(first) => first,
+                        Entered::Decided(v) => break 'enter (v, end),
+                    };
+                    depth += 1;
+                    c = first;
+                    continue 'descend;
+                }
+            };
+            self.set_status(c, r.into());
+
+            // Ascend: node `c` (ending at `child_end`) returned `r` to the frame at
+            // `depth - 1`.
+            while let Some(top) = depth.checked_sub(1) {
+                let Some(f) = frames.get(top) else {
+                    return Err(oob(c));
+                };
+                let more = child_end < usize::from(f.end);
+                if f.kind.is_ordered() {
+                    // Sequence goes on after Success, Fallback after Failure.
+                    if r == f.kind.goes_on_after() && more {
+                        c = child_end;
+                        continue 'descend;
+                    }
+                    let f = *f;
+                    self.finish_ordered(&f, c, child_end)?;
+                } else {
+                    let f = *f;
+                    let Some(x) = extra.get_mut(top) else {
+                        return Err(oob(c));
+                    };
+                    match self.ascend_other(&f, x, c, child_end, r)? {
+                        Ascent::Tick(next) => {
+                            c = next;
+                            continue 'descend;
+                        }
+                        Ascent::Return(v) => r = v,
+                    }
+                }
+                // The frame's node returns `r` to the frame below.
+                c = usize::from(f.node);
+                child_end = usize::from(f.end);
+                depth = top;
+                self.set_status(c, r.into());
             }
+            return Ok(r);
         }
     }
 
-    /// Enters control node or decorator `idx`: pushes its frame at `sp` and says which
-    /// child to tick first, or, for a parallel whose children all finished, its verdict.
-    #[inline(always)]
-    fn enter(
-        &mut self,
-        frames: &mut [Frame; DEPTH],
-        sp: usize,
-        idx: usize,
-        node: Node,
-        st: NodeState,
-    ) -> Result<Entered, TickError> {
-        let running = st.status == NodeStatus::Running;
-        let end = idx + usize::from(node.size());
-        let mut frame = Frame { node: idx as u16, end: end as u16, a: 0, b: 0, c: 0, running };
-        let mut first = idx + 1;
-        match *node.kind() {
-            NodeKind::Sequence | NodeKind::Fallback => {
-                if st.status != NodeStatus::Idle {
-                    frame.a = st.aux;
-                }
-            }
+    /// Enters a node other than a reactive Sequence or Fallback: fills in its frame and
+    /// side entry, and says which child to tick first.
+    #[inline(never)]
+    fn enter_other(&mut self, kind: &NodeKind, st: NodeState, frame: &mut Frame, x: &mut Extra) -> Result<Entered, TickError> {
+        let idx = usize::from(frame.node);
+        let end = usize::from(frame.end);
+        let running = frame.running;
+        match *kind {
             NodeKind::SequenceWithMemory | NodeKind::FallbackWithMemory => {
+                frame.kind = if matches!(kind, NodeKind::SequenceWithMemory) {
+                    FrameKind::SequenceWithMemory
+                } else {
+                    FrameKind::FallbackWithMemory
+                };
                 if st.status != NodeStatus::Idle {
                     frame.a = st.aux;
                 }
-                if running {
-                    first = usize::from(st.aux);
-                }
+                // Resume at the child that was Running.
+                return Ok(Entered::Child(if running { usize::from(st.aux) } else { idx + 1 }));
             }
-            kind @ NodeKind::Parallel { .. } => {
+            NodeKind::Parallel { success_threshold, failure_threshold } => {
+                frame.kind = FrameKind::Parallel;
+                *x = Extra { ok: 0, failed: 0, children: 0, success: success_threshold, failure: failure_threshold };
                 let mut c = idx + 1;
                 while c < end {
-                    frame.c = frame.c.saturating_add(1);
+                    x.children = x.children.saturating_add(1);
                     c = self.end_of(c)?;
                 }
-                match self.parallel_step(&mut frame, idx + 1, kind)? {
-                    ParStep::Tick(c) => first = c,
+                return match self.parallel_step(x, idx + 1, end, running)? {
+                    ParStep::Tick(c) => Ok(Entered::Child(c)),
                     ParStep::Done(v, reached) => {
                         // Children that finished earlier in this activation reach a
                         // threshold on their own; or (impossible: a Running parallel has a
                         // Running child) every child finished without a verdict.
                         let v = if v == Status::Running { Status::Failure } else { v };
-                        self.finish_parallel(&frame, reached)?;
-                        return Ok(Entered::Decided(v));
+                        self.finish_parallel(idx, end, reached)?;
+                        Ok(Entered::Decided(v))
+                    }
+                };
+            }
+            NodeKind::Repeat(n) | NodeKind::Retry(n) | NodeKind::Timeout(n) => {
+                frame.kind = match kind {
+                    NodeKind::Repeat(_) => FrameKind::Repeat,
+                    NodeKind::Retry(_) => FrameKind::Retry,
+                    _ => FrameKind::Timeout,
+                };
+                x.ok = n;
+                frame.a = if running { st.aux } else { 0 };
+            }
+            NodeKind::Inverter => frame.kind = FrameKind::Inverter,
+            NodeKind::ForceSuccess => frame.kind = FrameKind::ForceSuccess,
+            NodeKind::ForceFailure => frame.kind = FrameKind::ForceFailure,
+            NodeKind::Sequence | NodeKind::Fallback | NodeKind::Condition(_) | NodeKind::Action(_) => {
+                return Err(oob(idx));
+            }
+        }
+        Ok(Entered::Child(idx + 1))
+    }
+
+    /// Child `c` (ending at `child_end`) returned `r` to a frame other than a Sequence
+    /// or Fallback: tick another child, or return.
+    #[inline(never)]
+    fn ascend_other(&mut self, top: &Frame, x: &mut Extra, c: usize, child_end: usize, r: Status) -> Result<Ascent, TickError> {
+        let node = usize::from(top.node);
+        Ok(Ascent::Return(match top.kind {
+            FrameKind::Parallel => {
+                match r {
+                    Status::Success => x.ok = x.ok.saturating_add(1),
+                    Status::Failure => x.failed = x.failed.saturating_add(1),
+                    Status::Running => {}
+                }
+                let step = match parallel_verdict(x) {
+                    Some(v) => ParStep::Done(v, child_end),
+                    None => self.parallel_step(x, child_end, usize::from(top.end), top.running)?,
+                };
+                match step {
+                    ParStep::Tick(next) => return Ok(Ascent::Tick(next)),
+                    ParStep::Done(v, reached) => {
+                        if v != Status::Running {
+                            self.finish_parallel(node, usize::from(top.end), reached)?;
+                        }
+                        v
                     }
                 }
             }
-            NodeKind::Repeat(_) | NodeKind::Retry(_) | NodeKind::Timeout(_) => {
-                if running {
-                    frame.a = st.aux;
+            FrameKind::Inverter => match r {
+                Status::Success => Status::Failure,
+                Status::Failure => Status::Success,
+                Status::Running => Status::Running,
+            },
+            FrameKind::ForceSuccess if r == Status::Failure => Status::Success,
+            FrameKind::ForceFailure if r == Status::Success => Status::Failure,
+            FrameKind::Repeat | FrameKind::Retry => {
+                let again = if top.kind == FrameKind::Repeat { Status::Success } else { Status::Failure };
+                if r == again {
+                    let count = top.a.saturating_add(1);
+                    if count < x.ok {
+                        self.set_aux(node, count);
+                        Status::Running
+                    } else {
+                        r
+                    }
+                } else {
+                    if r == Status::Running {
+                        self.set_aux(node, top.a);
+                    }
+                    r
                 }
             }
-            NodeKind::Inverter | NodeKind::ForceSuccess | NodeKind::ForceFailure => {}
-            NodeKind::Condition(_) | NodeKind::Action(_) => return Err(oob(idx)),
-        }
-        let Some(slot) = frames.get_mut(sp) else {
-            return Err(oob(idx));
-        };
-        *slot = frame;
-        Ok(Entered::Child(first))
+            FrameKind::Timeout if r == Status::Running => {
+                let count = top.a.saturating_add(1);
+                if count >= x.ok {
+                    self.reset_subtree(c);
+                    Status::Failure
+                } else {
+                    self.set_aux(node, count);
+                    Status::Running
+                }
+            }
+            _ => r,
+        }))
     }
 
     /// A Sequence or Fallback (either flavour) returns at child `child`, whose subtree
@@ -452,14 +597,21 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     fn finish_ordered(&mut self, f: &Frame, child: usize, next: usize) -> Result<(), TickError> {
         let last = usize::from(f.a);
         if last > child {
-            let mut c = next;
-            while c <= last && c < usize::from(f.end) {
-                let after = self.end_of(c)?;
-                self.reset_subtree(c);
-                c = after;
-            }
+            self.reset_range(next, last.min(usize::from(f.end).saturating_sub(1)))?;
         }
         self.set_aux(usize::from(f.node), child as u16);
+        Ok(())
+    }
+
+    /// Resets the siblings from `from` up to and including the one starting at `last`.
+    #[inline(never)]
+    fn reset_range(&mut self, from: usize, last: usize) -> Result<(), TickError> {
+        let mut c = from;
+        while c <= last {
+            let after = self.end_of(c)?;
+            self.reset_subtree(c);
+            c = after;
+        }
         Ok(())
     }
 
@@ -467,30 +619,31 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// the current activation (the parallel was Running) are counted, not ticked, and
     /// may reach a threshold on their own: then the verdict and where counting stopped.
     /// Past the last child without a verdict: Running.
-    fn parallel_step(&mut self, f: &mut Frame, from: usize, kind: NodeKind) -> Result<ParStep, TickError> {
+    fn parallel_step(&mut self, x: &mut Extra, from: usize, end: usize, running: bool) -> Result<ParStep, TickError> {
         let mut c = from;
-        while c < usize::from(f.end) {
-            if !f.running {
+        while c < end {
+            if !running {
                 return Ok(ParStep::Tick(c));
             }
             match self.status(c) {
-                NodeStatus::Success => f.a = f.a.saturating_add(1),
-                NodeStatus::Failure => f.b = f.b.saturating_add(1),
+                NodeStatus::Success => x.ok = x.ok.saturating_add(1),
+                NodeStatus::Failure => x.failed = x.failed.saturating_add(1),
                 NodeStatus::Running | NodeStatus::Idle => return Ok(ParStep::Tick(c)),
             }
             let after = self.end_of(c)?;
-            if let Some(v) = parallel_verdict(f, kind) {
+            if let Some(v) = parallel_verdict(x) {
                 return Ok(ParStep::Done(v, after));
             }
             c = after;
         }
-        Ok(ParStep::Done(Status::Running, usize::from(f.end)))
+        Ok(ParStep::Done(Status::Running, end))
     }
 
-    /// A parallel decided: halt its Running children and reset those not reached.
-    fn finish_parallel(&mut self, f: &Frame, reached: usize) -> Result<(), TickError> {
-        let mut c = usize::from(f.node) + 1;
-        while c < usize::from(f.end) {
+    /// Parallel `node` decided: halt its Running children and reset those from
+    /// `reached` on.
+    fn finish_parallel(&mut self, node: usize, end: usize, reached: usize) -> Result<(), TickError> {
+        let mut c = node + 1;
+        while c < end {
             let after = self.end_of(c)?;
             if c >= reached || self.status(c) == NodeStatus::Running {
                 self.reset_subtree(c);
@@ -501,24 +654,23 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     }
 
     /// Rule 4: action `idx` is about to start. Halt every branch it preempts: for each
-    /// reactive ancestor on the path that was Running at a later child than the one
-    /// being ticked, that child's subtree. Innermost first.
-    fn preempt(&mut self, frames: &[Frame; DEPTH], sp: usize, idx: usize) -> Result<(), TickError> {
+    /// reactive ancestor on the path (`frames[..depth]`) that was Running at a later
+    /// child than the one being ticked, that child's subtree. Innermost first.
+    #[inline(never)]
+    fn preempt(&mut self, frames: &[Frame; DEPTH], depth: usize, idx: usize) {
+        if depth == 0 {
+            return;
+        }
         let mut current = idx;
-        let mut k = sp;
-        while k > 0 {
-            k -= 1;
-            let Some(f) = frames.get(k) else { return Err(oob(idx)) };
-            let parent = usize::from(f.node);
-            if f.running && matches!(self.node(parent)?.kind(), NodeKind::Sequence | NodeKind::Fallback) {
+        for f in frames.iter().take(depth).rev() {
+            if f.running && matches!(f.kind, FrameKind::Sequence | FrameKind::Fallback) {
                 let old = usize::from(f.a);
                 if old > current {
                     self.reset_subtree(old);
                 }
             }
-            current = parent;
+            current = usize::from(f.node);
         }
-        Ok(())
     }
 
     /// Halts the Running actions under `root` (post-order) and resets the subtree to
@@ -578,8 +730,17 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 }
 
 enum Entered {
+    /// Tick this child.
     Child(usize),
+    /// The node returns this without a child being ticked.
     Decided(Status),
+}
+
+enum Ascent {
+    /// Tick this child of the frame's node.
+    Tick(usize),
+    /// The frame's node returns this.
+    Return(Status),
 }
 
 enum ParStep {
@@ -591,13 +752,10 @@ enum ParStep {
 
 /// Success or Failure once a parallel's thresholds decide, else `None`.
 #[inline]
-fn parallel_verdict(f: &Frame, kind: NodeKind) -> Option<Status> {
-    let NodeKind::Parallel { success_threshold, failure_threshold } = kind else {
-        return None;
-    };
-    if f.a >= success_threshold {
+fn parallel_verdict(x: &Extra) -> Option<Status> {
+    if x.ok >= x.success {
         Some(Status::Success)
-    } else if f.b >= failure_threshold || f.c.saturating_sub(f.b) < success_threshold {
+    } else if x.failed >= x.failure || x.children.saturating_sub(x.failed) < x.success {
         Some(Status::Failure)
     } else {
         None
