@@ -131,6 +131,9 @@ fn cube(storage: &mut [Node]) -> &[Node] {
     b.finish().unwrap()
 }
 
+/// Builds a benchmark tree into the storage it is given.
+type MakeTree = fn(&mut [Node]) -> &[Node];
+
 /// Counts the nodes a tick visits: every status write goes through the observer, but
 /// unchanged statuses do not, so count leaf calls and the control nodes entered instead.
 struct Visits(u64);
@@ -147,7 +150,7 @@ fn bench(c: &mut Criterion) {
         size_of::<NodeState>(),
         size_of::<Node>() + size_of::<NodeState>()
     );
-    let trees: [(&str, fn(&mut [Node]) -> &[Node], u64); 3] = [("W100", w100, 202), ("D50", d50, 101), ("Cube", cube, 11)];
+    let trees: [(&str, MakeTree, u64); 3] = [("W100", w100, 202), ("D50", d50, 101), ("Cube", cube, 11)];
     let mut group = c.benchmark_group("tick");
     for (name, make, visited) in trees {
         let mut storage = vec![Node::EMPTY; 512];

@@ -45,9 +45,7 @@ pub enum LoadError {
         computed: u32,
     },
     /// The image was built for a different behavior set.
-    #[error(
-        "image built for behavior set {image:#018x}, this controller has {expected:#018x}"
-    )]
+    #[error("image built for behavior set {image:#018x}, this controller has {expected:#018x}")]
     ForeignBehaviorSet {
         /// Fingerprint in the image.
         image: u64,

@@ -241,13 +241,8 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
 
     /// As [`Executor::halt_all`], reporting status changes to `observer`.
     pub fn halt_all_observed<B: BehaviorSet, O: Observer>(&mut self, behaviors: &mut B, observer: &mut O) {
-        let mut run = Run {
-            nodes: self.tree.nodes(),
-            state: self.state,
-            halt_stack: &mut self.stack.halt,
-            behaviors,
-            observer,
-        };
+        let mut run =
+            Run { nodes: self.tree.nodes(), state: self.state, halt_stack: &mut self.stack.halt, behaviors, observer };
         run.reset(0, Scan::All);
     }
 }
@@ -361,9 +356,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         };
                         let r = match child.kind() {
                             NodeKind::Condition(leaf) => {
-                                let r = self.behaviors.condition(leaf, Context { node: k as NodeId, now, starting: true });
+                                let r =
+                                    self.behaviors.condition(leaf, Context { node: k as NodeId, now, starting: true });
                                 if r == Status::Running {
-                                    return Err(TickError::ConditionRunning { node: k as NodeId, behavior: leaf.behavior() });
+                                    return Err(TickError::ConditionRunning {
+                                        node: k as NodeId,
+                                        behavior: leaf.behavior(),
+                                    });
                                 }
                                 r
                             }
@@ -470,7 +469,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// Enters a node other than a reactive Sequence or Fallback: fills in its frame and
     /// side entry, and says which child to tick first.
     #[inline(never)]
-    fn enter_other(&mut self, kind: &NodeKind, st: NodeState, frame: &mut Frame, x: &mut Extra) -> Result<Entered, TickError> {
+    fn enter_other(
+        &mut self,
+        kind: &NodeKind,
+        st: NodeState,
+        frame: &mut Frame,
+        x: &mut Extra,
+    ) -> Result<Entered, TickError> {
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
         let running = frame.running;
@@ -529,7 +534,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// Child `c` (ending at `child_end`) returned `r` to a frame other than a Sequence
     /// or Fallback: tick another child, or return.
     #[inline(never)]
-    fn ascend_other(&mut self, top: &Frame, x: &mut Extra, c: usize, child_end: usize, r: Status) -> Result<Ascent, TickError> {
+    fn ascend_other(
+        &mut self,
+        top: &Frame,
+        x: &mut Extra,
+        c: usize,
+        child_end: usize,
+        r: Status,
+    ) -> Result<Ascent, TickError> {
         let node = usize::from(top.node);
         Ok(Ascent::Return(match top.kind {
             FrameKind::Parallel => {

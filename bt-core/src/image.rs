@@ -129,10 +129,8 @@ enum WireKind {
 }
 
 fn to_wire(node: &Node) -> WireNode {
-    let leaf = |l: &Leaf| WireLeaf {
-        behavior: l.behavior(),
-        args: heapless::Vec::from_slice(l.args()).unwrap_or_default(),
-    };
+    let leaf =
+        |l: &Leaf| WireLeaf { behavior: l.behavior(), args: heapless::Vec::from_slice(l.args()).unwrap_or_default() };
     let kind = match node.kind() {
         NodeKind::Sequence => WireKind::Sequence,
         NodeKind::Fallback => WireKind::Fallback,

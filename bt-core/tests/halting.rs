@@ -109,7 +109,8 @@ fn preemption_across_levels_halts_innermost_first_and_each_action_once() {
     w.set(cond(1), Status::Success);
     w.clear();
     assert_eq!(exec.tick(&mut w, 1).unwrap(), Status::Running);
-    let halt_then_start: Vec<_> = w.log.iter().filter(|c| !matches!(c, Call::Tick { starting: false, .. })).copied().collect();
+    let halt_then_start: Vec<_> =
+        w.log.iter().filter(|c| !matches!(c, Call::Tick { starting: false, .. })).copied().collect();
     assert_eq!(
         halt_then_start,
         [
@@ -122,7 +123,14 @@ fn preemption_across_levels_halts_innermost_first_and_each_action_once() {
     w.set(cond(0), Status::Success);
     w.clear();
     assert_eq!(exec.tick(&mut w, 2).unwrap(), Status::Running);
-    assert_eq!(w.log, [Call::Tick { behavior: cond(0), starting: true }, Call::Halt { behavior: act(1) }, Call::Tick { behavior: act(0), starting: true }]);
+    assert_eq!(
+        w.log,
+        [
+            Call::Tick { behavior: cond(0), starting: true },
+            Call::Halt { behavior: act(1) },
+            Call::Tick { behavior: act(0), starting: true }
+        ]
+    );
     assert_eq!((w.halts(act(0)), w.halts(act(1)), w.halts(act(2)), w.halts(act(3))), (0, 1, 0, 0));
 }
 

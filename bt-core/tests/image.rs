@@ -6,8 +6,8 @@ mod common;
 
 use bt_core::image::{CRC_LEN, HEADER_LEN, MAGIC, VERSION, crc32, max_image_len, read_header};
 use bt_core::{
-    ArgumentFault, Arity, BehaviorInfo, Builder, Catalog, Executor, Leaf, LeafKind, LoadError, Node, NodeKind, NodeState,
-    Status, Tree, encode, fingerprint, load,
+    ArgumentFault, Arity, BehaviorInfo, Builder, Catalog, Executor, Leaf, LeafKind, LoadError, Node, NodeKind,
+    NodeState, Status, Tree, encode, fingerprint, load,
 };
 use proptest::prelude::*;
 
@@ -109,7 +109,8 @@ fn crc_mismatch_on_any_flipped_bit() {
 
 #[test]
 fn foreign_behavior_set() {
-    let other = [BehaviorInfo::condition("at goal?", 0), BehaviorInfo::condition("near", 1), BehaviorInfo::action("MoveTo", 1)];
+    let other =
+        [BehaviorInfo::condition("at goal?", 0), BehaviorInfo::condition("near", 1), BehaviorInfo::action("MoveTo", 1)];
     let mut storage = [Node::EMPTY; 16];
     let err = load::<_, 4>(&good(), other.as_slice(), &mut storage).unwrap_err();
     assert_eq!(err, LoadError::ForeignBehaviorSet { image: fingerprint(&SET), expected: fingerprint(&other) });
@@ -118,7 +119,10 @@ fn foreign_behavior_set() {
 #[test]
 fn too_many_nodes_for_the_storage() {
     let mut storage = [Node::EMPTY; 5];
-    assert_eq!(load::<_, 4>(&good(), &SET, &mut storage).unwrap_err(), LoadError::TooManyNodes { count: 6, capacity: 5 });
+    assert_eq!(
+        load::<_, 4>(&good(), &SET, &mut storage).unwrap_err(),
+        LoadError::TooManyNodes { count: 6, capacity: 5 }
+    );
 }
 
 #[test]
@@ -170,7 +174,12 @@ fn subtree_sizes_inconsistent() {
     let nodes = [Node::new(NodeKind::Sequence, 3), at_goal()];
     assert_eq!(crafted(&nodes), Err(LoadError::SubtreeSizeInconsistent { node: 0, size: 3 }));
     // A child sticking out of its parent.
-    let nodes = [Node::new(NodeKind::Sequence, 4), Node::new(NodeKind::Inverter, 2), Node::new(NodeKind::Sequence, 2), at_goal()];
+    let nodes = [
+        Node::new(NodeKind::Sequence, 4),
+        Node::new(NodeKind::Inverter, 2),
+        Node::new(NodeKind::Sequence, 2),
+        at_goal(),
+    ];
     assert_eq!(crafted(&nodes), Err(LoadError::SubtreeSizeInconsistent { node: 2, size: 2 }));
     // Size zero.
     let nodes = [Node::new(NodeKind::Sequence, 2), Node::new(NodeKind::Condition(Leaf::new(0)), 0)];
@@ -180,11 +189,20 @@ fn subtree_sizes_inconsistent() {
 #[test]
 fn wrong_arity_for_a_kind() {
     let two = [Node::new(NodeKind::Inverter, 3), at_goal(), at_goal()];
-    assert_eq!(crafted(&two), Err(LoadError::WrongArity { node: 0, kind: "Inverter", children: 2, expected: Arity::One }));
+    assert_eq!(
+        crafted(&two),
+        Err(LoadError::WrongArity { node: 0, kind: "Inverter", children: 2, expected: Arity::One })
+    );
     let none = [Node::new(NodeKind::Sequence, 2), Node::new(NodeKind::Fallback, 1)];
-    assert_eq!(crafted(&none), Err(LoadError::WrongArity { node: 1, kind: "Fallback", children: 0, expected: Arity::AtLeastOne }));
+    assert_eq!(
+        crafted(&none),
+        Err(LoadError::WrongArity { node: 1, kind: "Fallback", children: 0, expected: Arity::AtLeastOne })
+    );
     let parent_leaf = [Node::new(NodeKind::Condition(Leaf::new(0)), 2), at_goal()];
-    assert_eq!(crafted(&parent_leaf), Err(LoadError::WrongArity { node: 0, kind: "Condition", children: 1, expected: Arity::Leaf }));
+    assert_eq!(
+        crafted(&parent_leaf),
+        Err(LoadError::WrongArity { node: 0, kind: "Condition", children: 1, expected: Arity::Leaf })
+    );
 }
 
 #[test]
@@ -217,18 +235,27 @@ fn bad_arguments() {
         Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::Count { behavior: 2, expected: 2, found: 1 } })
     );
     let nodes = [Node::new(NodeKind::Repeat(0), 2), at_goal()];
-    assert_eq!(crafted(&nodes), Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::ZeroCount { kind: "Repeat" } }));
+    assert_eq!(
+        crafted(&nodes),
+        Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::ZeroCount { kind: "Repeat" } })
+    );
     let nodes = [Node::new(NodeKind::Parallel { success_threshold: 3, failure_threshold: 1 }, 3), at_goal(), at_goal()];
     assert_eq!(
         crafted(&nodes),
-        Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::Threshold { which: "success", threshold: 3, children: 2 } })
+        Err(LoadError::BadArgument {
+            node: 0,
+            fault: ArgumentFault::Threshold { which: "success", threshold: 3, children: 2 }
+        })
     );
     // An argument of 65535 (reserved) can only come from crafted bytes.
     let mut b = good();
     let body: Vec<u8> = vec![1, 11, 1, 1, 0xff, 0xff, 0x03];
     b[14..16].copy_from_slice(&1u16.to_le_bytes());
     b.splice(HEADER_LEN..b.len() - CRC_LEN, body);
-    assert_eq!(try_load(&reseal(b)), Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::Reserved { position: 0 } }));
+    assert_eq!(
+        try_load(&reseal(b)),
+        Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::Reserved { position: 0 } })
+    );
 }
 
 #[test]

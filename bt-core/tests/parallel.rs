@@ -42,7 +42,11 @@ fn success_threshold_returns_at_once_and_halts_the_rest() {
     // A0 succeeded first: A1 and A2 are not ticked, but halted, left to right.
     assert_eq!(
         w.log,
-        [Call::Tick { behavior: act(0), starting: false }, Call::Halt { behavior: act(1) }, Call::Halt { behavior: act(2) }]
+        [
+            Call::Tick { behavior: act(0), starting: false },
+            Call::Halt { behavior: act(1) },
+            Call::Halt { behavior: act(2) }
+        ]
     );
     let s: Vec<_> = exec.states().iter().map(|s| s.status()).collect();
     assert_eq!(s, [NodeStatus::Success, NodeStatus::Success, NodeStatus::Idle, NodeStatus::Idle]);

@@ -51,9 +51,23 @@ fn fig3e(storage: &mut [Node], alternative: bool) -> &[Node] {
     }
     {
         b.fallback().unwrap().condition(NEAR, &[GOAL]).unwrap();
-        b.sequence().unwrap().condition(FREE, &[TO_GOAL]).unwrap().action(MOVE_TO, &[GOAL, TO_GOAL]).unwrap().end().unwrap();
+        b.sequence()
+            .unwrap()
+            .condition(FREE, &[TO_GOAL])
+            .unwrap()
+            .action(MOVE_TO, &[GOAL, TO_GOAL])
+            .unwrap()
+            .end()
+            .unwrap();
         if alternative {
-            b.sequence().unwrap().condition(FREE, &[TO_GOAL_ALT]).unwrap().action(MOVE_TO, &[GOAL, TO_GOAL_ALT]).unwrap().end().unwrap();
+            b.sequence()
+                .unwrap()
+                .condition(FREE, &[TO_GOAL_ALT])
+                .unwrap()
+                .action(MOVE_TO, &[GOAL, TO_GOAL_ALT])
+                .unwrap()
+                .end()
+                .unwrap();
         }
         b.end().unwrap();
     }
@@ -235,7 +249,16 @@ fn nominal_run_reaches_the_goal() {
     assert!(w.cube_on_goal());
     assert_eq!(
         w.log,
-        ["start MoveTo(cube, 0)", "MoveTo(cube, 0) SUCCESS", "start Pick", "Pick SUCCESS", "start MoveTo(goal, 1)", "MoveTo(goal, 1) SUCCESS", "start Place", "Place SUCCESS"]
+        [
+            "start MoveTo(cube, 0)",
+            "MoveTo(cube, 0) SUCCESS",
+            "start Pick",
+            "Pick SUCCESS",
+            "start MoveTo(goal, 1)",
+            "MoveTo(goal, 1) SUCCESS",
+            "start Place",
+            "Place SUCCESS"
+        ]
     );
 }
 
@@ -272,10 +295,7 @@ fn a_helped_action_is_skipped() {
     assert_eq!(status, Status::Success);
     assert!(w.cube_on_goal());
     assert_eq!(w.count("start Pick"), 0);
-    assert_eq!(
-        &w.log[..3],
-        ["start MoveTo(cube, 0)", "halt MoveTo", "start MoveTo(goal, 1)"]
-    );
+    assert_eq!(&w.log[..3], ["start MoveTo(cube, 0)", "halt MoveTo", "start MoveTo(goal, 1)"]);
 }
 
 #[test]

@@ -9,7 +9,9 @@
 
 mod common;
 
-use bt_core::{BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Status, Tree};
+use bt_core::{
+    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Status, Tree,
+};
 use proptest::prelude::*;
 
 // ---------------------------------------------------------------- random trees
@@ -73,7 +75,10 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
             let kind = match *kind {
                 NodeKind::Parallel { success_threshold, failure_threshold } => {
                     let n = children.len() as u16;
-                    NodeKind::Parallel { success_threshold: success_threshold.min(n), failure_threshold: failure_threshold.min(n) }
+                    NodeKind::Parallel {
+                        success_threshold: success_threshold.min(n),
+                        failure_threshold: failure_threshold.min(n),
+                    }
                 }
                 k => k,
             };
@@ -147,7 +152,14 @@ struct Reference<'a> {
 
 impl<'a> Reference<'a> {
     fn new(nodes: &'a [Node]) -> Self {
-        Self { nodes, st: vec![RState::default(); nodes.len()], log: vec![], script: vec![], preempted: vec![], finished: false }
+        Self {
+            nodes,
+            st: vec![RState::default(); nodes.len()],
+            log: vec![],
+            script: vec![],
+            preempted: vec![],
+            finished: false,
+        }
     }
 
     fn kids(&self, i: usize) -> Vec<usize> {
@@ -202,7 +214,10 @@ impl<'a> Reference<'a> {
                 self.log.push(Ev::Tick { node: i, starting: !running });
                 outcome(self.nodes, &self.script, i)
             }
-            kind @ (NodeKind::Sequence | NodeKind::Fallback | NodeKind::SequenceWithMemory | NodeKind::FallbackWithMemory) => {
+            kind @ (NodeKind::Sequence
+            | NodeKind::Fallback
+            | NodeKind::SequenceWithMemory
+            | NodeKind::FallbackWithMemory) => {
                 let is_seq = matches!(kind, NodeKind::Sequence | NodeKind::SequenceWithMemory);
                 let memory = matches!(kind, NodeKind::SequenceWithMemory | NodeKind::FallbackWithMemory);
                 let kids = self.kids(i);

@@ -74,10 +74,15 @@ fn sequence_rechecks_its_condition_every_tick_and_halts_the_running_action() {
         assert_eq!(exec.tick(&mut w, t).unwrap(), Status::Running);
     }
     assert_eq!(w.ticks(act(0)), 3);
-    let starts: Vec<_> = w.log.iter().filter(|c| matches!(c, Call::Tick { behavior, .. } if *behavior == act(0))).collect();
+    let starts: Vec<_> =
+        w.log.iter().filter(|c| matches!(c, Call::Tick { behavior, .. } if *behavior == act(0))).collect();
     assert_eq!(
         starts,
-        [&Call::Tick { behavior: act(0), starting: true }, &Call::Tick { behavior: act(0), starting: false }, &Call::Tick { behavior: act(0), starting: false }]
+        [
+            &Call::Tick { behavior: act(0), starting: true },
+            &Call::Tick { behavior: act(0), starting: false },
+            &Call::Tick { behavior: act(0), starting: false }
+        ]
     );
     w.set(cond(0), Status::Failure);
     assert_eq!(exec.tick(&mut w, 3).unwrap(), Status::Failure);
@@ -149,7 +154,11 @@ fn fallback_of_sequences_switches_branch_and_halts_the_abandoned_one() {
     assert_eq!(exec.tick(&mut w, 1).unwrap(), Status::Running);
     assert_eq!(
         w.log,
-        [Call::Tick { behavior: cond(0), starting: true }, Call::Halt { behavior: act(0) }, Call::Tick { behavior: act(1), starting: true }]
+        [
+            Call::Tick { behavior: cond(0), starting: true },
+            Call::Halt { behavior: act(0) },
+            Call::Tick { behavior: act(1), starting: true }
+        ]
     );
 }
 

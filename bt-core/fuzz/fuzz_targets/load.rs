@@ -1,0 +1,64 @@
+//! `load` on arbitrary bytes must never panic; whatever loads must tick and halt
+//! without panicking either.
+#![no_main]
+
+use bt_core::{BehaviorInfo, BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Status, Tree, fingerprint, image};
+use libfuzzer_sys::fuzz_target;
+
+const SET: [BehaviorInfo<'static>; 4] = [
+    BehaviorInfo::condition("c0?", 0),
+    BehaviorInfo::condition("c1?", 1),
+    BehaviorInfo::action("a0!", 0),
+    BehaviorInfo::action("a1!", 2),
+];
+
+/// Leaf outcomes drawn from the input's own bytes, so ticking explores the tree.
+struct Bytes<'a>(&'a [u8], usize);
+
+impl Bytes<'_> {
+    fn next(&mut self) -> u8 {
+        let b = self.0.get(self.1 % self.0.len().max(1)).copied().unwrap_or(0);
+        self.1 += 1;
+        b
+    }
+}
+
+impl BehaviorSet for Bytes<'_> {
+    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+        if self.next() % 2 == 0 { Status::Success } else { Status::Failure }
+    }
+    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+        [Status::Success, Status::Failure, Status::Running][usize::from(self.next() % 3)]
+    }
+    fn halt(&mut self, _: &Leaf, _: NodeId) {}
+}
+
+fuzz_target!(|data: &[u8]| {
+    // Half the inputs as they come; the other half sealed with a valid envelope so the
+    // fuzzer reaches the node decoder and the validator instead of the CRC check.
+    let mut sealed;
+    let bytes = if data.first().is_some_and(|b| b & 1 == 1) && data.len() > 2 {
+        sealed = Vec::with_capacity(data.len() + 20);
+        sealed.extend_from_slice(&image::MAGIC);
+        sealed.extend_from_slice(&image::VERSION.to_le_bytes());
+        sealed.extend_from_slice(&fingerprint(&SET).to_le_bytes());
+        sealed.extend_from_slice(&u16::from(data[1] % 40).to_le_bytes());
+        sealed.extend_from_slice(&data[2..]);
+        let crc = image::crc32(&sealed);
+        sealed.extend_from_slice(&crc.to_le_bytes());
+        &sealed[..]
+    } else {
+        data
+    };
+    let mut storage = [Node::EMPTY; 48];
+    let Ok(tree): Result<Tree<'_, 12>, _> = bt_core::load(bytes, &SET, &mut storage) else {
+        return;
+    };
+    let mut state = [NodeState::IDLE; 48];
+    let mut exec = Executor::new(tree, &mut state).expect("state fits");
+    let mut world = Bytes(data, 0);
+    for now in 0..4 {
+        let _ = exec.tick(&mut world, now);
+    }
+    exec.halt_all(&mut world);
+});

@@ -1,0 +1,185 @@
+//! `cargo xtask`: the project's automation, the usual Rust way.
+//!
+//! - `cargo xtask ci`: everything CI checks (what `.ci/run` calls): formatting, clippy,
+//!   the test suite, the doc tests, and the core-only cross builds of bt-core.
+//! - `cargo xtask cross`: bt-core built with `core` only for Cortex-M4F and Cortex-M0+.
+//! - `cargo xtask fuzz --seconds N`: the `load` fuzz target (nightly + cargo-fuzz).
+//!
+//! Cross builds use rustup's targets where they are installed (`rustup target add
+//! thumbv7em-none-eabihf thumbv6m-none-eabi`), and otherwise Debian's packaged compiler
+//! with its std sources (`apt-get install rustc-web cargo-web rust-web-src`), building
+//! `core` from source. See DEVELOPERS.md.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "Project automation: CI, cross builds, fuzzing", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Run every check CI runs: fmt, clippy, tests, doc tests, cross builds.
+    Ci,
+    /// Build bt-core with `core` only for thumbv7em-none-eabihf and thumbv6m-none-eabi.
+    Cross,
+    /// Fuzz `bt_core::load` (needs the nightly toolchain and cargo-fuzz).
+    Fuzz {
+        /// How long to fuzz.
+        #[arg(long, default_value_t = 60)]
+        seconds: u64,
+    },
+}
+
+/// Targets bt-core must build for with nothing but `core`: Cortex-M4F (FPU) and
+/// Cortex-M0+ (no FPU, no atomic read-modify-write).
+const CORE_TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "thumbv6m-none-eabi"];
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Cmd::Ci => ci(),
+        Cmd::Cross => cross(),
+        Cmd::Fuzz { seconds } => fuzz(seconds),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+type Result<T = ()> = std::result::Result<T, String>;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+fn step(title: &str) {
+    eprintln!("\n==> {title}");
+}
+
+/// Runs a command in the workspace root, failing with its command line.
+fn run(cmd: &mut Command) -> Result {
+    cmd.current_dir(root());
+    let shown = format!("{cmd:?}");
+    let status = cmd.status().map_err(|e| format!("cannot start {shown}: {e}"))?;
+    if status.success() { Ok(()) } else { Err(format!("failed ({status}): {shown}")) }
+}
+
+fn cargo() -> Command {
+    Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+}
+
+fn ci() -> Result {
+    step("formatting");
+    run(cargo().args(["fmt", "--all", "--", "--check"]))?;
+    step("clippy (warnings are errors)");
+    run(cargo().args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]))?;
+    step("tests");
+    if has_nextest() {
+        run(cargo().args(["nextest", "run", "--workspace", "--no-fail-fast"]))?;
+    } else {
+        run(cargo().args(["test", "--workspace", "--lib", "--bins", "--tests"]))?;
+    }
+    step("doc tests");
+    run(cargo().args(["test", "--workspace", "--doc"]))?;
+    cross()?;
+    eprintln!("\nxtask ci: all checks passed");
+    Ok(())
+}
+
+fn has_nextest() -> bool {
+    cargo().args(["nextest", "--version"]).output().is_ok_and(|o| o.status.success())
+}
+
+/// How to build for a bare-metal target on this machine.
+enum Toolchain {
+    /// rustup has the target's prebuilt `core`.
+    Rustup,
+    /// Debian's rustc-web with rust-web-src: `core` built from source.
+    Debian,
+}
+
+fn toolchain_for(target: &str) -> Result<Toolchain> {
+    let installed = Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).lines().any(|l| l.trim() == target))
+        .unwrap_or(false);
+    if installed {
+        return Ok(Toolchain::Rustup);
+    }
+    if Path::new("/usr/bin/rustc").exists() && Path::new("/usr/lib/rustlib/src/rust/library/core").exists() {
+        return Ok(Toolchain::Debian);
+    }
+    Err(format!(
+        "no toolchain for {target}: run `rustup target add {target}`, or on Debian \
+         `apt-get install -y rustc-web cargo-web rust-web-src` (see DEVELOPERS.md)"
+    ))
+}
+
+/// A `cargo build` for a bare-metal target, with `core` from the right place.
+fn cross_cargo(target: &str) -> Result<Command> {
+    Ok(match toolchain_for(target)? {
+        Toolchain::Rustup => {
+            let mut c = cargo();
+            c.args(["build", "--release", "--target", target]);
+            c
+        }
+        Toolchain::Debian => {
+            let mut c = Command::new("/usr/bin/cargo");
+            c.env("RUSTC", "/usr/bin/rustc").env("RUSTC_BOOTSTRAP", "1").env_remove("RUSTUP_TOOLCHAIN");
+            c.args(["build", "--release", "--target", target, "-Zbuild-std=core"]);
+            c
+        }
+    })
+}
+
+fn cross() -> Result {
+    for target in CORE_TARGETS {
+        step(&format!("bt-core with core only for {target}"));
+        let target_dir = root().join("target").join("cross");
+        run(cross_cargo(target)?.args(["-p", "bt-core", "--target-dir"]).arg(&target_dir))?;
+    }
+    no_std_leaks()
+}
+
+/// bt-core must not name std or alloc outside tests, whatever the toolchain enforces.
+fn no_std_leaks() -> Result {
+    let src = root().join("bt-core").join("src");
+    let entries = std::fs::read_dir(&src).map_err(|e| format!("{}: {e}", src.display()))?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        for (n, line) in text.lines().enumerate() {
+            let l = line.trim_start();
+            if l.starts_with("extern crate std")
+                || l.starts_with("extern crate alloc")
+                || l.starts_with("use std::")
+                || l.starts_with("use alloc::")
+            {
+                return Err(format!("{}:{}: bt-core must use core only: {l}", path.display(), n + 1));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn fuzz(seconds: u64) -> Result {
+    step(&format!("fuzzing bt_core::load for {seconds} s"));
+    // The rustup proxy, not $CARGO: `+nightly` selects the toolchain.
+    let mut c = Command::new("cargo");
+    c.current_dir(root().join("bt-core"));
+    c.args(["+nightly", "fuzz", "run", "load", "--", &format!("-max_total_time={seconds}"), "-print_final_stats=1"]);
+    let shown = format!("{c:?}");
+    let status = c.status().map_err(|e| format!("cannot start {shown}: {e} (cargo install cargo-fuzz)"))?;
+    if status.success() { Ok(()) } else { Err(format!("fuzzing failed ({status}): see bt-core/fuzz/artifacts")) }
+}
