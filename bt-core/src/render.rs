@@ -99,25 +99,10 @@ pub fn write_label<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C,
     }
 }
 
-/// Writes a leaf as `name` or `name(arg, ...)`, with names from `catalog`.
+/// Writes a leaf as the catalog names it (by default `name` or `name(arg, ...)`).
 ///
 /// # Errors
 /// Whatever the formatter returns.
 pub fn write_leaf<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C, leaf: &Leaf) -> fmt::Result {
-    match catalog.info(leaf.behavior()) {
-        Some(info) => f.write_str(info.name)?,
-        None => write!(f, "#{}", leaf.behavior())?,
-    }
-    let args = leaf.args();
-    if !args.is_empty() {
-        f.write_str("(")?;
-        for (pos, &a) in args.iter().enumerate() {
-            if pos > 0 {
-                f.write_str(", ")?;
-            }
-            catalog.write_arg(f, leaf.behavior(), pos, a)?;
-        }
-        f.write_str(")")?;
-    }
-    Ok(())
+    catalog.write_leaf(f, leaf)
 }
