@@ -246,7 +246,8 @@ impl Task {
     #[must_use]
     pub fn spec(self) -> Spec {
         use BrickKind::*;
-        let (bricks, start, goal): (Vec<BrickKind>, Vec<[f32; 3]>, Vec<Option<[f32; 3]>>) = match self {
+        type Layout = (Vec<BrickKind>, Vec<[f32; 3]>, Vec<Option<[f32; 3]>>);
+        let (bricks, start, goal): Layout = match self {
             Self::Tower => (
                 vec![TwoByTwo; 3],
                 vec![[-0.05, -0.1, 0.0], [0.0, -0.1, 0.0], [0.05, -0.1, 0.0]],
