@@ -366,18 +366,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 }
                                 r
                             }
-                            NodeKind::Action(leaf) => {
-                                let starting = self.status(k) != NodeStatus::Running;
-                                if starting {
-                                    // Rule 4: this node's own old branch first, then the
-                                    // ancestors'.
-                                    if running && last > k {
-                                        self.reset_subtree(last);
-                                    }
-                                    self.preempt(frames, depth, c);
-                                }
-                                self.behaviors.action(leaf, Context { node: k as NodeId, now, starting })
+                            NodeKind::Action(leaf) if self.status(k) == NodeStatus::Running => {
+                                self.behaviors.action(leaf, Context { node: k as NodeId, now, starting: false })
                             }
+                            // A control child, or an action about to start (rule 4 may
+                            // halt others first): ticked on the general path, under a
+                            // frame for this node.
                             _ => {
                                 let Some(slot) = frames.get_mut(depth) else {
                                     return Err(oob(c));
@@ -445,10 +439,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     self.finish_ordered(&f, c, child_end)?;
                 } else {
                     let f = *f;
-                    let Some(x) = extra.get_mut(top) else {
-                        return Err(oob(c));
-                    };
-                    match self.ascend_other(&f, x, c, child_end, r)? {
+                    match self.ascend_other(&f, extra, top, c, child_end, r)? {
                         Ascent::Tick(next) => {
                             c = next;
                             continue 'descend;
@@ -468,6 +459,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 
     /// Enters a node other than a reactive Sequence or Fallback: fills in its frame and
     /// side entry, and says which child to tick first.
+    #[cold]
     #[inline(never)]
     fn enter_other(
         &mut self,
@@ -533,15 +525,20 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 
     /// Child `c` (ending at `child_end`) returned `r` to a frame other than a Sequence
     /// or Fallback: tick another child, or return.
+    #[cold]
     #[inline(never)]
     fn ascend_other(
         &mut self,
         top: &Frame,
-        x: &mut Extra,
+        extra: &mut [Extra; DEPTH],
+        depth: usize,
         c: usize,
         child_end: usize,
         r: Status,
     ) -> Result<Ascent, TickError> {
+        let Some(x) = extra.get_mut(depth) else {
+            return Err(oob(c));
+        };
         let node = usize::from(top.node);
         Ok(Ascent::Return(match top.kind {
             FrameKind::Parallel => {
@@ -616,6 +613,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     }
 
     /// Resets the siblings from `from` up to and including the one starting at `last`.
+    #[cold]
     #[inline(never)]
     fn reset_range(&mut self, from: usize, last: usize) -> Result<(), TickError> {
         let mut c = from;
@@ -668,6 +666,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// Rule 4: action `idx` is about to start. Halt every branch it preempts: for each
     /// reactive ancestor on the path (`frames[..depth]`) that was Running at a later
     /// child than the one being ticked, that child's subtree. Innermost first.
+    #[cold]
     #[inline(never)]
     fn preempt(&mut self, frames: &[Frame; DEPTH], depth: usize, idx: usize) {
         if depth == 0 {
