@@ -1,0 +1,59 @@
+//! `sim-host export IMAGE --format ... [--out FILE]`.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use bt_core::{Node, Tree};
+
+use super::{catalogs, output};
+
+/// Most levels a tree may have to be exported.
+const DEPTH: usize = 64;
+
+/// What to turn the tree into.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// The indented py_trees-style view.
+    Ascii,
+    /// The token notation of seed 003: `s( f( 0 on 1? put 0 on 1! ) )`.
+    Tokens,
+}
+
+#[derive(clap::Args, Debug)]
+#[command(long_about = "Loads and validates a tree image, then writes the tree in another \
+    notation: to stdout, or to --out FILE (written whole or not at all).")]
+pub struct Args {
+    /// The image file.
+    pub image: PathBuf,
+    /// The notation to write.
+    #[arg(long, value_enum, default_value_t = Format::Ascii)]
+    pub format: Format,
+    /// Write here instead of stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let path = &args.image;
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let (known, header) = catalogs::for_image(path, &bytes)?;
+    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
+    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let text = match args.format {
+        Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),
+        Format::Tokens => {
+            let mut t = planner::tokens::to_string(tree.nodes(), known.catalog.as_ref())
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            t.push('\n');
+            t
+        }
+    };
+    match &args.out {
+        Some(out) => output::write_whole(out, text.as_bytes()),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,37 @@
+//! `sim-host inspect IMAGE`.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use bt_core::{Node, Tree};
+
+use super::catalogs;
+
+/// Most levels a tree may have to be shown.
+const DEPTH: usize = 64;
+
+#[derive(clap::Args, Debug)]
+#[command(long_about = "Loads a tree image exactly as a controller would (envelope, CRC, \
+    behavior-set fingerprint, node decoding, validation) and prints the tree with its \
+    behavior names and the image's facts. A bad image prints its LoadError and exits 2.")]
+pub struct Args {
+    /// The image file (as written by `sim-host plan --format image` or `learn`).
+    pub image: PathBuf,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let path = &args.image;
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let (known, header) = catalogs::for_image(path, &bytes)?;
+    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
+    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    println!("image      {}", path.display());
+    println!("format     version {}", header.version);
+    println!("behaviors  {:#018x} ({})", header.fingerprint, known.name);
+    println!("nodes      {} (depth {})", tree.len(), tree.depth());
+    println!("bytes      {}", header.len);
+    println!();
+    print!("{}", tree.display(known.catalog.as_ref()));
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! The command line: one module per subcommand, each with its clap `Args` and a `run`.
+//!
+//! Every failure is one line on stderr, `error: <what> (<where>)`, and exit code 2;
+//! clap's own argument errors also exit with 2. Output files are written whole or not
+//! at all ([`output::write_whole`]).
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod catalogs;
+mod export;
+mod inspect;
+pub mod output;
+
+/// Reactive behavior trees, planned and learned on the host, shipped to a controller.
+#[derive(Parser, Debug)]
+#[command(
+    name = "sim-host",
+    version,
+    about = "Plan, learn, simulate and inspect reactive behavior trees",
+    long_about = "Plan, learn, simulate and inspect reactive behavior trees.\n\n\
+                  Without a subcommand, runs the blended planning-and-acting demo of \
+                  Colledanchise et al. (ICRA 2019)."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Load and validate a tree image; print the tree and the image's facts.
+    Inspect(inspect::Args),
+    /// Write a tree image as ASCII or tokens.
+    Export(export::Args),
+}
+
+/// Parses the command line, runs it, and turns any error into one line and exit code 2.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => {
+            use clap::CommandFactory;
+            Cli::command().print_help().map_err(anyhow::Error::from)
+        }
+        Some(Command::Inspect(args)) => inspect::run(&args),
+        Some(Command::Export(args)) => export::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,11 @@
+//! `sim-host`: plan, learn, simulate and inspect reactive behavior trees.
+//!
+//! Run without arguments for the blended planning-and-acting demo; `sim-host --help`
+//! lists the subcommands.
+#![forbid(unsafe_code)]
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::main()
+}

@@ -1,0 +1,78 @@
+//! `sim-host inspect` and `export` on good and bad images, through the real binary.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use bt_core::{Catalog, encode, image::max_image_len};
+use planner::duplo::Task;
+
+const TOWER: &str = "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) )";
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+fn tower_image(dir: &Path) -> std::path::PathBuf {
+    let spec = Task::Tower.spec();
+    let nodes = planner::tokens::parse(TOWER, &spec).unwrap();
+    let mut buf = vec![0u8; max_image_len(nodes.len())];
+    let len = encode(&nodes, spec.fingerprint(), &mut buf).unwrap();
+    let path = dir.join("tower.bt");
+    std::fs::write(&path, &buf[..len]).unwrap();
+    path
+}
+
+#[test]
+fn inspect_prints_the_tree_and_the_facts() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = tower_image(dir.path());
+    let out = sim_host(&["inspect", image.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("nodes      8 (depth 5)"), "{text}");
+    assert!(text.contains("brick task `tower`"), "{text}");
+    assert!(text.contains("--> pick 0!"), "{text}");
+}
+
+#[test]
+fn export_round_trips_tokens_and_writes_whole_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = tower_image(dir.path());
+    let out = sim_host(&["export", image.to_str().unwrap(), "--format", "tokens"]);
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8(out.stdout).unwrap().trim_end(), TOWER);
+
+    let target = dir.path().join("tower.txt");
+    let out = sim_host(&["export", image.to_str().unwrap(), "--out", target.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert!(std::fs::read_to_string(&target).unwrap().starts_with("{-} Sequence\n"));
+
+    // An unwritable destination: an error naming it, and nothing left behind.
+    let missing = dir.path().join("no-such-dir").join("t.txt");
+    let out = sim_host(&["export", image.to_str().unwrap(), "--out", missing.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-dir"));
+    assert!(!missing.exists());
+}
+
+#[test]
+fn a_bad_image_is_one_line_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = tower_image(dir.path());
+    let mut bytes = std::fs::read(&image).unwrap();
+    bytes[20] ^= 0xff;
+    std::fs::write(&image, &bytes).unwrap();
+    let out = sim_host(&["inspect", image.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: ") && err.contains("CRC-32"), "{err}");
+
+    let out = sim_host(&["inspect", dir.path().join("absent.bt").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("absent.bt"));
+
+    let out = sim_host(&["inspect"]);
+    assert_eq!(out.status.code(), Some(2), "clap usage errors exit 2 too");
+}
