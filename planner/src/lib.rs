@@ -1,7 +1,57 @@
 //! Backchaining synthesis of reactive behavior trees (Colledanchise, Almeida, Ögren,
-//! ICRA 2019 — seed 000).
+//! "Towards Blended Reactive Planning and Acting using Behavior Trees", ICRA 2019 —
+//! seed 000).
+//!
+//! Plan Example 1 of the paper offline, then run the tree in the symbolic world:
+//!
+//! ```
+//! use std::sync::Arc;
+//! use planner::{domains, output, plan, Options, PddlCatalog, strips::{self, StripsWorld}};
+//!
+//! let g = Arc::new(domains::cube_sphere()?);
+//! let catalog = Arc::new(PddlCatalog::new(g.problem()));
+//! let p = plan(g.clone(), catalog.clone(), Options::default())?;
+//! assert_eq!(p.expansions.len(), 4); // Fig. 3 (b) to (e)
+//! println!("{}", output::to_ascii(&p.nodes, catalog.as_ref())?);
+//!
+//! // The image a controller loads; the tree reaches the goal in the STRIPS world.
+//! let image = output::to_image(&p.nodes, catalog.as_ref())?;
+//! let mut storage = vec![bt_core::Node::EMPTY; p.nodes.len()];
+//! let tree: bt_core::Tree<'_, 32> = bt_core::load(&image, catalog.as_ref(), &mut storage)?;
+//! let mut world = StripsWorld::new(g);
+//! let out = strips::run(tree.nodes(), catalog.as_ref(), &mut world, 100, |_, _| {}, &mut Vec::new())?;
+//! assert_eq!(out.status, bt_core::Status::Success);
+//! assert!(world.holds_named("at", &["cube", "goal"]));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The pieces: [`model`] (domains, problems, builders) and [`pddl`] (PDDL input);
+//! [`ground`] (grounding, the paper's action refinement); [`algorithm`] (the steps of
+//! Algorithm 1) driven by a [`Planner`], offline by [`plan`] or online by
+//! [`Planner::on_failure`]; [`strips`] (the symbolic world); [`output`] (image, ASCII,
+//! DOT, BehaviorTree.CPP XML) and [`tokens`]; [`domains`] and [`duplo`] (the shipped
+//! problems).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod algorithm;
+mod catalog;
+pub mod domains;
 pub mod duplo;
+mod duplo_plan;
+mod error;
+pub mod ground;
+pub mod model;
+pub mod output;
+pub mod pddl;
+mod planner;
+pub mod refine;
+pub mod state;
+pub mod strips;
 pub mod tokens;
+pub mod tree;
+
+pub use catalog::{NoPorts, PddlCatalog, Ports};
+pub use error::PlanError;
+pub use planner::{ConflictStep, Expansion, Options, Plan, Planner, plan};
+pub use refine::Refinement;

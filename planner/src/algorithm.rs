@@ -1,0 +1,295 @@
+//! The steps of Algorithm 1 of seed 000 on the planner's tree: `atomic_bt` and
+//! `expand` (ExpandTree, lines 13-23), `conflict` (line 11), `increase_priority`
+//! (line 12) and `condition_to_expand` (GetConditionToExpand, lines 24-30).
+//!
+//! Decisions where the paper leaves room, in the paper's words:
+//!
+//! * **Atomic BT** (Fig. 2): `Fallback(c, Sequence(pre..., a)...)`, one Sequence per
+//!   achieving action in domain order, preconditions in the order written; an action
+//!   without (non-static) preconditions stands alone instead of in a one-child
+//!   Sequence.
+//! * **Conflict**: the new subtree has a conflict when an action that executes before
+//!   it — an action inside a left sibling of any Sequence on its path from the root —
+//!   may falsify one of its preconditions (the conditions of its Sequences) and nothing
+//!   executed after that action re-establishes it for sure. What a subtree may and
+//!   must make true is summarised bottom-up: an action makes its effects true; a
+//!   condition that succeeded holds; a Sequence composes its children left to right; a
+//!   Fallback may do what any child may, and must do what all children must.
+//! * **IncreasePriority**: the subtree moves one place left in its Sequence; when it is
+//!   already leftmost, it moves *up a level*: into the nearest Sequence above its
+//!   parent, immediately left of the child that contains it (a Fallback above is passed
+//!   through: putting the subtree into a Fallback would make it an alternative, not a
+//!   prerequisite). The expanded condition stays where it was, as the guard of the
+//!   action that needs it (Fig. 4 keeps `τ ⊆ CollFree` before `MoveTo`), and counts as
+//!   expanded. Moving stops at the first conflict-free position; at the left end of
+//!   the top Sequence nothing executes before the subtree, so the loop always ends.
+
+use crate::ground::{ActionId, Grounding, Lit};
+use crate::refine::{Refinement, achieving_actions};
+use crate::state::State;
+use crate::tree::{Flat, Kind, PlanNode, PlanTree};
+use bt_core::{NodeState, NodeStatus};
+
+/// The atomic BT of `lit`'s achievers as a new detached subtree; `condition` becomes
+/// its first child. Returns the Fallback.
+pub fn atomic_bt(tree: &mut PlanTree, g: &Grounding, condition: PlanNode, lit: Lit, actions: &[ActionId]) -> PlanNode {
+    let fallback = tree.add(Kind::Fallback);
+    tree.push_child(fallback, condition);
+    for &a in actions {
+        let pre = g.action(a).map_or(&[][..], |x| x.pre.as_slice());
+        let act = tree.add(Kind::Action(a));
+        if pre.is_empty() {
+            tree.push_child(fallback, act);
+            continue;
+        }
+        let seq = tree.add(Kind::Sequence);
+        for &p in pre {
+            let c = tree.add(Kind::Condition(p));
+            tree.push_child(seq, c);
+        }
+        tree.push_child(seq, act);
+        tree.push_child(fallback, seq);
+    }
+    let _ = lit;
+    fallback
+}
+
+/// ExpandTree: replaces the condition node `condition` by its atomic BT. Returns the
+/// new subtree and the actions used, or `None` when no action achieves it.
+pub fn expand(
+    tree: &mut PlanTree,
+    g: &Grounding,
+    condition: PlanNode,
+    state: &State,
+    how: Refinement,
+) -> Option<(PlanNode, Vec<ActionId>)> {
+    let Kind::Condition(lit) = tree.kind(condition) else { return None };
+    let actions = achieving_actions(g, lit, state, how);
+    if actions.is_empty() {
+        return None;
+    }
+    let placeholder = tree.add(Kind::Sequence);
+    tree.replace(condition, placeholder);
+    let fallback = atomic_bt(tree, g, condition, lit, &actions);
+    tree.replace(placeholder, fallback);
+    Some((fallback, actions))
+}
+
+/// A literal set with "may" and "must" parts, as described in the module docs.
+#[derive(Clone, Debug, Default)]
+struct Summary {
+    must: Vec<Lit>,
+    may: Vec<Lit>,
+}
+
+fn then(acc: &mut Summary, next: &Summary) {
+    acc.must.retain(|l| !next.may.contains(&l.negated()));
+    acc.may.retain(|l| !next.must.contains(&l.negated()));
+    for &l in &next.must {
+        if !acc.must.contains(&l) {
+            acc.must.push(l);
+        }
+    }
+    for &l in &next.may {
+        if !acc.may.contains(&l) {
+            acc.may.push(l);
+        }
+    }
+}
+
+fn summary(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Summary {
+    let order = tree.preorder(n);
+    let mut sums: std::collections::HashMap<PlanNode, Summary> = std::collections::HashMap::new();
+    for &x in order.iter().rev() {
+        let s = match tree.kind(x) {
+            Kind::Condition(l) => Summary { must: vec![l], may: Vec::new() },
+            Kind::Action(a) => {
+                let eff: Vec<Lit> = g.action(a).map_or_else(Vec::new, |x| {
+                    let add = x.add.iter().map(|&atom| Lit { atom, positive: true });
+                    add.chain(x.del.iter().map(|&atom| Lit { atom, positive: false })).collect()
+                });
+                Summary { must: eff.clone(), may: eff }
+            }
+            Kind::Sequence => {
+                let mut acc = Summary::default();
+                for c in tree.children(x) {
+                    if let Some(s) = sums.remove(c) {
+                        then(&mut acc, &s);
+                    }
+                }
+                acc
+            }
+            Kind::Fallback => {
+                let mut acc: Option<Summary> = None;
+                for c in tree.children(x) {
+                    let Some(s) = sums.remove(c) else { continue };
+                    acc = Some(match acc {
+                        None => s,
+                        Some(mut a) => {
+                            a.must.retain(|l| s.must.contains(l));
+                            for l in s.may {
+                                if !a.may.contains(&l) {
+                                    a.may.push(l);
+                                }
+                            }
+                            a
+                        }
+                    });
+                }
+                acc.unwrap_or_default()
+            }
+        };
+        sums.insert(x, s);
+    }
+    sums.remove(&n).unwrap_or_default()
+}
+
+/// The subtrees that execute before `n`: left siblings of `n`'s path in every Sequence
+/// from the root down, in execution order.
+fn executed_before(tree: &PlanTree, n: PlanNode) -> Vec<PlanNode> {
+    let mut path = vec![n];
+    let mut x = n;
+    while let Some(p) = tree.parent(x) {
+        path.push(p);
+        x = p;
+    }
+    path.reverse();
+    let mut out = Vec::new();
+    for w in path.windows(2) {
+        let (p, c) = (w[0], w[1]);
+        if tree.kind(p) == Kind::Sequence {
+            for &s in tree.children(p) {
+                if s == c {
+                    break;
+                }
+                out.push(s);
+            }
+        }
+    }
+    out
+}
+
+/// The preconditions of a new subtree: the conditions of its Sequences.
+fn preconditions(tree: &PlanTree, n: PlanNode) -> Vec<Lit> {
+    let mut out = Vec::new();
+    for &alt in tree.children(n).iter().skip(1) {
+        if tree.kind(alt) != Kind::Sequence {
+            continue;
+        }
+        for &c in tree.children(alt) {
+            let lit = match tree.kind(c) {
+                Kind::Condition(l) => Some(l),
+                Kind::Fallback => tree.children(c).first().and_then(|&f| match tree.kind(f) {
+                    Kind::Condition(l) => Some(l),
+                    _ => None,
+                }),
+                _ => None,
+            };
+            if let Some(l) = lit
+                && !out.contains(&l)
+            {
+                out.push(l);
+            }
+        }
+    }
+    out
+}
+
+/// A conflict: `precondition` of the new subtree may be falsified by `by`, which
+/// executes before it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Conflict {
+    /// The new subtree's precondition.
+    pub precondition: Lit,
+    /// An action executed before that falsifies it.
+    pub by: ActionId,
+}
+
+/// Conflict(T) for the subtree `n` (see the module docs), or `None`.
+#[must_use]
+pub fn conflict(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Option<Conflict> {
+    let pre = preconditions(tree, n);
+    if pre.is_empty() {
+        return None;
+    }
+    let before = executed_before(tree, n);
+    let mut acc = Summary::default();
+    for &b in &before {
+        then(&mut acc, &summary(tree, g, b));
+    }
+    let precondition = pre.into_iter().find(|p| acc.may.contains(&p.negated()))?;
+    let undo = precondition.negated();
+    let by = before
+        .iter()
+        .flat_map(|&b| tree.preorder(b))
+        .filter_map(|x| match tree.kind(x) {
+            Kind::Action(a) if g.action(a).is_some_and(|ga| ga.achieves(undo)) => Some(a),
+            _ => None,
+        })
+        .next_back()?;
+    Some(Conflict { precondition, by })
+}
+
+/// Where one step of IncreasePriority took the subtree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Move {
+    /// One place left in its Sequence.
+    Left,
+    /// Up a level, left of the branch that contained it.
+    Up,
+}
+
+/// Leaves a guard copy of the expanded condition in the subtree's slot (the first time
+/// a subtree moves). Returns the guard.
+pub fn leave_guard(tree: &mut PlanTree, n: PlanNode) -> Option<PlanNode> {
+    let first = *tree.children(n).first()?;
+    let kind = tree.kind(first);
+    let parent = tree.parent(n)?;
+    let i = tree.index_in_parent(n)?;
+    let guard = tree.add(kind);
+    tree.insert(parent, i + 1, guard);
+    Some(guard)
+}
+
+/// One step of IncreasePriority for subtree `n`, or `None` when it is already at the
+/// left end of the top Sequence.
+pub fn increase_priority(tree: &mut PlanTree, n: PlanNode) -> Option<Move> {
+    let parent = tree.parent(n)?;
+    let i = tree.index_in_parent(n)?;
+    if tree.kind(parent) == Kind::Sequence && i > 0 {
+        tree.detach(n);
+        tree.insert(parent, i - 1, n);
+        return Some(Move::Left);
+    }
+    // Up a level: the nearest Sequence above `parent`, left of the branch holding `n`.
+    let mut branch = parent;
+    let mut above = tree.parent(parent)?;
+    while tree.kind(above) != Kind::Sequence {
+        branch = above;
+        above = tree.parent(above)?;
+    }
+    let at = tree.index_in_parent(branch)?;
+    tree.detach(n);
+    tree.insert(above, at, n);
+    Some(Move::Up)
+}
+
+/// GetConditionToExpand: the conditions that returned Failure on the last tick and were
+/// not expanded before, breadth-first (by depth, then left to right).
+#[must_use]
+pub fn conditions_to_expand(tree: &PlanTree, flat: &Flat, states: &[NodeState], expanded: &[bool]) -> Vec<PlanNode> {
+    let mut found: Vec<(u16, u32, PlanNode)> = Vec::new();
+    for (i, &n) in flat.of.iter().enumerate() {
+        if flat.top.get(n as usize) != Some(&(i as u32)) || expanded.get(n as usize).copied().unwrap_or(false) {
+            continue;
+        }
+        if !matches!(tree.kind(n), Kind::Condition(_)) {
+            continue;
+        }
+        if states.get(i).map(NodeState::status) == Some(NodeStatus::Failure) {
+            found.push((flat.depth[i], i as u32, n));
+        }
+    }
+    found.sort_unstable();
+    found.into_iter().map(|f| f.2).collect()
+}

@@ -1,0 +1,118 @@
+//! The name table of a PDDL problem's behavior set, as a bt-core [`Catalog`].
+//!
+//! The contract (fixed; worlds and firmware build on it): behavior ids are the
+//! predicates in declaration order (conditions; name = predicate name, arity =
+//! parameter count), then the action templates in declaration order (actions); a
+//! leaf's arguments are object indices in the problem's `:objects` order. The
+//! fingerprint depends on the domain only; the object names come from the problem and
+//! are used to render leaves, e.g. `holding(cube)`.
+
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, LeafKind};
+
+use crate::model::{Domain, Problem};
+
+/// Names the behaviors of a PDDL domain and the objects of one of its problems.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PddlCatalog {
+    behaviors: Vec<(String, LeafKind, u8)>,
+    /// Parameter names per behavior, for XML ports.
+    params: Vec<Vec<String>>,
+    objects: Vec<String>,
+}
+
+impl PddlCatalog {
+    /// The catalog of `problem`'s domain with its object names.
+    #[must_use]
+    pub fn new(problem: &Problem) -> Self {
+        let mut c = Self::for_domain(&problem.domain);
+        c.objects = problem.objects.iter().map(|o| o.name.clone()).collect();
+        c
+    }
+
+    /// The catalog of a domain alone: arguments render as `#index`.
+    #[must_use]
+    pub fn for_domain(d: &Domain) -> Self {
+        let mut behaviors = Vec::new();
+        let mut params = Vec::new();
+        for p in &d.predicates {
+            behaviors.push((p.name.clone(), LeafKind::Condition, p.params.len().min(255) as u8));
+            params.push(p.params.iter().map(|x| x.name.clone()).collect());
+        }
+        for a in &d.actions {
+            behaviors.push((a.name.clone(), LeafKind::Action, a.params.len().min(255) as u8));
+            params.push(a.params.iter().map(|x| x.name.clone()).collect());
+        }
+        Self { behaviors, params, objects: Vec::new() }
+    }
+
+    /// The object names used to render arguments.
+    #[must_use]
+    pub fn objects(&self) -> &[String] {
+        &self.objects
+    }
+
+    /// The name of parameter `position` of `behavior` (without `?`).
+    #[must_use]
+    pub fn param(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        self.params.get(usize::from(behavior))?.get(position).map(String::as_str)
+    }
+
+    /// The behavior id and leaf kind of a name.
+    #[must_use]
+    pub fn lookup(&self, name: &str) -> Option<(BehaviorId, LeafKind, u8)> {
+        let i = self.behaviors.iter().position(|b| b.0 == name)?;
+        let b = &self.behaviors[i];
+        Some((BehaviorId::try_from(i).ok()?, b.1, b.2))
+    }
+
+    /// The object index of a name.
+    #[must_use]
+    pub fn object(&self, name: &str) -> Option<u16> {
+        self.objects.iter().position(|o| o == name).and_then(|i| u16::try_from(i).ok())
+    }
+}
+
+impl Catalog for PddlCatalog {
+    fn len(&self) -> usize {
+        self.behaviors.len()
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.behaviors.get(usize::from(id)).map(|(name, kind, arity)| BehaviorInfo { name, kind: *kind, arity: *arity })
+    }
+
+    fn write_arg(
+        &self,
+        f: &mut core::fmt::Formatter<'_>,
+        _behavior: BehaviorId,
+        _position: usize,
+        value: u16,
+    ) -> core::fmt::Result {
+        match self.objects.get(usize::from(value)) {
+            Some(name) => f.write_str(name),
+            None => write!(f, "#{value}"),
+        }
+    }
+}
+
+/// Port names for the BehaviorTree.CPP XML of a catalog's leaves.
+pub trait Ports {
+    /// The name of argument `position` of `behavior`; `None` falls back to `arg{position}`.
+    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str>;
+}
+
+impl Ports for PddlCatalog {
+    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        self.param(behavior, position)
+    }
+}
+
+/// No port names: every argument is `arg{position}`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoPorts;
+
+impl Ports for NoPorts {
+    fn port(&self, _: BehaviorId, _: usize) -> Option<&str> {
+        None
+    }
+}

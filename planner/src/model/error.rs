@@ -1,0 +1,124 @@
+//! What can be wrong with a domain or a problem, wherever it came from.
+
+/// A domain or problem that breaks a rule of the model. PDDL input wraps it with the
+/// file, line and column ([`crate::pddl::PddlError`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// A type that was not declared.
+    #[error("undefined type `{name}`")]
+    UnknownType {
+        /// The name used.
+        name: String,
+    },
+    /// A type declared twice, or a parent chain that loops.
+    #[error("type `{name}` declared twice or in a cycle")]
+    DuplicateType {
+        /// The name.
+        name: String,
+    },
+    /// A predicate that was not declared.
+    #[error("unknown predicate `{name}` (declared: {declared})")]
+    UnknownPredicate {
+        /// The name used.
+        name: String,
+        /// The declared predicates, comma separated.
+        declared: String,
+    },
+    /// A predicate declared twice.
+    #[error("predicate `{name}` declared twice")]
+    DuplicatePredicate {
+        /// The name.
+        name: String,
+    },
+    /// An action template declared twice.
+    #[error("action `{name}` declared twice")]
+    DuplicateAction {
+        /// The name.
+        name: String,
+    },
+    /// A parameter name used twice in one list.
+    #[error("parameter `?{name}` declared twice")]
+    DuplicateParameter {
+        /// The name.
+        name: String,
+    },
+    /// An object declared twice.
+    #[error("object `{name}` declared twice")]
+    DuplicateObject {
+        /// The name.
+        name: String,
+    },
+    /// A predicate applied to the wrong number of arguments.
+    #[error("`{predicate}` takes {expected} argument(s), given {found}")]
+    WrongArity {
+        /// The predicate.
+        predicate: String,
+        /// Its parameter count.
+        expected: usize,
+        /// Arguments given.
+        found: usize,
+    },
+    /// A `?variable` that is not a parameter of the action.
+    #[error("`?{name}` is not a parameter of action `{action}`")]
+    UnknownParameter {
+        /// The variable.
+        name: String,
+        /// The action.
+        action: String,
+    },
+    /// An object that the problem does not declare.
+    #[error("undeclared object `{name}`")]
+    UnknownObject {
+        /// The name used.
+        name: String,
+    },
+    /// An argument whose type does not fit the predicate's parameter.
+    #[error("argument {position} of `{predicate}` must be a `{expected}`, `{argument}` is a `{found}`")]
+    TypeMismatch {
+        /// The predicate.
+        predicate: String,
+        /// 1-based argument position.
+        position: usize,
+        /// The argument (object or `?parameter`).
+        argument: String,
+        /// The type the predicate wants.
+        expected: String,
+        /// The argument's type.
+        found: String,
+    },
+    /// An action without postconditions: it could never achieve anything.
+    #[error("action `{action}` has no effects")]
+    NoEffects {
+        /// The action.
+        action: String,
+    },
+    /// A problem with no goal conditions.
+    #[error("the goal is empty")]
+    EmptyGoal,
+    /// An initial-state atom written negated: the initial state lists true atoms only.
+    #[error("the initial state lists true atoms only; `(not ...)` is not allowed there")]
+    NegativeInit,
+    /// A problem for another domain.
+    #[error("the problem is for domain `{problem}`, the domain given is `{domain}`")]
+    DomainMismatch {
+        /// What the problem names.
+        problem: String,
+        /// The domain's name.
+        domain: String,
+    },
+    /// A name that is not a PDDL name (letters, digits, `-` and `_`, starting with a letter).
+    #[error("`{name}` is not a valid name (letters, digits, `-`, `_`; starting with a letter)")]
+    BadName {
+        /// The name.
+        name: String,
+    },
+    /// Too many declarations for 16-bit ids.
+    #[error("too many {what} (at most {max})")]
+    TooMany {
+        /// What.
+        what: &'static str,
+        /// The limit.
+        max: usize,
+    },
+}

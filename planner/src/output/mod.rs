@@ -1,0 +1,57 @@
+//! A tree and its name table in the notations people and tools read: the deployable
+//! image, ASCII (bt-core's renderer), Graphviz DOT, BehaviorTree.CPP v4 XML, and the
+//! token notation of seed 003 ([`crate::tokens`]).
+
+mod dot;
+mod xml;
+
+pub use dot::to_dot;
+pub use xml::{XmlError, to_xml};
+
+use bt_core::{Catalog, Node, Tree};
+
+use crate::PlanError;
+use crate::tree::DEPTH;
+
+/// The image bytes of `nodes` for `catalog` (`bt_core::encode` with its fingerprint).
+///
+/// # Errors
+/// [`PlanError::TreeTooLarge`] when the tree has more nodes than an image holds.
+pub fn to_image<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Vec<u8>, PlanError> {
+    let mut buf = vec![0u8; bt_core::image::max_image_len(nodes.len())];
+    let len = bt_core::encode(nodes, catalog.fingerprint(), &mut buf)
+        .map_err(|_| PlanError::TreeTooLarge { limit: usize::from(u16::MAX), depth: DEPTH })?;
+    buf.truncate(len);
+    Ok(buf)
+}
+
+/// The indented ASCII view (bt-core's renderer) with the catalog's names.
+///
+/// # Errors
+/// [`PlanError::InvalidTree`] when `nodes` do not validate against `catalog`.
+pub fn to_ascii<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<String, PlanError> {
+    let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
+    Ok(tree.display(catalog).to_string())
+}
+
+/// A leaf as the catalog renders it, e.g. `holding(cube)`.
+pub(crate) fn leaf_text<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf) -> String {
+    struct L<'a, C: ?Sized>(&'a C, &'a bt_core::Leaf);
+    impl<C: Catalog + ?Sized> std::fmt::Display for L<'_, C> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            self.0.write_leaf(f, self.1)
+        }
+    }
+    L(catalog, leaf).to_string()
+}
+
+/// An argument as the catalog renders it, e.g. `cube`.
+pub(crate) fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
+    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
+    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            self.0.write_arg(f, self.1, self.2, self.3)
+        }
+    }
+    A(catalog, behavior, position, value).to_string()
+}

@@ -1,0 +1,152 @@
+//! BehaviorTree.CPP v4 XML: `ReactiveSequence` / `ReactiveFallback` for the reactive
+//! controls, `<Condition ID=...>` / `<Action ID=...>` leaves whose grounded arguments
+//! are input ports, and a `TreeNodesModel` section declaring every leaf type and its
+//! ports, so Groot2 shows the tree without the C++ registrations.
+//!
+//! Other kinds map to their BehaviorTree.CPP counterparts: `SequenceWithMemory` to
+//! `Sequence` (which resumes at the running child), `FallbackWithMemory` to `Fallback`,
+//! `Parallel` with `success_count`/`failure_count`, `Inverter`, `ForceSuccess`,
+//! `ForceFailure`, `Repeat(num_cycles)`, `Retry` to `RetryUntilSuccessful`. `Timeout`
+//! counts ticks here and milliseconds there, so it is refused.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind};
+
+use super::arg_text;
+use crate::catalog::Ports;
+
+/// Why a tree cannot be written as BehaviorTree.CPP XML.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum XmlError {
+    /// A kind without an exact BehaviorTree.CPP equivalent.
+    #[error("node {node} is a {kind}, which BehaviorTree.CPP has no exact equivalent for")]
+    NotExpressible {
+        /// Index of the node.
+        node: usize,
+        /// Its kind.
+        kind: &'static str,
+    },
+    /// Subtree sizes that do not nest.
+    #[error("node {node}: subtree size does not fit inside its parent")]
+    Malformed {
+        /// Index of the node.
+        node: usize,
+    },
+}
+
+fn escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&apos;"),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+/// A port name BehaviorTree.CPP accepts: starts with a letter, no `name`/`ID`.
+fn port_name<P: Ports + ?Sized>(ports: &P, behavior: BehaviorId, position: usize) -> String {
+    let fallback = || format!("arg{position}");
+    match ports.port(behavior, position) {
+        Some(p)
+            if p.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+                && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+                && p != "name"
+                && p != "ID" =>
+        {
+            p.replace('-', "_")
+        }
+        _ => fallback(),
+    }
+}
+
+fn behavior_name<C: Catalog + ?Sized>(catalog: &C, id: BehaviorId) -> String {
+    catalog.info(id).map_or_else(|| format!("behavior{id}"), |i| i.name.to_string())
+}
+
+/// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
+///
+/// # Errors
+/// [`XmlError`] for `Timeout` nodes and malformed arrays.
+pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
+    nodes: &[Node],
+    catalog: &C,
+    ports: &P,
+) -> Result<String, XmlError> {
+    let mut out = String::from(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"MainTree\">\n  <BehaviorTree ID=\"MainTree\">\n",
+    );
+    let mut open: Vec<(usize, &'static str)> = Vec::new();
+    let mut used: BTreeMap<BehaviorId, (LeafKind, usize)> = BTreeMap::new();
+    let indent = |depth: usize| "  ".repeat(depth + 2);
+    for (i, n) in nodes.iter().enumerate() {
+        while let Some(&(end, tag)) = open.last() {
+            if end > i {
+                break;
+            }
+            open.pop();
+            let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
+        }
+        let end = i + usize::from(n.size());
+        if n.size() == 0 || end > nodes.len() || open.last().is_some_and(|&(e, _)| end > e) {
+            return Err(XmlError::Malformed { node: i });
+        }
+        let pad = indent(open.len());
+        let (tag, attrs): (&'static str, String) = match *n.kind() {
+            NodeKind::Sequence => ("ReactiveSequence", String::new()),
+            NodeKind::Fallback => ("ReactiveFallback", String::new()),
+            NodeKind::SequenceWithMemory => ("Sequence", String::new()),
+            NodeKind::FallbackWithMemory => ("Fallback", String::new()),
+            NodeKind::Parallel { success_threshold, failure_threshold } => {
+                ("Parallel", format!(" success_count=\"{success_threshold}\" failure_count=\"{failure_threshold}\""))
+            }
+            NodeKind::Inverter => ("Inverter", String::new()),
+            NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
+            NodeKind::ForceFailure => ("ForceFailure", String::new()),
+            NodeKind::Repeat(k) => ("Repeat", format!(" num_cycles=\"{k}\"")),
+            NodeKind::Retry(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{k}\"")),
+            NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
+            NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+                let kind =
+                    if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
+                let b = leaf.behavior();
+                let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
+                let mut a = format!(" ID=\"{}\"", escape(&behavior_name(catalog, b)));
+                for (pos, &v) in leaf.args().iter().enumerate() {
+                    let _ = write!(a, " {}=\"{}\"", port_name(ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
+                }
+                used.insert(b, (kind, leaf.argc()));
+                let _ = writeln!(out, "{pad}<{tag}{a}/>");
+                continue;
+            }
+        };
+        let _ = writeln!(out, "{pad}<{tag}{attrs}>");
+        open.push((end, tag));
+    }
+    while let Some((_, tag)) = open.pop() {
+        let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
+    }
+    out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
+    for (&b, &(kind, argc)) in &used {
+        let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
+        let name = escape(&behavior_name(catalog, b));
+        if argc == 0 {
+            let _ = writeln!(out, "    <{tag} ID=\"{name}\"/>");
+            continue;
+        }
+        let _ = writeln!(out, "    <{tag} ID=\"{name}\">");
+        for pos in 0..argc {
+            let _ = writeln!(out, "      <input_port name=\"{}\" type=\"std::string\"/>", port_name(ports, b, pos));
+        }
+        let _ = writeln!(out, "    </{tag}>");
+    }
+    out.push_str("  </TreeNodesModel>\n</root>\n");
+    Ok(out)
+}

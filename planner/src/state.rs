@@ -1,0 +1,46 @@
+//! A set of true ground atoms as a bitset: the symbolic world state.
+
+use crate::ground::AtomId;
+
+/// The atoms that hold, one bit each.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct State {
+    words: Vec<u64>,
+}
+
+impl State {
+    /// All `atoms` false.
+    #[must_use]
+    pub fn new(atoms: usize) -> Self {
+        Self { words: vec![0; atoms.div_ceil(64)] }
+    }
+
+    /// Whether `atom` holds (false for atoms out of range).
+    #[inline]
+    #[must_use]
+    pub fn holds(&self, atom: AtomId) -> bool {
+        let a = atom as usize;
+        self.words.get(a / 64).is_some_and(|w| w & (1 << (a % 64)) != 0)
+    }
+
+    /// Makes `atom` true or false (ignored out of range).
+    #[inline]
+    pub fn set(&mut self, atom: AtomId, value: bool) {
+        let a = atom as usize;
+        if let Some(w) = self.words.get_mut(a / 64) {
+            if value {
+                *w |= 1 << (a % 64);
+            } else {
+                *w &= !(1 << (a % 64));
+            }
+        }
+    }
+
+    /// The atoms that hold, in increasing order.
+    pub fn iter(&self) -> impl Iterator<Item = AtomId> + '_ {
+        self.words
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &w)| (0..64u32).filter(move |b| w & (1 << b) != 0).map(move |b| (i as u32) * 64 + b))
+    }
+}

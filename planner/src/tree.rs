@@ -1,0 +1,228 @@
+//! The tree the planner grows: an arena of nodes with stable ids, edited in place by
+//! `expand` and `increase_priority`, and flattened into the pre-order array bt-core
+//! ticks.
+//!
+//! Negative conditions: a condition `not p` is written as `Inverter(Condition p)` in
+//! the bt-core tree (the pair counts as one condition for the planner).
+
+use bt_core::{Node, NodeKind};
+
+use crate::PlanError;
+use crate::ground::{ActionId, Grounding, Lit};
+
+/// Id of a planner node; stable across edits.
+pub type PlanNode = u32;
+const NONE: u32 = u32::MAX;
+
+/// Deepest tree the planner emits (levels, root included).
+pub const DEPTH: usize = 128;
+
+/// What a planner node is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Reactive sequence.
+    Sequence,
+    /// Reactive fallback.
+    Fallback,
+    /// A condition (a literal).
+    Condition(Lit),
+    /// A ground action.
+    Action(ActionId),
+}
+
+#[derive(Clone, Debug)]
+struct Slot {
+    kind: Kind,
+    parent: u32,
+    children: Vec<PlanNode>,
+}
+
+/// The planner's editable tree.
+#[derive(Clone, Debug)]
+pub struct PlanTree {
+    slots: Vec<Slot>,
+    root: PlanNode,
+}
+
+/// A flattened tree: the bt-core nodes and the maps between the two numberings.
+#[derive(Clone, Debug, Default)]
+pub struct Flat {
+    /// The bt-core pre-order array.
+    pub nodes: Vec<Node>,
+    /// Planner node → index of its (top) bt-core node.
+    pub top: Vec<u32>,
+    /// bt-core index → planner node (both nodes of an inverted condition map to it).
+    pub of: Vec<PlanNode>,
+    /// Depth of each bt-core node (root 0).
+    pub depth: Vec<u16>,
+}
+
+impl PlanTree {
+    /// The initial tree of Algorithm 1 (lines 1-3): the goal condition alone, or a
+    /// Sequence of the goal conditions in order.
+    #[must_use]
+    pub fn from_goal(goal: &[Lit]) -> Self {
+        let mut t = Self { slots: Vec::new(), root: 0 };
+        if let [single] = goal {
+            t.root = t.add(Kind::Condition(*single));
+        } else {
+            t.root = t.add(Kind::Sequence);
+            for &g in goal {
+                let c = t.add(Kind::Condition(g));
+                t.push_child(t.root, c);
+            }
+        }
+        t
+    }
+
+    /// A new detached node.
+    pub fn add(&mut self, kind: Kind) -> PlanNode {
+        self.slots.push(Slot { kind, parent: NONE, children: Vec::new() });
+        (self.slots.len() - 1) as PlanNode
+    }
+
+    /// Appends `child` (detached) to `parent`'s children.
+    pub fn push_child(&mut self, parent: PlanNode, child: PlanNode) {
+        self.slots[child as usize].parent = parent;
+        self.slots[parent as usize].children.push(child);
+    }
+
+    /// The root.
+    #[must_use]
+    pub fn root(&self) -> PlanNode {
+        self.root
+    }
+
+    /// Number of planner nodes ever made (ids run below it).
+    #[must_use]
+    pub fn capacity(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The node's kind.
+    #[must_use]
+    pub fn kind(&self, n: PlanNode) -> Kind {
+        self.slots[n as usize].kind
+    }
+
+    /// The node's parent (`None` for the root or a detached node).
+    #[must_use]
+    pub fn parent(&self, n: PlanNode) -> Option<PlanNode> {
+        let p = self.slots[n as usize].parent;
+        (p != NONE).then_some(p)
+    }
+
+    /// The node's children.
+    #[must_use]
+    pub fn children(&self, n: PlanNode) -> &[PlanNode] {
+        &self.slots[n as usize].children
+    }
+
+    /// Index of `n` among its parent's children.
+    #[must_use]
+    pub fn index_in_parent(&self, n: PlanNode) -> Option<usize> {
+        let p = self.parent(n)?;
+        self.children(p).iter().position(|&c| c == n)
+    }
+
+    /// Puts `new` (detached) where `old` is, leaving `old` detached.
+    pub fn replace(&mut self, old: PlanNode, new: PlanNode) {
+        match self.parent(old) {
+            None => self.root = new,
+            Some(p) => {
+                if let Some(i) = self.index_in_parent(old) {
+                    self.slots[p as usize].children[i] = new;
+                }
+                self.slots[new as usize].parent = p;
+            }
+        }
+        self.slots[old as usize].parent = NONE;
+    }
+
+    /// Detaches `n` from its parent.
+    pub fn detach(&mut self, n: PlanNode) {
+        if let (Some(p), Some(i)) = (self.parent(n), self.index_in_parent(n)) {
+            self.slots[p as usize].children.remove(i);
+        }
+        self.slots[n as usize].parent = NONE;
+    }
+
+    /// Inserts `n` (detached) as child `index` of `parent`.
+    pub fn insert(&mut self, parent: PlanNode, index: usize, n: PlanNode) {
+        let c = &mut self.slots[parent as usize].children;
+        c.insert(index.min(c.len()), n);
+        self.slots[n as usize].parent = parent;
+    }
+
+    /// The nodes of the subtree at `n` in pre-order.
+    #[must_use]
+    pub fn preorder(&self, n: PlanNode) -> Vec<PlanNode> {
+        let mut out = Vec::new();
+        let mut stack = vec![n];
+        while let Some(x) = stack.pop() {
+            out.push(x);
+            stack.extend(self.children(x).iter().rev());
+        }
+        out
+    }
+
+    /// Flattens the tree into bt-core nodes with `grounding`'s leaves.
+    ///
+    /// # Errors
+    /// [`PlanError::NoLeaf`] for an atom or action without a leaf,
+    /// [`PlanError::TreeTooLarge`] beyond `u16` nodes or [`DEPTH`] levels.
+    pub fn flatten(&self, g: &Grounding) -> Result<Flat, PlanError> {
+        let order = self.preorder(self.root);
+        let too_large = PlanError::TreeTooLarge { limit: usize::from(u16::MAX), depth: DEPTH };
+        // Flat sizes, children before parents.
+        let mut size = vec![0u32; self.slots.len()];
+        for &n in order.iter().rev() {
+            let own = match self.kind(n) {
+                Kind::Condition(l) if !l.positive => 2,
+                _ => 1,
+            };
+            size[n as usize] = own + self.children(n).iter().map(|&c| size[c as usize]).sum::<u32>();
+        }
+        let total = size[self.root as usize] as usize;
+        if total > usize::from(u16::MAX) {
+            return Err(too_large);
+        }
+        let mut flat = Flat {
+            nodes: Vec::with_capacity(total),
+            top: vec![NONE; self.slots.len()],
+            of: Vec::with_capacity(total),
+            depth: Vec::with_capacity(total),
+        };
+        let mut depth_of = vec![0u16; self.slots.len()];
+        for &n in &order {
+            let d = self.parent(n).map_or(0, |p| depth_of[p as usize] + 1);
+            depth_of[n as usize] = d;
+            if usize::from(d) >= DEPTH - 1 {
+                return Err(too_large);
+            }
+            flat.top[n as usize] = flat.nodes.len() as u32;
+            let s = size[n as usize] as u16;
+            match self.kind(n) {
+                Kind::Sequence => flat.nodes.push(Node::new(NodeKind::Sequence, s)),
+                Kind::Fallback => flat.nodes.push(Node::new(NodeKind::Fallback, s)),
+                Kind::Condition(l) => {
+                    let leaf =
+                        g.condition_leaf(l.atom).ok_or_else(|| PlanError::NoLeaf { condition: g.lit_name(l) })?;
+                    if !l.positive {
+                        flat.nodes.push(Node::new(NodeKind::Inverter, 2));
+                        flat.of.push(n);
+                        flat.depth.push(d);
+                    }
+                    flat.nodes.push(Node::new(NodeKind::Condition(leaf), 1));
+                }
+                Kind::Action(a) => {
+                    let leaf = g.action_leaf(a).ok_or_else(|| PlanError::NoLeaf { condition: g.action_name(a) })?;
+                    flat.nodes.push(Node::new(NodeKind::Action(leaf), 1));
+                }
+            }
+            flat.of.push(n);
+            flat.depth.push(d + u16::from(matches!(self.kind(n), Kind::Condition(l) if !l.positive)));
+        }
+        Ok(flat)
+    }
+}
