@@ -11,6 +11,29 @@
 
 use bt_core::{BehaviorId, BehaviorInfo, LeafKind};
 
+pub use crate::duplo_plan::grounding;
+
+/// Plans the task with the templates of the reference (see [`grounding`]); the tree's
+/// leaves are this task's behaviors, its catalog `task.spec()`.
+///
+/// ```
+/// use planner::duplo::{self, Task};
+/// let plan = duplo::plan(Task::Tower)?;
+/// assert_eq!(
+///     planner::tokens::to_string(&plan.nodes, plan.catalog.as_ref())?,
+///     "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \
+///      f( 1 at pos (0.0, 0.05, 0.0192)? s( f( 1 on 0? s( f( picked 1? pick 1! ) place on 0! ) ) apply force 1! ) ) \
+///      f( 2 at pos (0.0, 0.05, 0.0384)? s( f( 2 on 1? s( f( picked 2? pick 2! ) place on 1! ) ) apply force 2! ) ) )"
+/// );
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`crate::plan`]; never for the four tasks.
+pub fn plan(task: Task) -> Result<crate::Plan<Spec>, crate::PlanError> {
+    crate::duplo_plan::plan(task, crate::Options::default())
+}
+
 /// Metres: brick height without studs.
 pub const BRICK_HEIGHT: f32 = 0.0192;
 /// Metres: length of a 2x2 brick.

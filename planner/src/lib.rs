@@ -53,5 +53,5 @@ pub mod tree;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
-pub use planner::{ConflictStep, Expansion, Options, Plan, Planner, plan};
+pub use planner::{Blended, ConflictStep, Expansion, Options, Plan, Planner, plan, run_blended};
 pub use refine::Refinement;

@@ -99,7 +99,9 @@ impl StripsWorld {
     }
 
     /// Makes ground action `action` fail whenever it starts (an external condition the
-    /// model does not know, e.g. a jammed door), or work again.
+    /// model does not know, e.g. a jammed door), or work again. Note that a reactive
+    /// Fallback retries a failing alternative every tick, preempting the ones after it:
+    /// an external condition the tree can check is better modelled as a precondition.
     pub fn sabotage(&mut self, action: ActionId, on: bool) {
         if let Some(s) = self.sabotaged.get_mut(action as usize) {
             *s = on;
