@@ -127,7 +127,7 @@ impl Leaves<'_> {
         self.spec.id_of(b).map(Leaf::new)
     }
     fn brick(&self, o: ObjectId) -> Option<u8> {
-        (o < self.bricks).then(|| o as u8)
+        u8::try_from(o).ok().filter(|_| o < self.bricks)
     }
     fn pos(&self, o: ObjectId) -> Option<u8> {
         o.checked_sub(self.bricks).and_then(|p| u8::try_from(p).ok())

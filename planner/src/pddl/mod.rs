@@ -21,7 +21,7 @@
 //! assert_eq!(problem.goal.len(), 1);
 //! let err = planner::pddl::parse_problem("p.pddl", "(define (problem q) (:domain d)\n(:goal (q)))", &domain)
 //!     .unwrap_err();
-//! assert_eq!(err.to_string(), "p.pddl:2:8: unknown predicate `q` (declared: p)");
+//! assert_eq!(err.to_string(), "p.pddl:2:9: unknown predicate `q` (declared: p)");
 //! # Ok::<(), planner::pddl::PddlError>(())
 //! ```
 

@@ -1,0 +1,94 @@
+//! Plan, encode, load as a controller would, run in the STRIPS world; and the other
+//! output notations.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::sync::Arc;
+
+use bt_core::{Node, Status, Tree};
+use planner::ground::Grounding;
+use planner::strips::{self, StripsWorld};
+use planner::{NoPorts, Options, PddlCatalog, domains, output, plan};
+
+fn plan_load_run(g: Grounding) -> (Vec<Node>, Arc<PddlCatalog>, u32) {
+    let g = Arc::new(g);
+    let c = Arc::new(PddlCatalog::new(g.problem()));
+    let p = plan(g.clone(), c.clone(), Options::default()).unwrap();
+    let image = output::to_image(&p.nodes, c.as_ref()).unwrap();
+    let mut storage = vec![Node::EMPTY; 1024];
+    let tree: Tree<'_, 64> = bt_core::load(&image, c.as_ref(), &mut storage).unwrap();
+    assert_eq!(tree.nodes(), &p.nodes[..]);
+    let mut world = StripsWorld::new(g);
+    let out = strips::run(tree.nodes(), c.as_ref(), &mut world, 1000, |_, _| {}, &mut Vec::new()).unwrap();
+    assert_eq!(out.status, Status::Success);
+    assert!(world.goal_reached());
+    assert_eq!(Some(out.ticks), p.goal_ticks);
+    (p.nodes, c, out.ticks)
+}
+
+#[test]
+fn cube_domain_end_to_end() {
+    let (nodes, c, ticks) = plan_load_run(domains::cube_sphere().unwrap());
+    assert_eq!((nodes.len(), ticks), (19, 5));
+    // The contract: behavior ids are predicates then actions; args are object indices.
+    let leaf = |name: &str| nodes.iter().find_map(|n| n.kind().leaf().filter(|(_, l)| format!("{l:?}") == name));
+    assert!(leaf("#0[0, 2]").is_some(), "at(cube, goal) is predicate 0 over objects 0 and 2");
+    assert!(leaf("#8[0, 2]").is_some(), "place(cube, goal) is action 2, behavior 6 + 2");
+    assert_eq!(c.objects(), ["cube", "sphere", "goal"]);
+}
+
+#[test]
+fn blocked_cube_domain_end_to_end() {
+    plan_load_run(domains::cube_sphere_blocked().unwrap());
+}
+
+#[test]
+fn cellphone_assembly_end_to_end_with_regrasps() {
+    let (nodes, c, _) = plan_load_run(domains::cellphone().unwrap());
+    let ascii = output::to_ascii(&nodes, c.as_ref()).unwrap();
+    assert!(ascii.contains("hand-over(left, right, chassis)"), "{ascii}");
+    assert!(ascii.contains("hand-over(left, right, battery)"), "{ascii}");
+    assert!(ascii.contains("-^- Inverter\n"), "negative preconditions are inverted conditions");
+}
+
+#[test]
+fn blocks_world_end_to_end() {
+    for n in [2, 5, 8] {
+        plan_load_run(domains::blocks_world(n).unwrap());
+    }
+}
+
+#[test]
+fn dot_and_xml_describe_the_same_tree() {
+    let g = Arc::new(domains::cellphone().unwrap());
+    let c = Arc::new(PddlCatalog::new(g.problem()));
+    let p = plan(g, c.clone(), Options::default()).unwrap();
+    let dot = output::to_dot(&p.nodes, c.as_ref());
+    assert_eq!(dot.matches(" -> ").count(), p.nodes.len() - 1);
+    assert!(dot.contains("label=\"hand-over(left, right, chassis)\", shape=box"));
+    let xml = output::to_xml(&p.nodes, c.as_ref(), c.as_ref()).unwrap();
+    assert!(xml.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\""));
+    assert!(xml.contains("<Action ID=\"hand-over\" from=\"left\" to=\"right\" p=\"chassis\"/>"), "{xml}");
+    assert!(xml.contains("<Inverter>"));
+    assert!(xml.contains("<TreeNodesModel>\n    <Condition ID=\"on-table\">\n      <input_port name=\"p\""), "{xml}");
+    // Balanced tags, in order.
+    let mut open: Vec<&str> = Vec::new();
+    for tag in xml.split('<').skip(1).map(|t| t.split('>').next().unwrap()) {
+        let name = tag.trim_start_matches('/').split([' ', '/']).next().unwrap();
+        if tag.starts_with('?') || tag.ends_with('/') {
+            continue;
+        } else if tag.starts_with('/') {
+            assert_eq!(open.pop(), Some(name));
+        } else {
+            open.push(name);
+        }
+    }
+    assert!(open.is_empty());
+    let leaves: Vec<u16> = p.nodes.iter().filter_map(|n| n.kind().leaf()).map(|(_, l)| l.behavior()).collect();
+    let mut kinds = leaves.clone();
+    kinds.sort_unstable();
+    kinds.dedup();
+    // Every leaf in the tree, and every leaf type once in TreeNodesModel.
+    assert_eq!(xml.matches("<Condition ID=").count() + xml.matches("<Action ID=").count(), leaves.len() + kinds.len());
+    let plain = output::to_xml(&p.nodes, c.as_ref(), &NoPorts).unwrap();
+    assert!(plain.contains("<Action ID=\"hand-over\" arg0=\"left\" arg1=\"right\" arg2=\"chassis\"/>"));
+}
