@@ -7,6 +7,8 @@ use planner::pddl::{ErrorKind, parse_domain, parse_problem};
 use planner::{PlanError, domains};
 use proptest::prelude::*;
 
+type Check = fn(&ErrorKind) -> bool;
+
 const DOMAIN: &str = "(define (domain d)
   (:requirements :strips :typing)
   (:types box place)
@@ -90,7 +92,7 @@ fn action_with_no_effects() {
 
 #[test]
 fn more_faults_each_with_its_own_error() {
-    let cases: Vec<(String, fn(&ErrorKind) -> bool)> = vec![
+    let cases: Vec<(String, Check)> = vec![
         (
             DOMAIN.replace(":typing", ":fluents"),
             |k| matches!(k, ErrorKind::UnsupportedRequirement(r) if r == ":fluents"),
@@ -122,7 +124,7 @@ fn more_faults_each_with_its_own_error() {
         assert!(want(&e.kind), "{text}\n-> {e}");
         assert!(e.pos.line >= 1 && e.pos.column >= 1, "{e}");
     }
-    let problems: Vec<(&str, fn(&ErrorKind) -> bool)> = vec![
+    let problems: Vec<(&str, Check)> = vec![
         ("(define (problem p) (:domain other) (:goal (free x)))", |k| {
             matches!(k, ErrorKind::Model(ModelError::DomainMismatch { .. }))
         }),
