@@ -55,3 +55,11 @@ pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
 pub use planner::{Blended, ConflictStep, Expansion, Options, Plan, Planner, plan, run_blended};
 pub use refine::Refinement;
+
+/// Plans a brick task with explicit [`Options`] (see [`duplo::plan`]).
+///
+/// # Errors
+/// As [`plan`].
+pub fn duplo_plan_with(task: duplo::Task, options: Options) -> Result<Plan<duplo::Spec>, PlanError> {
+    duplo_plan::plan(task, options)
+}

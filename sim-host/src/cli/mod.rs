@@ -12,6 +12,7 @@ mod catalogs;
 mod export;
 mod inspect;
 pub mod output;
+mod plan;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
 #[derive(Parser, Debug)]
@@ -32,8 +33,10 @@ struct Cli {
 enum Command {
     /// Load and validate a tree image; print the tree and the image's facts.
     Inspect(inspect::Args),
-    /// Write a tree image as ASCII or tokens.
+    /// Write a tree image as ASCII, tokens, Graphviz DOT or BehaviorTree.CPP XML.
     Export(export::Args),
+    /// Plan a tree by backchaining (seed 000) from PDDL or for a brick task.
+    Plan(plan::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
@@ -46,6 +49,7 @@ pub fn main() -> ExitCode {
         }
         Some(Command::Inspect(args)) => inspect::run(&args),
         Some(Command::Export(args)) => export::run(&args),
+        Some(Command::Plan(args)) => plan::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,173 @@
+//! `sim-host plan`: backchaining planning (seed 000) of a PDDL problem or a brick task.
+
+use std::io::IsTerminal as _;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::{Context as _, bail};
+use bt_core::{Catalog, Node};
+use planner::duplo::Task;
+use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement, output};
+
+use super::output::write_whole;
+
+/// What to write the tree as.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// The indented py_trees-style view.
+    Ascii,
+    /// Graphviz DOT (`dot -Tsvg`).
+    Dot,
+    /// BehaviorTree.CPP v4 XML, with a TreeNodesModel for Groot2.
+    Xml,
+    /// The token notation of seed 003: `s( f( 0 on 1? put 0 on 1! ) )`.
+    Tokens,
+    /// The deployable image (binary; needs --out).
+    Image,
+}
+
+/// How free action parameters are bound.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RefinementArg {
+    /// One grounding per achieving action: the cheapest from the current state.
+    Cheapest,
+    /// Every grounding of every achieving action.
+    All,
+}
+
+#[derive(clap::Args, Debug)]
+#[command(
+    long_about = "Synthesizes a reactive behavior tree by backchaining from the goal \
+    (Colledanchise, Almeida, Ögren, ICRA 2019, Algorithm 1): start from the goal \
+    conditions, tick the tree in the problem's symbolic world, replace each failed \
+    condition by its atomic BT (a Fallback of the condition and one Sequence of \
+    preconditions and action per achieving action), and move a new subtree left and up \
+    until no action executed before it undoes its preconditions.\n\n\
+    Input is a PDDL domain and problem (STRIPS with :typing and \
+    :negative-preconditions), or one of the four brick tasks of seed 003. Prints the \
+    tree, the expansions made, and whether the final tree, run from the initial state \
+    in the symbolic world, reaches the goal and in how many ticks.\n\n\
+    The tree goes to stdout or --out FILE (written whole or not at all). Leaves of PDDL \
+    trees are behavior ids in the domain's order (predicates, then actions) with \
+    object indices as arguments.",
+    after_help = "Examples:\n  sim-host plan --domain planner/domains/cube-sphere/domain.pddl \\\n      \
+    --problem planner/domains/cube-sphere/problem-blocked.pddl\n  \
+    sim-host plan --task tower --format tokens\n  \
+    sim-host plan --domain d.pddl --problem p.pddl --format image --out tree.bt"
+)]
+pub struct Args {
+    /// The PDDL domain file.
+    #[arg(long, requires = "problem", conflicts_with = "task")]
+    pub domain: Option<PathBuf>,
+    /// The PDDL problem file.
+    #[arg(long, requires = "domain")]
+    pub problem: Option<PathBuf>,
+    /// A brick task of seed 003 instead of PDDL.
+    #[arg(long, value_parser = ["tower", "croissant", "balance", "blocking"], required_unless_present = "domain")]
+    pub task: Option<String>,
+    /// The notation to write the tree in.
+    #[arg(long, value_enum, default_value_t = Format::Ascii)]
+    pub format: Format,
+    /// Write the tree here instead of stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// How free action parameters are bound (PDDL only).
+    #[arg(long, value_enum, default_value_t = RefinementArg::Cheapest)]
+    pub refinement: RefinementArg,
+}
+
+fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
+    format: Format,
+    nodes: &[Node],
+    catalog: &C,
+    ports: &P,
+) -> anyhow::Result<Vec<u8>> {
+    Ok(match format {
+        Format::Ascii => output::to_ascii(nodes, catalog)?.into_bytes(),
+        Format::Dot => output::to_dot(nodes, catalog).into_bytes(),
+        Format::Xml => output::to_xml(nodes, catalog, ports)?.into_bytes(),
+        Format::Tokens => {
+            let mut t = planner::tokens::to_string(nodes, catalog)?;
+            t.push('\n');
+            t.into_bytes()
+        }
+        Format::Image => output::to_image(nodes, catalog)?,
+    })
+}
+
+fn summary(expansions: &[Expansion], nodes: usize, verdict: &str) -> String {
+    let mut s = format!("planned: {} expansion(s), {nodes} nodes\n", expansions.len());
+    for (i, e) in expansions.iter().enumerate() {
+        s.push_str(&format!("  {}. {e}\n", i + 1));
+    }
+    s.push_str(verdict);
+    s.push('\n');
+    s
+}
+
+fn read(path: &PathBuf) -> anyhow::Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    if args.format == Format::Image && args.out.is_none() && std::io::stdout().is_terminal() {
+        bail!("--format image writes binary: give --out FILE (or redirect stdout)");
+    }
+    let options = Options {
+        refinement: match args.refinement {
+            RefinementArg::Cheapest => Refinement::Cheapest,
+            RefinementArg::All => Refinement::All,
+        },
+        ..Options::default()
+    };
+    let (bytes, text) = if let Some(task) = &args.task {
+        let task = Task::from_name(task).with_context(|| format!("unknown task `{task}`"))?;
+        let plan = planner::duplo_plan_with(task, options).with_context(|| format!("planning `{}`", task.name()))?;
+        let model = match plan.goal_ticks {
+            Some(t) => format!("the planner's own model of the task reaches the goal in {t} ticks"),
+            None => "the planner's own model of the task does not reach the goal".to_string(),
+        };
+        let verdict = format!(
+            "symbolic world: not run here; `sim-host run` checks the tree in the brick world \
+             (which has the physics the planner does not know); {model}"
+        );
+        let bytes = render(args.format, &plan.nodes, plan.catalog.as_ref(), &NoPorts)?;
+        (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
+    } else {
+        let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
+            bail!("give --domain D.pddl --problem P.pddl, or --task NAME");
+        };
+        let domain = planner::pddl::parse_domain(&dpath.display().to_string(), &read(dpath)?)?;
+        let problem = planner::pddl::parse_problem(&ppath.display().to_string(), &read(ppath)?, &domain)?;
+        let g = Arc::new(planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?);
+        let catalog = Arc::new(PddlCatalog::new(&problem));
+        let plan = planner::plan(g, catalog.clone(), options).with_context(|| format!("planning {}", ppath.display()))?;
+        let verdict = match plan.goal_ticks {
+            Some(t) => format!("symbolic world: the tree reaches the goal in {t} ticks from the initial state"),
+            None => "symbolic world: the tree does NOT reach the goal from the initial state \
+                     (planning reached it along another path)"
+                .to_string(),
+        };
+        let bytes = render(args.format, &plan.nodes, catalog.as_ref(), catalog.as_ref())?;
+        (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
+    };
+    match &args.out {
+        Some(out) => {
+            write_whole(out, &bytes)?;
+            print!("{text}");
+            println!("wrote {} ({} bytes)", out.display(), bytes.len());
+        }
+        None => {
+            use std::io::Write as _;
+            let mut stdout = std::io::stdout().lock();
+            stdout.write_all(&bytes)?;
+            if args.format == Format::Ascii {
+                writeln!(stdout)?;
+                write!(stdout, "{text}")?;
+            } else {
+                eprint!("{text}");
+            }
+        }
+    }
+    Ok(())
+}
