@@ -17,6 +17,10 @@ pub enum Format {
     Ascii,
     /// The token notation of seed 003: `s( f( 0 on 1? put 0 on 1! ) )`.
     Tokens,
+    /// Graphviz DOT (`dot -Tsvg`).
+    Dot,
+    /// BehaviorTree.CPP v4 XML, with a TreeNodesModel for Groot2.
+    Xml,
 }
 
 #[derive(clap::Args, Debug)]
@@ -47,6 +51,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
             t.push('\n');
             t
+        }
+        Format::Dot => planner::output::to_dot(tree.nodes(), known.catalog.as_ref()),
+        Format::Xml => {
+            let ports: &dyn planner::Ports = match &known.ports {
+                Some(p) => p.as_ref(),
+                None => &planner::NoPorts,
+            };
+            planner::output::to_xml(tree.nodes(), known.catalog.as_ref(), ports)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
         }
     };
     match &args.out {

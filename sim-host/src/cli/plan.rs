@@ -139,9 +139,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         };
         let domain = planner::pddl::parse_domain(&dpath.display().to_string(), &read(dpath)?)?;
         let problem = planner::pddl::parse_problem(&ppath.display().to_string(), &read(ppath)?, &domain)?;
-        let g = Arc::new(planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?);
+        let g = Arc::new(
+            planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?,
+        );
         let catalog = Arc::new(PddlCatalog::new(&problem));
-        let plan = planner::plan(g, catalog.clone(), options).with_context(|| format!("planning {}", ppath.display()))?;
+        let plan =
+            planner::plan(g, catalog.clone(), options).with_context(|| format!("planning {}", ppath.display()))?;
         let verdict = match plan.goal_ticks {
             Some(t) => format!("symbolic world: the tree reaches the goal in {t} ticks from the initial state"),
             None => "symbolic world: the tree does NOT reach the goal from the initial state \

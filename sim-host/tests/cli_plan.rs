@@ -1,0 +1,79 @@
+//! `sim-host plan`, and `inspect`/`export` on planner images, through the real binary.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::process::{Command, Output};
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+fn domains() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/domains")
+}
+
+#[test]
+fn plans_pddl_and_says_whether_the_tree_reaches_the_goal() {
+    let d = domains().join("cube-sphere/domain.pddl");
+    let p = domains().join("cube-sphere/problem-blocked.pddl");
+    let out = sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("--> clear-path(sphere, goal)"), "{text}");
+    assert!(text.contains("moved the new subtree up a level"), "{text}");
+    assert!(text.contains("symbolic world: the tree reaches the goal in 7 ticks"), "{text}");
+}
+
+#[test]
+fn image_round_trips_through_inspect_and_export() {
+    let dir = tempfile::tempdir().unwrap();
+    let img = dir.path().join("cube.bt");
+    let d = domains().join("cube-sphere/domain.pddl");
+    let p = domains().join("cube-sphere/problem.pddl");
+    let args = ["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "image"];
+    let out = sim_host(&[&args[..], &["--out", img.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = sim_host(&["inspect", img.to_str().unwrap()]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("PDDL domain `cube-sphere`"), "{text}");
+    assert!(text.contains("--> place(cube, goal)"), "{text}");
+    let out = sim_host(&["export", img.to_str().unwrap(), "--format", "xml"]);
+    let xml = String::from_utf8(out.stdout).unwrap();
+    assert!(xml.contains("<Action ID=\"place\" i=\"cube\" s=\"goal\"/>"), "{xml}");
+    let out = sim_host(&["export", img.to_str().unwrap(), "--format", "dot"]);
+    assert!(String::from_utf8(out.stdout).unwrap().starts_with("digraph bt {"));
+}
+
+#[test]
+fn brick_tasks_and_errors() {
+    let out = sim_host(&["plan", "--task", "tower", "--format", "tokens"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("s( f( 0 at pos (0.0, 0.05, 0.0)? "), "{text}");
+    assert!(String::from_utf8(out.stderr).unwrap().contains("sim-host run"));
+
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.pddl");
+    std::fs::write(
+        &bad,
+        "(define (domain x) (:predicates (p))\n  (:action a :parameters () :precondition (q) :effect (p)))",
+    )
+    .unwrap();
+    let out = sim_host(&["plan", "--domain", bad.to_str().unwrap(), "--problem", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.ends_with(":2:44: unknown predicate `q` (declared: p)\n"), "{err}");
+    assert_eq!(err.lines().count(), 1);
+
+    let target = dir.path().join("never.bt");
+    let out = sim_host(&[
+        "plan",
+        "--domain",
+        bad.to_str().unwrap(),
+        "--problem",
+        bad.to_str().unwrap(),
+        "--out",
+        target.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!target.exists());
+}
