@@ -92,3 +92,14 @@ fn dot_and_xml_describe_the_same_tree() {
     let plain = output::to_xml(&p.nodes, c.as_ref(), &NoPorts).unwrap();
     assert!(plain.contains("<Action ID=\"hand-over\" arg0=\"left\" arg1=\"right\" arg2=\"chassis\"/>"));
 }
+
+#[test]
+fn refinement_all_keeps_every_grounding_and_still_reaches_the_goal() {
+    let g = Arc::new(domains::cube_sphere_blocked().unwrap());
+    let c = Arc::new(PddlCatalog::new(g.problem()));
+    let all = Options { refinement: planner::Refinement::All, ..Options::default() };
+    let p = plan(g, c, all).unwrap();
+    let hand = p.expansions.iter().find(|e| e.condition == "hand-empty").unwrap();
+    assert_eq!(hand.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);
+    assert!(p.goal_ticks.is_some());
+}
