@@ -1,0 +1,1 @@
+//! The mobile manipulator of seed 000 Fig. 1.
