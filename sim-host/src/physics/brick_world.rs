@@ -1,0 +1,991 @@
+//! The four brick tasks of seed 003 on rapier3d.
+//!
+//! # The world
+//!
+//! - **Table**: a fixed slab, top face at z = 0.
+//! - **Bricks**: dynamic boxes, long side along y ([`dimensions`]): a 2x2 brick is
+//!   0.031 x 0.031 x 0.0192 m and 6 g, a 4x2 twice as long (12 g), the balance task's 8x2
+//!   four times (24 g) with a solid 2x2 block of 24 g on its +y end, which puts the centre
+//!   of mass 23 mm off-centre: it tips on a 2x2 base (half-width 15.5 mm) and stands on a
+//!   4x2 lying along y (half-length 31 mm). The blocking task's brick 2 carries a cone
+//!   (30 mm tall) on its top. Every brick but the cone brick has a 2 mm stud layer on
+//!   top, so an unpressed brick rests 2 mm high, as in the reference. Friction 0.5,
+//!   no restitution.
+//! - **Gripper**: a kinematic two-finger gripper. Its tool point (between the
+//!   fingertips) moves in straight lines at [`BrickParams::speed`]; between places it
+//!   travels at [`BrickParams::travel_height`]. Its geometry — two fingers 4 x 16 x 51
+//!   mm closing along x on the brick's long faces, and a palm 55 mm above the fingertips
+//!   (high enough to clear the cone) — takes part in no contact: every motion is
+//!   *guarded*, a shape cast of the fingers, the palm and the held brick along the
+//!   motion, and stops at the first contact, which makes the action fail.
+//! - **Grasp**: when the fingers close on a brick a fixed joint is created between the
+//!   gripper and the brick (friction grasping of 6 g bricks by a kinematic gripper
+//!   jitters), holding it centred between the fingertips and upright; it is removed
+//!   when the fingers open. Grasping a brick of a pressed assembly lifts the assembly.
+//! - **Studs**: pressing a brick that sits aligned on another (the reference's on-top
+//!   test: |dx|, |dy| < 3 mm, 0 < dz <= 22.2 mm) fixes it exactly one brick height above
+//!   the lower one, as studs would: both become one rigid body (bricks whose tops the
+//!   pressed brick also overlaps at the same level join too, so the croissant's long
+//!   brick snaps onto all three bricks under it). A fixed joint was tried first: a
+//!   jointed pair of 6 g bodies shoves a brick landing on it sideways by millimetres.
+//!
+//! # Time
+//!
+//! One tick is 0.1 s (10 Hz) of [`BrickParams::steps_per_tick`] rapier steps. An
+//! episode alternates `exec.tick(&mut world, t)` and [`BrickWorld::step`]. An action
+//! returns Running on its first tick (it only plans its motion) and reports its outcome
+//! on the tick after the motion ends; it fails when it has not completed 50 ticks after
+//! it started. A halted action stops the gripper where it is; the grasp stays as it is.
+//!
+//! # Behaviors
+//!
+//! Conditions measure the bodies: `picked b?` is the grasp joint; `b at pos P?` is the
+//! distance of b's reference point from P below 1 mm; `i on j?` is the on-top test above.
+//! Actions, with the reference's shortcuts when they start:
+//!
+//! - `pick b!`: succeeds at once if b is held, fails at once if another brick is. Rise
+//!   to travel height, move over b, descend with open fingers, close, lift.
+//! - `place at P!` / `place on b!`: fail at once on an empty hand. Rise, move over P
+//!   (or over b's top, studs included), descend until the held brick is 0.5 mm above
+//!   its place, open, rise. A descent that meets anything (an occupied spot, a brick
+//!   overhanging it, the cone) stops: the action fails and the brick stays held.
+//! - `put i at P!` / `put i on j!`: succeed at once if i is already there; fail at once
+//!   if another brick is held; otherwise pick (unless i is held) then place.
+//! - `apply force b!`: fails at once while holding. Rise, close the fingers fully, move
+//!   over b, descend onto its top (stopping early on anything above it: the force then
+//!   goes through that), press for 0.2 s, rise. If b sits aligned on a brick, it is
+//!   fixed to it. Succeeds whenever the hand was empty.
+
+use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
+use planner::duplo::{BRICK_HEIGHT, Behavior, Spec};
+use rapier3d::parry::shape::{Cuboid, SharedShape};
+use rapier3d::prelude::{
+    ColliderHandle, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyHandle, Vector,
+};
+
+use super::PhysicsError;
+use super::bricks::{self, STUD_HEIGHT};
+use super::engine;
+use crate::world::BrickWorld;
+
+/// Length of the step that finds contacts after bodies were moved by hand, s.
+const REFRESH_DT: f32 = 1e-5;
+
+/// Seconds per tick (10 Hz).
+pub const TICK_SECONDS: f32 = 0.1;
+/// Ticks after which an action that has not completed fails.
+pub const ACTION_TIMEOUT_TICKS: u32 = 50;
+/// `at pos` margin, m.
+pub const POSITION_MARGIN: f32 = 0.001;
+/// `on` margin in x and y, m.
+pub const ON_TOP_MARGIN: f32 = 0.003;
+/// Highest dz for `on`: one brick, the studs, and 1 mm, m.
+pub const ON_TOP_MAX_DZ: f32 = BRICK_HEIGHT + STUD_HEIGHT + 0.001;
+
+/// Tool point height above a held brick's reference point: the fingers grip the middle
+/// of the brick.
+const GRIP_HEIGHT: f32 = BRICK_HEIGHT / 2.0;
+/// Gap left under a brick being placed before the fingers open, m.
+const PLACE_CLEARANCE: f32 = 0.00005;
+/// A place descends at speed to this height above the brick's place and covers the
+/// rest, and opens, within one rapier step: a held brick is never inside the margins of
+/// `at pos` or `on` at a tick boundary, so a reactive tree never sees its goal reached
+/// (and halts the place) while the brick is still in the fingers.
+const APPROACH: f32 = 0.003;
+/// Fingertips below the tool point, m.
+const FINGERTIP_DEPTH: f32 = 0.006;
+/// Finger half-thickness (x), half-width (y) and top above the tool point, m.
+const FINGER_HX: f32 = 0.002;
+const FINGER_HY: f32 = 0.008;
+const FINGER_TOP: f32 = 0.045;
+/// Palm half-extents, m; it sits on top of the fingers.
+const PALM: [f32; 3] = [0.025, 0.012, 0.005];
+/// Finger gaps (fingertip inner face from the tool point along x), m.
+const OPEN: f32 = 0.0155 + 0.003;
+const ON_BRICK: f32 = 0.0155;
+const SHUT: f32 = 0.0;
+/// Finger speed, m/s.
+const FINGER_SPEED: f32 = 0.05;
+/// How long `apply force` presses, s.
+const PRESS_SECONDS: f32 = 0.2;
+/// A grasp fails on a brick tilted more than this (cosine of the angle: 45°).
+const GRASP_MIN_UPRIGHT: f32 = core::f32::consts::FRAC_1_SQRT_2;
+/// How far the tool point may be from the brick when the fingers close, m.
+const GRASP_TOLERANCE: f32 = 0.004;
+
+/// Tunable simulation parameters. The defaults are the tested ones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrickParams {
+    /// rapier steps per 0.1 s tick.
+    pub steps_per_tick: u32,
+    /// rapier solver iterations (substeps) per step.
+    pub solver_iterations: usize,
+    /// Gripper speed, m/s.
+    pub speed: f32,
+    /// Tool point height while travelling, m.
+    pub travel_height: f32,
+}
+
+impl Default for BrickParams {
+    fn default() -> Self {
+        Self { steps_per_tick: 5, solver_iterations: 4, speed: 0.3, travel_height: 0.09 }
+    }
+}
+
+impl BrickParams {
+    fn check(&self) -> Result<(), PhysicsError> {
+        let bad = |name, value: f64, why| Err(PhysicsError::BadParameter { name, value, why });
+        if !(1..=1000).contains(&self.steps_per_tick) {
+            return bad("steps_per_tick", f64::from(self.steps_per_tick), "must be 1..=1000");
+        }
+        if !(1..=100).contains(&self.solver_iterations) {
+            return bad("solver_iterations", self.solver_iterations as f64, "must be 1..=100");
+        }
+        if !(self.speed > 0.0 && self.speed <= 10.0) {
+            return bad("speed", f64::from(self.speed), "must be in (0, 10] m/s");
+        }
+        if !(self.travel_height >= 0.08 && self.travel_height <= 1.0) {
+            return bad("travel_height", f64::from(self.travel_height), "must be in [0.08, 1] m");
+        }
+        Ok(())
+    }
+}
+
+/// Something that happened in the world, for narration.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BrickEvent {
+    /// The gripper closed on a brick.
+    Grasped {
+        /// Tick.
+        tick: u32,
+        /// Brick.
+        brick: u8,
+    },
+    /// The gripper opened and let a brick go.
+    Released {
+        /// Tick.
+        tick: u32,
+        /// Brick.
+        brick: u8,
+    },
+    /// A guarded motion met something and stopped.
+    Blocked {
+        /// Tick.
+        tick: u32,
+        /// The brick that was hit, or `None` for the table.
+        by: Option<u8>,
+    },
+    /// A brick was pressed onto the one below and fixed to it.
+    Fixed {
+        /// Tick.
+        tick: u32,
+        /// The pressed brick.
+        brick: u8,
+        /// The brick below.
+        below: u8,
+    },
+    /// The fingers closed on nothing graspable.
+    Missed {
+        /// Tick.
+        tick: u32,
+        /// The brick aimed at.
+        brick: u8,
+    },
+}
+
+impl core::fmt::Display for BrickEvent {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            Self::Grasped { tick, brick } => write!(f, "tick {tick}: the gripper grasps brick {brick}"),
+            Self::Released { tick, brick } => write!(f, "tick {tick}: the gripper releases brick {brick}"),
+            Self::Blocked { tick, by: Some(b) } => {
+                write!(f, "tick {tick}: the gripper's motion is blocked by brick {b}")
+            }
+            Self::Blocked { tick, by: None } => write!(f, "tick {tick}: the gripper's motion is blocked by the table"),
+            Self::Fixed { tick, brick, below } => write!(f, "tick {tick}: brick {brick} is pressed onto brick {below}"),
+            Self::Missed { tick, brick } => write!(f, "tick {tick}: the fingers close but miss brick {brick}"),
+        }
+    }
+}
+
+/// Where a motion goes: resolved to a tool-point position when the motion starts.
+#[derive(Clone, Copy, Debug)]
+enum Spot {
+    /// Grasp height of brick b.
+    Grasp(u8),
+    /// Place the held brick with its reference point at P.
+    At([f32; 3]),
+    /// Place the held brick on top of brick b.
+    On(u8),
+    /// Fingertips just above brick b's top.
+    Press(u8),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Phase {
+    /// Straight up to travel height.
+    Rise,
+    /// At travel height, over the spot.
+    Over(Spot),
+    /// Guarded descent to the spot (for places: to [`APPROACH`] above it).
+    Descend(Spot),
+    /// The last [`APPROACH`] of a place and the release, within one rapier step.
+    SetDown(Spot),
+    /// Fingers to a gap.
+    Fingers(f32),
+    /// Attach brick b.
+    Grasp(u8),
+    /// Press brick b for a while, then fix it.
+    Press(u8),
+}
+
+/// The running action.
+#[derive(Debug)]
+struct Job {
+    node: NodeId,
+    ticks: u32,
+    phases: Vec<Phase>,
+    next: usize,
+    /// Tool point target of the current motion and whether it started.
+    target: Option<Vector>,
+    /// Steps left in a timed phase.
+    wait: u32,
+    outcome: Option<Status>,
+}
+
+/// A brick task on rapier3d: implements [`BrickWorld`] (and so `bt_core::BehaviorSet`)
+/// over [`planner::duplo::Spec`]. See the module docs for the physics.
+pub struct PhysicsBrickWorld {
+    spec: Spec,
+    params: BrickParams,
+    world: PhysicsWorld,
+    bricks: Vec<RigidBodyHandle>,
+    gripper: RigidBodyHandle,
+    tool: Vector,
+    gap: f32,
+    grasp: Option<(u8, ImpulseJointHandle)>,
+    /// Per brick: the body carrying it (its own, or that of the pressed assembly it is
+    /// part of) and its frame in that body's frame.
+    carrier: Vec<(RigidBodyHandle, Pose)>,
+    /// Per brick: its colliders and their poses in the brick's frame.
+    shapes: Vec<Vec<(ColliderHandle, Pose)>>,
+    /// Per brick: the brick it was pressed onto, aligned.
+    below: Vec<Option<u8>>,
+    /// Bodies were moved by hand or rebuilt: contacts must be found again before the
+    /// next step (rapier solves a step with the contacts found at the end of the last).
+    moved: bool,
+    job: Option<Job>,
+    tick: u32,
+    events: Vec<BrickEvent>,
+}
+
+impl core::fmt::Debug for PhysicsBrickWorld {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("PhysicsBrickWorld")
+            .field("task", &self.spec.task)
+            .field("tick", &self.tick)
+            .field("tool", &self.tool)
+            .field("held", &self.held())
+            .finish_non_exhaustive()
+    }
+}
+
+impl PhysicsBrickWorld {
+    /// A fresh world for `spec` with the default parameters.
+    ///
+    /// # Errors
+    /// [`PhysicsError::BadSpec`] when the spec's brick, start and goal lists differ in
+    /// length or a start position is not finite.
+    pub fn new(spec: &Spec) -> Result<Self, PhysicsError> {
+        Self::with_params(spec, BrickParams::default())
+    }
+
+    /// A fresh world for `spec` with `params`.
+    ///
+    /// # Errors
+    /// As [`PhysicsBrickWorld::new`], and [`PhysicsError::BadParameter`].
+    pub fn with_params(spec: &Spec, params: BrickParams) -> Result<Self, PhysicsError> {
+        params.check()?;
+        let bad = |what: String| PhysicsError::BadSpec { task: spec.task.name(), what };
+        if spec.start.len() != spec.bricks.len() || spec.goal.len() != spec.bricks.len() {
+            return Err(bad(format!(
+                "{} bricks, {} start positions, {} goals",
+                spec.bricks.len(),
+                spec.start.len(),
+                spec.goal.len()
+            )));
+        }
+        if spec.bricks.len() > usize::from(u8::MAX) {
+            return Err(bad(format!("{} bricks; at most 255", spec.bricks.len())));
+        }
+        if let Some(i) = spec.start.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+            return Err(bad(format!("start position of brick {i} is not finite")));
+        }
+        let dt = TICK_SECONDS / params.steps_per_tick as f32;
+        let mut world = engine::new_world(dt, params.solver_iterations, 0.01);
+        bricks::insert_table(&mut world);
+        let bricks: Vec<RigidBodyHandle> =
+            spec.bricks.iter().zip(&spec.start).map(|(&k, &at)| bricks::insert(&mut world, k, at)).collect();
+        let tool = Vector::new(0.0, 0.0, params.travel_height);
+        let gripper =
+            world.bodies.insert(rapier3d::prelude::RigidBodyBuilder::kinematic_position_based().translation(tool));
+        Ok(Self {
+            below: vec![None; bricks.len()],
+            moved: false,
+            carrier: bricks.iter().map(|&h| (h, Pose::IDENTITY)).collect(),
+            shapes: bricks
+                .iter()
+                .map(|&h| {
+                    let handles = world.bodies.get(h).map(|b| b.colliders().to_vec()).unwrap_or_default();
+                    handles
+                        .into_iter()
+                        .map(|c| {
+                            let local = world.colliders.get(c).and_then(|c| c.position_wrt_parent().copied());
+                            (c, local.unwrap_or(Pose::IDENTITY))
+                        })
+                        .collect()
+                })
+                .collect(),
+            spec: spec.clone(),
+            params,
+            world,
+            bricks,
+            gripper,
+            tool,
+            gap: OPEN,
+            grasp: None,
+            job: None,
+            tick: 0,
+            events: Vec::new(),
+        })
+    }
+
+    /// Ticks stepped so far.
+    #[must_use]
+    pub fn tick(&self) -> u32 {
+        self.tick
+    }
+
+    /// The gripper's tool point (between the fingertips), m.
+    #[must_use]
+    pub fn gripper(&self) -> [f32; 3] {
+        self.tool.to_array()
+    }
+
+    /// Full pose of brick `brick`: position of its reference point and orientation as a
+    /// quaternion (x, y, z, w).
+    #[must_use]
+    pub fn pose(&self, brick: usize) -> Option<([f32; 3], [f32; 4])> {
+        let p = self.pose_of(u8::try_from(brick).ok()?)?;
+        Some((p.translation.to_array(), p.rotation.to_array()))
+    }
+
+    /// The brick that `brick` is fixed onto by a press, if any.
+    #[must_use]
+    pub fn fixed_below(&self, brick: usize) -> Option<u8> {
+        self.below.get(brick).copied().flatten()
+    }
+
+    /// What happened so far, in order.
+    #[must_use]
+    pub fn events(&self) -> &[BrickEvent] {
+        &self.events
+    }
+
+    /// The parameters.
+    #[must_use]
+    pub fn params(&self) -> BrickParams {
+        self.params
+    }
+
+    /// The body carrying brick b.
+    fn body(&self, brick: u8) -> Option<RigidBodyHandle> {
+        self.carrier.get(usize::from(brick)).map(|&(h, _)| h)
+    }
+
+    fn pose_of(&self, brick: u8) -> Option<Pose> {
+        let &(body, offset) = self.carrier.get(usize::from(brick))?;
+        Some(*self.world.bodies.get(body)?.position() * offset)
+    }
+
+    /// Brick b and every brick pressed together with it, in index order.
+    fn assembly(&self, brick: u8) -> Vec<u8> {
+        let Some(body) = self.body(brick) else { return Vec::new() };
+        (0..self.carrier.len())
+            .filter(|&k| self.carrier.get(k).is_some_and(|&(h, _)| h == body))
+            .filter_map(|k| u8::try_from(k).ok())
+            .collect()
+    }
+
+    /// Where the grasp holds the brick in the fingers.
+    fn grasp_pose(&self) -> Pose {
+        Pose::from_translation(self.tool - Vector::new(0.0, 0.0, GRIP_HEIGHT))
+    }
+
+    fn pos(&self, brick: u8) -> Vector {
+        self.pose_of(brick).map_or(Vector::splat(f32::NAN), |p| p.translation)
+    }
+
+    /// The brick a collider belongs to.
+    fn brick_of(&self, collider: ColliderHandle) -> Option<u8> {
+        let i = self.shapes.iter().position(|cs| cs.iter().any(|&(c, _)| c == collider))?;
+        u8::try_from(i).ok()
+    }
+
+    fn is_on(&self, i: u8, j: u8) -> bool {
+        if i == j {
+            return false;
+        }
+        let d = self.pos(i) - self.pos(j);
+        d.x.abs() < ON_TOP_MARGIN && d.y.abs() < ON_TOP_MARGIN && d.z > 0.0 && d.z <= ON_TOP_MAX_DZ
+    }
+
+    fn is_at(&self, brick: u8, p: [f32; 3]) -> bool {
+        (self.pos(brick) - Vector::from_array(p)).length() < POSITION_MARGIN
+    }
+
+    fn position_of(&self, p: planner::duplo::Position) -> Option<[f32; 3]> {
+        self.spec.position(p)
+    }
+
+    fn held_brick(&self) -> Option<u8> {
+        self.grasp.map(|(b, _)| b)
+    }
+
+    fn known_brick(&self, b: u8) -> bool {
+        usize::from(b) < self.bricks.len()
+    }
+
+    /// Plans an action; `Err(status)` is an immediate outcome.
+    fn plan(&self, behavior: Behavior) -> Result<Vec<Phase>, Status> {
+        use Phase::*;
+        let held = self.held_brick();
+        let pick = |b: u8| vec![Rise, Fingers(OPEN), Over(Spot::Grasp(b)), Descend(Spot::Grasp(b)), Grasp(b), Rise];
+        let place = |spot: Spot| vec![Rise, Over(spot), Descend(spot), SetDown(spot), Fingers(OPEN), Rise];
+        match behavior {
+            Behavior::Pick(b) => {
+                if !self.known_brick(b) {
+                    return Err(Status::Failure);
+                }
+                match held {
+                    Some(h) if h == b => Err(Status::Success),
+                    Some(_) => Err(Status::Failure),
+                    None => Ok(pick(b)),
+                }
+            }
+            Behavior::PlaceAt(p) => match (held, self.position_of(p)) {
+                (Some(_), Some(at)) => Ok(place(Spot::At(at))),
+                _ => Err(Status::Failure),
+            },
+            Behavior::PlaceOn(b) => match held {
+                Some(h) if h != b && self.known_brick(b) => Ok(place(Spot::On(b))),
+                _ => Err(Status::Failure),
+            },
+            Behavior::PutAt(i, p) => {
+                let Some(at) = self.position_of(p) else { return Err(Status::Failure) };
+                if !self.known_brick(i) {
+                    return Err(Status::Failure);
+                }
+                if self.is_at(i, at) && held != Some(i) {
+                    return Err(Status::Success);
+                }
+                match held {
+                    Some(h) if h == i => Ok(place(Spot::At(at))),
+                    Some(_) => Err(Status::Failure),
+                    None => Ok([pick(i), place(Spot::At(at))].concat()),
+                }
+            }
+            Behavior::PutOn(i, j) => {
+                if !self.known_brick(i) || !self.known_brick(j) || i == j {
+                    return Err(Status::Failure);
+                }
+                if self.is_on(i, j) && held != Some(i) {
+                    return Err(Status::Success);
+                }
+                match held {
+                    Some(h) if h == i => Ok(place(Spot::On(j))),
+                    Some(_) => Err(Status::Failure),
+                    None => Ok([pick(i), place(Spot::On(j))].concat()),
+                }
+            }
+            Behavior::ApplyForce(b) => {
+                if held.is_some() || !self.known_brick(b) {
+                    return Err(Status::Failure);
+                }
+                Ok(vec![
+                    Rise,
+                    Fingers(SHUT),
+                    Over(Spot::Press(b)),
+                    Descend(Spot::Press(b)),
+                    Press(b),
+                    Rise,
+                    Fingers(OPEN),
+                ])
+            }
+            Behavior::Picked(_) | Behavior::AtPos(..) | Behavior::On(..) => Err(Status::Failure),
+        }
+    }
+
+    fn condition_of(&self, behavior: Behavior) -> Status {
+        let ok = match behavior {
+            Behavior::Picked(b) => self.held_brick() == Some(b),
+            Behavior::AtPos(b, p) => self.known_brick(b) && self.position_of(p).is_some_and(|at| self.is_at(b, at)),
+            Behavior::On(i, j) => self.known_brick(i) && self.known_brick(j) && self.is_on(i, j),
+            _ => false,
+        };
+        if ok { Status::Success } else { Status::Failure }
+    }
+
+    /// Tool-point target of a spot, from the bodies as they are now.
+    fn resolve(&self, spot: Spot) -> Vector {
+        match spot {
+            Spot::Grasp(b) => self.pos(b) + Vector::new(0.0, 0.0, GRIP_HEIGHT),
+            Spot::At(p) => Vector::from_array(p) + Vector::new(0.0, 0.0, GRIP_HEIGHT + PLACE_CLEARANCE),
+            Spot::On(b) => self.pos(b) + Vector::new(0.0, 0.0, bricks::stack_height() + GRIP_HEIGHT + PLACE_CLEARANCE),
+            Spot::Press(b) => {
+                let top = if self.fixed_below(usize::from(b)).is_some() {
+                    BRICK_HEIGHT + STUD_HEIGHT
+                } else {
+                    bricks::stack_height()
+                };
+                self.pos(b) + Vector::new(0.0, 0.0, top + FINGERTIP_DEPTH + 0.001)
+            }
+        }
+    }
+
+    /// The gripper's shapes (fingers at gap `gap`, palm) at tool point `tool`.
+    fn gripper_shapes(tool: Vector, gap: f32) -> [(SharedShape, Pose); 3] {
+        let finger_hz = (FINGER_TOP + FINGERTIP_DEPTH) / 2.0;
+        let finger_z = (FINGER_TOP - FINGERTIP_DEPTH) / 2.0;
+        let finger = SharedShape::new(Cuboid::new(Vector::new(FINGER_HX, FINGER_HY, finger_hz)));
+        let palm = SharedShape::new(Cuboid::new(Vector::from_array(PALM)));
+        let fx = gap + FINGER_HX;
+        [
+            (finger.clone(), Pose::from_translation(tool + Vector::new(-fx, 0.0, finger_z))),
+            (finger, Pose::from_translation(tool + Vector::new(fx, 0.0, finger_z))),
+            (palm, Pose::from_translation(tool + Vector::new(0.0, 0.0, FINGER_TOP + PALM[2]))),
+        ]
+    }
+
+    /// The first thing the gripper (and what it holds) meets moving by `motion`.
+    fn guard(&self, motion: Vector) -> Option<Option<u8>> {
+        let held = self.held_brick();
+        let members = held.map(|b| self.assembly(b)).unwrap_or_default();
+        let mut ignore = vec![self.gripper];
+        ignore.extend(members.iter().filter_map(|&m| self.body(m)));
+        let mut hit = None;
+        let mut consider = |h: Option<(ColliderHandle, f32)>| {
+            if let Some((c, toi)) = h
+                && hit.is_none_or(|(_, t)| toi < t)
+            {
+                hit = Some((c, toi));
+            }
+        };
+        for (shape, pose) in Self::gripper_shapes(self.tool, self.gap) {
+            consider(engine::sweep(&self.world, shape.as_ref(), &pose, motion, &ignore));
+        }
+        if let Some(held_pose) = held.and_then(|b| self.pose_of(b)) {
+            // What is held, where the grasp holds it (not where the joint lags it).
+            let correction = self.grasp_pose() * held_pose.inverse();
+            if let Some(body) = held.and_then(|b| self.body(b)).and_then(|h| self.world.bodies.get(h)) {
+                for &c in body.colliders() {
+                    if let Some(col) = self.world.colliders.get(c) {
+                        let pose = correction * *col.position();
+                        consider(engine::sweep(&self.world, col.shape(), &pose, motion, &ignore));
+                    }
+                }
+            }
+        }
+        let (c, _) = hit?;
+        Some(self.brick_of(c))
+    }
+
+    fn attach(&mut self, brick: u8) -> bool {
+        let (Some(p), Some(&(body, offset))) = (self.pose_of(brick), self.carrier.get(usize::from(brick))) else {
+            return false;
+        };
+        let want = self.tool - Vector::new(0.0, 0.0, GRIP_HEIGHT);
+        let d = p.translation - want;
+        let up = p.rotation * Vector::Z;
+        if d.x.abs() > GRASP_TOLERANCE
+            || d.y.abs() > GRASP_TOLERANCE
+            || d.z.abs() > GRASP_TOLERANCE
+            || up.z < GRASP_MIN_UPRIGHT
+        {
+            return false;
+        }
+        let joint = FixedJointBuilder::new()
+            .local_frame1(Pose::from_translation(Vector::new(0.0, 0.0, -GRIP_HEIGHT)))
+            .local_frame2(offset)
+            .contacts_enabled(false);
+        let j = self.world.impulse_joints.insert(self.gripper, body, joint, true);
+        self.grasp = Some((brick, j));
+        true
+    }
+
+    /// Puts what is held exactly where the grasp holds it.
+    fn snap_held(&mut self) {
+        let Some(held) = self.held_brick() else { return };
+        let Some(held_pose) = self.pose_of(held) else { return };
+        let correction = self.grasp_pose() * held_pose.inverse();
+        if let Some(body) = self.body(held).and_then(|h| self.world.bodies.get_mut(h)) {
+            let at = correction * *body.position();
+            body.set_position(at, true);
+        }
+        self.moved = true;
+    }
+
+    fn release(&mut self) {
+        if let Some((b, j)) = self.grasp.take() {
+            self.world.impulse_joints.remove(j, true);
+            if let Some(body) = self.body(b).and_then(|h| self.world.bodies.get_mut(h)) {
+                body.set_linvel(Vector::ZERO, true);
+                body.set_angvel(Vector::ZERO, true);
+            }
+            self.events.push(BrickEvent::Released { tick: self.tick, brick: b });
+        }
+    }
+
+    /// Presses brick b: if it sits aligned on a brick, it becomes part of that brick's
+    /// rigid body, one brick height above it, and so does every other brick whose top
+    /// its footprint overlaps at the same level (a long brick bridging several bricks
+    /// snaps onto all their studs).
+    fn press(&mut self, brick: u8) {
+        if self.fixed_below(usize::from(brick)).is_some() {
+            return;
+        }
+        let count = u8::try_from(self.bricks.len()).unwrap_or(u8::MAX);
+        let below =
+            (0..count).filter(|&j| self.is_on(brick, j)).max_by(|&a, &b| self.pos(a).z.total_cmp(&self.pos(b).z));
+        let Some(below) = below else { return };
+        let (Some(upper), Some(lower)) = (self.pose_of(brick), self.pose_of(below)) else { return };
+        let footprint = |i: u8| self.spec.bricks.get(usize::from(i)).map(|&k| bricks::dimensions(k));
+        let Some(up) = footprint(brick) else { return };
+        // Where brick b goes: on the studs of `below`, centred and square.
+        let pressed = lower * Pose::from_translation(Vector::new(0.0, 0.0, BRICK_HEIGHT));
+        let mut joins = vec![(brick, pressed)];
+        for j in 0..count {
+            if j == brick || j == below || self.assembly(below).contains(&j) {
+                continue;
+            }
+            let (Some(pj), Some(d)) = (self.pose_of(j), footprint(j)) else { continue };
+            let p = pj.translation;
+            let overlap_x = (p.x - upper.translation.x).abs() < (d.x + up.x) / 2.0 - 0.001;
+            let overlap_y = (p.y - upper.translation.y).abs() < (d.y + up.y) / 2.0 - 0.001;
+            if overlap_x && overlap_y && (p.z - lower.translation.z).abs() < 0.001 {
+                // Where it is relative to b, one brick height under it, square.
+                let rel = upper.inverse() * pj;
+                let rel = Vector::new(rel.translation.x, rel.translation.y, -BRICK_HEIGHT);
+                joins.push((j, pressed * Pose::from_translation(rel)));
+            }
+        }
+        self.merge(below, &joins);
+
+        if let Some(b) = self.below.get_mut(usize::from(brick)) {
+            *b = Some(below);
+        }
+        self.events.push(BrickEvent::Fixed { tick: self.tick, brick, below });
+    }
+
+    /// Makes one rigid body of the assembly of brick `host` and the assemblies of the
+    /// bricks in `moves`, each brick of `moves` landing at its world pose (its assembly
+    /// moving with it). The new body replaces the old ones: rapier solves a body whose
+    /// collider set changed without its contacts for a step, a fresh body it does not.
+    fn merge(&mut self, host: u8, moves: &[(u8, Pose)]) {
+        let Some(host_pose) = self.pose_of(host) else { return };
+        let Some(&(host_body, host_offset)) = self.carrier.get(usize::from(host)) else { return };
+        let body_pose = host_pose * host_offset.inverse();
+        // World pose of every brick of the merged bodies.
+        let mut old_bodies = vec![host_body];
+        let mut targets: Vec<(u8, Pose)> = Vec::new();
+        for &(j, target) in moves {
+            let (Some(now), Some(jb)) = (self.pose_of(j), self.body(j)) else { continue };
+            if old_bodies.contains(&jb) {
+                continue;
+            }
+            old_bodies.push(jb);
+            let shift = target * now.inverse();
+            for k in self.assembly(j) {
+                if let Some(p) = self.pose_of(k) {
+                    targets.push((k, shift * p));
+                }
+            }
+        }
+        for k in self.assembly(host) {
+            if let Some(p) = self.pose_of(k) {
+                targets.push((k, p));
+            }
+        }
+        let new_body = self.world.bodies.insert(rapier3d::prelude::RigidBodyBuilder::dynamic().pose(body_pose).build());
+        for (k, world_pose) in targets {
+            let offset = body_pose.inverse() * world_pose;
+            let moved = self.shapes.get(usize::from(k)).cloned().unwrap_or_default();
+            let mut fresh = Vec::with_capacity(moved.len());
+            for (collider, local) in moved {
+                let w = &mut self.world;
+                if let Some(mut col) =
+                    w.colliders.remove(collider, &mut w.islands, &mut w.bodies, &mut w.soft_bodies, false)
+                {
+                    col.set_position_wrt_parent(offset * local);
+                    fresh.push((w.colliders.insert_with_parent(col, new_body, &mut w.bodies), local));
+                }
+            }
+            if let Some(slot) = self.shapes.get_mut(usize::from(k)) {
+                *slot = fresh;
+            }
+            if let Some(slot) = self.carrier.get_mut(usize::from(k)) {
+                *slot = (new_body, offset);
+            }
+        }
+        self.moved = true;
+        for old in old_bodies {
+            let w = &mut self.world;
+            w.bodies.remove(
+                old,
+                &mut w.islands,
+                &mut w.colliders,
+                &mut w.impulse_joints,
+                &mut w.multibody_joints,
+                &mut w.soft_bodies,
+                false,
+            );
+        }
+    }
+
+    /// Advances the running job by one rapier step: moves the gripper's kinematic target.
+    fn advance_job(&mut self, dt: f32) {
+        let Some(mut job) = self.job.take() else { return };
+        let mut budget = 4; // instantaneous phases that may complete within one step
+        while job.outcome.is_none() && budget > 0 {
+            budget -= 1;
+            let Some(&phase) = job.phases.get(job.next) else {
+                job.outcome = Some(Status::Success);
+                break;
+            };
+            let done = match phase {
+                Phase::Rise | Phase::Over(_) | Phase::Descend(_) => {
+                    let target = *job.target.get_or_insert_with(|| match phase {
+                        Phase::Rise => {
+                            Vector::new(self.tool.x, self.tool.y, self.tool.z.max(self.params.travel_height))
+                        }
+                        Phase::Over(s) => {
+                            let t = self.resolve(s);
+                            Vector::new(t.x, t.y, self.tool.z)
+                        }
+                        Phase::Descend(s @ (Spot::At(_) | Spot::On(_))) => {
+                            self.resolve(s) + Vector::new(0.0, 0.0, APPROACH)
+                        }
+                        Phase::Descend(s) => self.resolve(s),
+                        _ => self.tool,
+                    });
+                    let d = target - self.tool;
+                    let max = self.params.speed * dt;
+                    let len = d.length();
+                    let motion = if len <= max { d } else { d * (max / len) };
+                    // An empty gripper backing straight up is not stopped by a brick
+                    // that rocks up under it after being let go.
+                    let guarded = !(matches!(phase, Phase::Rise) && self.grasp.is_none());
+                    if len > 0.0 {
+                        if let Some(by) = self.guard(motion).filter(|_| guarded) {
+                            self.events.push(BrickEvent::Blocked { tick: self.tick, by });
+                            if let Phase::Descend(Spot::Press(b)) = phase {
+                                // Pressing through whatever lies on top.
+                                if let Some(p) = job.phases.get_mut(job.next) {
+                                    *p = Phase::Press(b);
+                                }
+                                job.target = None;
+                                continue;
+                            }
+                            job.outcome = Some(Status::Failure);
+                            break;
+                        }
+                        self.tool += motion;
+                    }
+                    let arrived = len <= max;
+                    if arrived {
+                        self.tool = target;
+                    }
+                    budget = 0; // a motion uses the step
+                    arrived
+                }
+                Phase::Fingers(gap) => {
+                    let d = gap - self.gap;
+                    let max = FINGER_SPEED * dt;
+                    if d.abs() <= max {
+                        self.gap = gap;
+                        true
+                    } else {
+                        self.gap += max.copysign(d);
+                        budget = 0;
+                        false
+                    }
+                }
+                Phase::Grasp(b) => {
+                    self.gap = ON_BRICK;
+                    if self.attach(b) {
+                        self.events.push(BrickEvent::Grasped { tick: self.tick, brick: b });
+                        true
+                    } else {
+                        self.events.push(BrickEvent::Missed { tick: self.tick, brick: b });
+                        job.outcome = Some(Status::Failure);
+                        break;
+                    }
+                }
+                Phase::SetDown(spot) => {
+                    let motion = self.resolve(spot) - self.tool;
+                    if let Some(by) = self.guard(motion) {
+                        self.events.push(BrickEvent::Blocked { tick: self.tick, by });
+                        job.outcome = Some(Status::Failure);
+                        break;
+                    }
+                    self.tool += motion;
+                    // The brick covers the last millimetres with the fingers.
+                    self.snap_held();
+                    self.release();
+                    budget = 0;
+                    true
+                }
+                Phase::Press(b) => {
+                    if job.wait == 0 {
+                        job.wait = (PRESS_SECONDS / dt).round().max(1.0) as u32;
+                    }
+                    job.wait -= 1;
+                    budget = 0;
+                    if job.wait == 0 {
+                        self.press(b);
+                        true
+                    } else {
+                        false
+                    }
+                }
+            };
+            if done {
+                job.next += 1;
+                job.target = None;
+                if job.next >= job.phases.len() {
+                    job.outcome = Some(Status::Success);
+                }
+            }
+        }
+        if let Some(g) = self.world.bodies.get_mut(self.gripper) {
+            g.set_next_kinematic_translation(self.tool);
+        }
+        self.job = Some(job);
+    }
+
+    fn quiet(&self) -> bool {
+        self.job.as_ref().is_none_or(|j| j.outcome.is_some())
+            && self.carrier.iter().all(|&(h, _)| self.world.bodies.get(h).is_none_or(|b| b.is_sleeping()))
+    }
+}
+
+impl BrickWorld for PhysicsBrickWorld {
+    fn spec(&self) -> &Spec {
+        &self.spec
+    }
+
+    fn step(&mut self) {
+        let dt = self.world.integration_parameters.dt;
+        for _ in 0..self.params.steps_per_tick {
+            if self.quiet() {
+                // Nothing moves and nothing will: skipping the step changes nothing.
+                break;
+            }
+            self.advance_job(dt);
+            if core::mem::take(&mut self.moved) {
+                // A step of 10 us finds the contacts where the bodies now are.
+                self.world.integration_parameters.dt = REFRESH_DT;
+                self.world.step();
+                self.world.integration_parameters.dt = dt;
+            }
+            self.world.step();
+        }
+        self.tick = self.tick.saturating_add(1);
+    }
+
+    fn position(&self, brick: usize) -> [f32; 3] {
+        u8::try_from(brick).map_or([f32::NAN; 3], |b| self.pos(b).to_array())
+    }
+
+    fn held(&self) -> Option<u8> {
+        self.held_brick()
+    }
+}
+
+impl BehaviorSet for PhysicsBrickWorld {
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        self.spec.behavior(leaf.behavior()).map_or(Status::Failure, |b| self.condition_of(b))
+    }
+
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        let Some(behavior) = self.spec.behavior(leaf.behavior()) else { return Status::Failure };
+        let ours = self.job.as_ref().is_some_and(|j| j.node == ctx.node);
+        if ctx.starting || !ours {
+            self.job = None;
+            return match self.plan(behavior) {
+                Err(status) => status,
+                Ok(phases) => {
+                    self.job =
+                        Some(Job { node: ctx.node, ticks: 0, phases, next: 0, target: None, wait: 0, outcome: None });
+                    Status::Running
+                }
+            };
+        }
+        let Some(job) = self.job.as_mut() else { return Status::Failure };
+        job.ticks += 1;
+        let outcome = match job.outcome {
+            Some(s) => s,
+            None if job.ticks >= ACTION_TIMEOUT_TICKS => Status::Failure,
+            None => return Status::Running,
+        };
+        self.job = None;
+        outcome
+    }
+
+    fn halt(&mut self, _: &Leaf, node: NodeId) {
+        if self.job.as_ref().is_some_and(|j| j.node == node) {
+            self.job = None;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner::duplo::Task;
+
+    #[test]
+    fn bricks_start_where_the_reference_puts_them() {
+        for task in Task::ALL {
+            let spec = task.spec();
+            let mut w = PhysicsBrickWorld::new(&spec).unwrap();
+            for _ in 0..5 {
+                w.step();
+            }
+            for (i, start) in spec.start.iter().enumerate() {
+                let p = w.position(i);
+                let d = (Vector::from_array(p) - Vector::from_array(*start)).length();
+                assert!(d < 2e-4, "{task:?} brick {i} at {p:?}, start {start:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_long_brick_tips_on_a_2x2_and_stands_on_a_4x2() {
+        let d = bricks::dimensions(planner::duplo::BrickKind::LongUnbalanced);
+        assert!(d.mass_offset_y > bricks::dimensions(planner::duplo::BrickKind::TwoByTwo).y / 2.0);
+        assert!(d.mass_offset_y < bricks::dimensions(planner::duplo::BrickKind::FourByTwo).y / 2.0);
+    }
+
+    #[test]
+    fn a_bad_spec_is_an_error() {
+        let mut spec = Task::Tower.spec();
+        spec.start.pop();
+        assert!(matches!(PhysicsBrickWorld::new(&spec), Err(PhysicsError::BadSpec { .. })));
+        let p = BrickParams { steps_per_tick: 0, ..BrickParams::default() };
+        assert!(matches!(
+            PhysicsBrickWorld::with_params(&Task::Tower.spec(), p),
+            Err(PhysicsError::BadParameter { name: "steps_per_tick", .. })
+        ));
+    }
+}

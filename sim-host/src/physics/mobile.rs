@@ -1,0 +1,572 @@
+//! The mobile manipulator of seed 000 Fig. 1 on rapier3d: a base moving in the plane,
+//! a gripper, the cube, the sphere and the goal region, with external agents.
+//!
+//! # The world
+//!
+//! - **Floor**: a fixed slab, top face at z = 0. The goal region is the square of side
+//!   [`GOAL_SIZE`] centred at [`GOAL`].
+//! - **Base**: kinematic, a [`BASE_HALF`] square footprint, moving in straight lines at
+//!   most [`BASE_SPEED`]. Like the brick gripper it takes part in no contact: its motion
+//!   is guarded by a shape cast of the footprint and stops at the first contact.
+//! - **Cube** (object 0): a 0.1 m dynamic box of 0.5 kg. **Sphere** (object 1): a
+//!   dynamic ball of radius 0.15 m and 1 kg, damped so it does not roll forever.
+//! - **Gripper**: holds an item by a fixed joint to the base, in front of it at
+//!   [`HOLD_HEIGHT`].
+//!
+//! # Behaviors
+//!
+//! Exactly the cube-sphere contract (`planner/domains/cube-sphere/domain.pddl`): ids are
+//! [`CATALOG`]'s indices; arguments are objects (cube = 0, sphere = 1, goal = 2).
+//!
+//! - `at(i, s)`: item i lies inside the goal region (s must be the goal).
+//! - `holding(i)`, `hand-empty`: the grasp joint.
+//! - `near(l)`: the base is within [`NEAR`] of l (planar distance, centre to centre).
+//! - `path-free(l)`: a shape cast of the base's footprint along the straight path to l
+//!   (up to where it would be near l) hits nothing but l itself and what is held.
+//! - `obstacle(i)`: static: the sphere.
+//! - `move-to(l)`: drives towards l until near it; fails when its guarded motion meets
+//!   something.
+//! - `pick(i)`: needs near(i) and an empty hand; reaches for 0.5 s, then holds i.
+//! - `place(i, s)`: needs holding(i) and near(s); sets i down at the goal's centre.
+//! - `drop(i)`: needs holding(i); lets i fall where it is.
+//! - `clear-path(i, l)`: needs obstacle(i), near(i) and an empty hand; picks i and sets
+//!   it down [`CLEAR_OFFSET`] aside of the straight line from the base to l.
+//!
+//! Actions return Running on their first tick and fail after 50 ticks without
+//! completing, as in the brick world.
+//!
+//! # External agents
+//!
+//! [`Agent`] events happen at the start of a tick, before the tree is ticked: taking the
+//! cube from the hand, rolling the sphere into the path to the goal and away again,
+//! handing the cube to the robot, putting the cube on the goal. They come from a script
+//! ([`MobileWorld::with_script`]) or from a seeded generator
+//! ([`MobileWorld::with_random_agents`]); [`MobileWorld::events`] is the narration.
+
+use bt_core::{BehaviorInfo, BehaviorSet, Context, Leaf, NodeId, Status};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rapier3d::parry::shape::Cuboid;
+use rapier3d::prelude::{
+    ColliderBuilder, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyBuilder, RigidBodyHandle,
+    Vector,
+};
+
+use super::engine;
+
+/// The behavior set, in the contract's order: predicates, then actions.
+pub const CATALOG: [BehaviorInfo<'static>; 11] = [
+    BehaviorInfo::condition("at", 2),
+    BehaviorInfo::condition("holding", 1),
+    BehaviorInfo::condition("hand-empty", 0),
+    BehaviorInfo::condition("near", 1),
+    BehaviorInfo::condition("path-free", 1),
+    BehaviorInfo::condition("obstacle", 1),
+    BehaviorInfo::action("move-to", 1),
+    BehaviorInfo::action("pick", 1),
+    BehaviorInfo::action("place", 2),
+    BehaviorInfo::action("drop", 1),
+    BehaviorInfo::action("clear-path", 2),
+];
+
+/// Object indices of the problem.
+pub const CUBE: u16 = 0;
+/// The sphere.
+pub const SPHERE: u16 = 1;
+/// The goal region.
+pub const GOAL_OBJECT: u16 = 2;
+
+/// Centre of the goal region, m.
+pub const GOAL: [f32; 2] = [3.0, 0.0];
+/// Side of the goal region, m.
+pub const GOAL_SIZE: f32 = 0.6;
+/// Half-extents of the base's footprint (x, y) and its height, m.
+pub const BASE_HALF: [f32; 3] = [0.2, 0.2, 0.15];
+/// Base speed limit, m/s.
+pub const BASE_SPEED: f32 = 0.5;
+/// `near` distance, m.
+pub const NEAR: f32 = 0.5;
+/// Height at which the gripper holds an item, m.
+pub const HOLD_HEIGHT: f32 = 0.4;
+/// How far `clear-path` moves the obstacle aside, m.
+pub const CLEAR_OFFSET: f32 = 1.0;
+
+const CUBE_HALF: f32 = 0.05;
+const SPHERE_RADIUS: f32 = 0.15;
+const STEPS_PER_TICK: u32 = 2;
+const REACH_TICKS: u32 = 5;
+
+/// What an external agent does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Agent {
+    /// Takes the cube out of the gripper and puts it on the floor beside the robot.
+    TakeCube,
+    /// Rolls the sphere into the straight path from the robot to the goal.
+    BlockPath,
+    /// Rolls the sphere away, out of every path.
+    UnblockPath,
+    /// Puts the cube into the empty gripper.
+    HandCube,
+    /// Puts the cube on the goal region.
+    CubeToGoal,
+}
+
+impl Agent {
+    const ALL: [Agent; 5] = [Agent::TakeCube, Agent::BlockPath, Agent::UnblockPath, Agent::HandCube, Agent::CubeToGoal];
+
+    fn describe(self) -> &'static str {
+        match self {
+            Self::TakeCube => "an agent takes the cube from the gripper",
+            Self::BlockPath => "an agent rolls the sphere into the path to the goal",
+            Self::UnblockPath => "an agent rolls the sphere out of the way",
+            Self::HandCube => "an agent puts the cube into the gripper",
+            Self::CubeToGoal => "an agent puts the cube on the goal",
+        }
+    }
+}
+
+/// A line of narration: what happened at which tick.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MobileEvent {
+    /// The tick.
+    pub tick: u32,
+    /// What happened, in plain words.
+    pub text: String,
+}
+
+impl core::fmt::Display for MobileEvent {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "tick {}: {}", self.tick, self.text)
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Job {
+    MoveTo(u16),
+    Reach { item: u16, left: u32 },
+    Carry { to: [f32; 2], then_release: bool },
+}
+
+#[derive(Debug)]
+struct Running {
+    node: NodeId,
+    ticks: u32,
+    job: Job,
+    outcome: Option<Status>,
+}
+
+/// The world of seed 000 Fig. 1. See the module docs.
+pub struct MobileWorld {
+    world: PhysicsWorld,
+    base: RigidBodyHandle,
+    base_at: [f32; 2],
+    items: [RigidBodyHandle; 2],
+    grasp: Option<(u16, ImpulseJointHandle)>,
+    running: Option<Running>,
+    tick: u32,
+    script: Vec<(u32, Agent)>,
+    random: Option<(ChaCha8Rng, f32)>,
+    events: Vec<MobileEvent>,
+}
+
+impl core::fmt::Debug for MobileWorld {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("MobileWorld").field("tick", &self.tick).field("base", &self.base_at).finish_non_exhaustive()
+    }
+}
+
+impl Default for MobileWorld {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl MobileWorld {
+    /// The start of Example 1: robot at the origin, cube at (1, 0), sphere at (1.5, 1.5)
+    /// off every path, the goal at (3, 0); no agents.
+    #[must_use]
+    pub fn new() -> Self {
+        let mut world = engine::new_world(super::brick_world::TICK_SECONDS / STEPS_PER_TICK as f32, 4, 0.1);
+        let floor = world.bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.05)));
+        world.colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.05), floor, &mut world.bodies);
+        let cube = world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, CUBE_HALF)));
+        world.colliders.insert_with_parent(
+            ColliderBuilder::cuboid(CUBE_HALF, CUBE_HALF, CUBE_HALF).mass(0.5).friction(0.8),
+            cube,
+            &mut world.bodies,
+        );
+        let sphere = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(1.5, 1.5, SPHERE_RADIUS))
+                .angular_damping(5.0)
+                .linear_damping(2.0),
+        );
+        world.colliders.insert_with_parent(
+            ColliderBuilder::ball(SPHERE_RADIUS).mass(1.0).friction(0.8),
+            sphere,
+            &mut world.bodies,
+        );
+        let base = world.bodies.insert(RigidBodyBuilder::kinematic_position_based().translation(Vector::ZERO));
+        Self {
+            world,
+            base,
+            base_at: [0.0, 0.0],
+            items: [cube, sphere],
+            grasp: None,
+            running: None,
+            tick: 0,
+            script: Vec::new(),
+            random: None,
+            events: Vec::new(),
+        }
+    }
+
+    /// With agents acting at the given ticks.
+    #[must_use]
+    pub fn with_script(mut self, script: &[(u32, Agent)]) -> Self {
+        self.script = script.to_vec();
+        self.script.sort_by_key(|&(t, _)| t);
+        self
+    }
+
+    /// With agents acting at random: each tick, with probability `rate`, one of the
+    /// agent actions that makes sense now, drawn from a generator seeded with `seed`.
+    #[must_use]
+    pub fn with_random_agents(mut self, seed: u64, rate: f32) -> Self {
+        self.random = Some((ChaCha8Rng::seed_from_u64(seed), rate));
+        self
+    }
+
+    /// Ticks stepped so far.
+    #[must_use]
+    pub fn tick(&self) -> u32 {
+        self.tick
+    }
+
+    /// The base's position in the plane, m.
+    #[must_use]
+    pub fn base(&self) -> [f32; 2] {
+        self.base_at
+    }
+
+    /// Position of the cube (0) or the sphere (1), m.
+    #[must_use]
+    pub fn item(&self, item: u16) -> Option<[f32; 3]> {
+        let h = *self.items.get(usize::from(item))?;
+        Some(self.world.bodies.get(h)?.translation().to_array())
+    }
+
+    /// The item in the gripper.
+    #[must_use]
+    pub fn held(&self) -> Option<u16> {
+        self.grasp.map(|(i, _)| i)
+    }
+
+    /// The narration so far.
+    #[must_use]
+    pub fn events(&self) -> &[MobileEvent] {
+        &self.events
+    }
+
+    fn say(&mut self, text: impl Into<String>) {
+        self.events.push(MobileEvent { tick: self.tick, text: text.into() });
+    }
+
+    fn location(&self, l: u16) -> Option<[f32; 2]> {
+        if l == GOAL_OBJECT {
+            return Some(GOAL);
+        }
+        self.item(l).map(|p| [p[0], p[1]])
+    }
+
+    fn near(&self, l: u16) -> bool {
+        self.location(l).is_some_and(|p| dist(p, self.base_at) <= NEAR)
+    }
+
+    fn in_goal(&self, i: u16) -> bool {
+        self.item(i).is_some_and(|p| {
+            (p[0] - GOAL[0]).abs() <= GOAL_SIZE / 2.0 && (p[1] - GOAL[1]).abs() <= GOAL_SIZE / 2.0 && p[2] < 0.3
+        })
+    }
+
+    fn footprint() -> Cuboid {
+        Cuboid::new(Vector::from_array(BASE_HALF))
+    }
+
+    /// What the footprint meets moving by `motion` from where the base is: ignoring the
+    /// held item and `target`.
+    fn blocked(&self, motion: [f32; 2], target: Option<u16>) -> bool {
+        let mut ignore = vec![self.base];
+        ignore.extend(self.held().and_then(|i| self.items.get(usize::from(i)).copied()));
+        ignore.extend(target.and_then(|i| self.items.get(usize::from(i)).copied()));
+        let pose = Pose::from_translation(Vector::new(self.base_at[0], self.base_at[1], BASE_HALF[2] + 0.01));
+        let motion = Vector::new(motion[0], motion[1], 0.0);
+        engine::sweep(&self.world, &Self::footprint(), &pose, motion, &ignore).is_some()
+    }
+
+    /// The straight path to l, up to where the base would be near l.
+    fn path_free(&self, l: u16) -> bool {
+        let Some(to) = self.location(l) else { return false };
+        let d = dist(to, self.base_at);
+        if d <= NEAR {
+            return true;
+        }
+        let k = (d - NEAR * 0.9) / d;
+        let motion = [(to[0] - self.base_at[0]) * k, (to[1] - self.base_at[1]) * k];
+        !self.blocked(motion, Some(l))
+    }
+
+    fn attach(&mut self, item: u16) {
+        let Some(&h) = self.items.get(usize::from(item)) else { return };
+        let hand = self.hand();
+        if let Some(b) = self.world.bodies.get_mut(h) {
+            b.set_position(Pose::from_translation(hand), true);
+            b.set_linvel(Vector::ZERO, true);
+            b.set_angvel(Vector::ZERO, true);
+        }
+        let joint = FixedJointBuilder::new()
+            .local_frame1(Pose::from_translation(hand - Vector::new(self.base_at[0], self.base_at[1], 0.0)))
+            .contacts_enabled(false);
+        let j = self.world.impulse_joints.insert(self.base, h, joint, true);
+        self.grasp = Some((item, j));
+    }
+
+    fn release(&mut self, at: Option<[f32; 2]>) {
+        let Some((item, j)) = self.grasp.take() else { return };
+        self.world.impulse_joints.remove(j, true);
+        let Some(&h) = self.items.get(usize::from(item)) else { return };
+        if let Some(b) = self.world.bodies.get_mut(h) {
+            let z = if item == CUBE { CUBE_HALF } else { SPHERE_RADIUS };
+            let xy = at.unwrap_or([b.translation().x, b.translation().y]);
+            b.set_position(Pose::from_translation(Vector::new(xy[0], xy[1], z + 0.001)), true);
+            b.set_linvel(Vector::ZERO, true);
+            b.set_angvel(Vector::ZERO, true);
+        }
+    }
+
+    fn hand(&self) -> Vector {
+        Vector::new(self.base_at[0] + BASE_HALF[0] + 0.1, self.base_at[1], HOLD_HEIGHT)
+    }
+
+    fn put(&mut self, item: u16, at: [f32; 2]) {
+        let Some(&h) = self.items.get(usize::from(item)) else { return };
+        let z = if item == CUBE { CUBE_HALF } else { SPHERE_RADIUS };
+        if let Some(b) = self.world.bodies.get_mut(h) {
+            b.set_position(Pose::from_translation(Vector::new(at[0], at[1], z + 0.001)), true);
+            b.set_linvel(Vector::ZERO, true);
+            b.set_angvel(Vector::ZERO, true);
+        }
+    }
+
+    fn act(&mut self, agent: Agent) {
+        let ok = match agent {
+            Agent::TakeCube if self.held() == Some(CUBE) => {
+                self.release(None);
+                let at = [self.base_at[0], self.base_at[1] - 0.6];
+                self.put(CUBE, at);
+                true
+            }
+            Agent::BlockPath => {
+                let mid = [(self.base_at[0] + GOAL[0]) / 2.0, (self.base_at[1] + GOAL[1]) / 2.0];
+                if self.held() == Some(SPHERE) {
+                    self.release(None);
+                }
+                self.put(SPHERE, mid);
+                true
+            }
+            Agent::UnblockPath if self.held() != Some(SPHERE) => {
+                self.put(SPHERE, [1.5, 2.5]);
+                true
+            }
+            Agent::HandCube if self.held().is_none() => {
+                self.attach(CUBE);
+                true
+            }
+            Agent::CubeToGoal if self.held() != Some(CUBE) => {
+                self.put(CUBE, GOAL);
+                true
+            }
+            _ => false,
+        };
+        if ok {
+            self.say(agent.describe());
+        }
+    }
+
+    fn condition_of(&self, id: u16, args: &[u16]) -> bool {
+        let a = |i: usize| args.get(i).copied().unwrap_or(u16::MAX);
+        match id {
+            0 => a(1) == GOAL_OBJECT && a(0) < 2 && self.in_goal(a(0)),
+            1 => self.held() == Some(a(0)),
+            2 => self.held().is_none(),
+            3 => self.near(a(0)),
+            4 => self.path_free(a(0)),
+            5 => a(0) == SPHERE,
+            _ => false,
+        }
+    }
+
+    fn start(&mut self, id: u16, args: &[u16]) -> Result<Job, Status> {
+        let a = |i: usize| args.get(i).copied().unwrap_or(u16::MAX);
+        let fail = Err(Status::Failure);
+        match id {
+            6 if a(0) <= GOAL_OBJECT => {
+                if self.near(a(0)) {
+                    Err(Status::Success)
+                } else {
+                    Ok(Job::MoveTo(a(0)))
+                }
+            }
+            7 if a(0) < 2 && self.near(a(0)) && self.held().is_none() => {
+                Ok(Job::Reach { item: a(0), left: REACH_TICKS })
+            }
+            8 if a(0) < 2 && a(1) == GOAL_OBJECT && self.held() == Some(a(0)) && self.near(GOAL_OBJECT) => {
+                Ok(Job::Carry { to: GOAL, then_release: true })
+            }
+            9 if a(0) < 2 && self.held() == Some(a(0)) => {
+                self.release(None);
+                self.say("the robot drops what it holds");
+                Err(Status::Success)
+            }
+            10 if a(0) == SPHERE && self.near(SPHERE) && self.held().is_none() && a(1) <= GOAL_OBJECT => {
+                let (Some(s), Some(l)) = (self.location(SPHERE), self.location(a(1))) else { return fail };
+                // Aside of the line from the base to l, on the sphere's side.
+                let (dx, dy) = (l[0] - self.base_at[0], l[1] - self.base_at[1]);
+                let n = (dx * dx + dy * dy).sqrt().max(1e-6);
+                let (px, py) = (-dy / n, dx / n);
+                let side =
+                    if (s[0] - self.base_at[0]) * px + (s[1] - self.base_at[1]) * py >= 0.0 { 1.0 } else { -1.0 };
+                self.attach(SPHERE);
+                self.say("the robot picks up the sphere to clear the path");
+                Ok(Job::Carry {
+                    to: [s[0] + side * px * CLEAR_OFFSET, s[1] + side * py * CLEAR_OFFSET],
+                    then_release: true,
+                })
+            }
+            _ => fail,
+        }
+    }
+
+    /// Advances the running job by one tick's worth of motion.
+    fn advance(&mut self) {
+        let Some(mut r) = self.running.take() else { return };
+        if r.outcome.is_none() {
+            r.outcome = match r.job {
+                Job::MoveTo(l) => match self.location(l) {
+                    None => Some(Status::Failure),
+                    Some(to) => {
+                        let d = dist(to, self.base_at);
+                        let goal_d = NEAR * 0.9;
+                        if d <= goal_d {
+                            Some(Status::Success)
+                        } else {
+                            let step = (d - goal_d).min(BASE_SPEED * super::brick_world::TICK_SECONDS);
+                            let m = [(to[0] - self.base_at[0]) / d * step, (to[1] - self.base_at[1]) / d * step];
+                            if self.blocked(m, Some(l)) {
+                                self.say("the robot's path is blocked");
+                                Some(Status::Failure)
+                            } else {
+                                self.base_at = [self.base_at[0] + m[0], self.base_at[1] + m[1]];
+                                None
+                            }
+                        }
+                    }
+                },
+                Job::Reach { item, left } => {
+                    if left == 0 {
+                        self.attach(item);
+                        self.say(if item == CUBE {
+                            "the robot picks up the cube"
+                        } else {
+                            "the robot picks up the sphere"
+                        });
+                        Some(Status::Success)
+                    } else {
+                        r.job = Job::Reach { item, left: left - 1 };
+                        None
+                    }
+                }
+                Job::Carry { to, then_release } => {
+                    if then_release {
+                        let held = self.held();
+                        self.release(Some(to));
+                        if held == Some(CUBE) {
+                            self.say("the robot places the cube");
+                        } else {
+                            self.say("the robot sets the sphere down out of the way");
+                        }
+                    }
+                    Some(Status::Success)
+                }
+            };
+        }
+        self.running = Some(r);
+    }
+
+    /// Advances the world by one tick: agents act, the running action moves, physics
+    /// runs.
+    pub fn step(&mut self) {
+        self.tick = self.tick.saturating_add(1);
+        while let Some(&(t, agent)) = self.script.first() {
+            if t > self.tick {
+                break;
+            }
+            self.script.remove(0);
+            self.act(agent);
+        }
+        if let Some((rng, rate)) = self.random.as_mut()
+            && rng.random::<f32>() < *rate
+        {
+            let pick = rng.random_range(0..Agent::ALL.len());
+            if let Some(&agent) = Agent::ALL.get(pick) {
+                self.act(agent);
+            }
+        }
+        self.advance();
+        if let Some(b) = self.world.bodies.get_mut(self.base) {
+            b.set_next_kinematic_translation(Vector::new(self.base_at[0], self.base_at[1], 0.0));
+        }
+        for _ in 0..STEPS_PER_TICK {
+            self.world.step();
+        }
+    }
+}
+
+fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+impl BehaviorSet for MobileWorld {
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        if self.condition_of(leaf.behavior(), leaf.args()) { Status::Success } else { Status::Failure }
+    }
+
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        let ours = self.running.as_ref().is_some_and(|r| r.node == ctx.node);
+        if ctx.starting || !ours {
+            self.running = None;
+            return match self.start(leaf.behavior(), leaf.args()) {
+                Err(s) => s,
+                Ok(job) => {
+                    self.running = Some(Running { node: ctx.node, ticks: 0, job, outcome: None });
+                    Status::Running
+                }
+            };
+        }
+        let Some(r) = self.running.as_mut() else { return Status::Failure };
+        r.ticks += 1;
+        let out = match r.outcome {
+            Some(s) => s,
+            None if r.ticks >= super::brick_world::ACTION_TIMEOUT_TICKS => Status::Failure,
+            None => return Status::Running,
+        };
+        self.running = None;
+        out
+    }
+
+    fn halt(&mut self, _: &Leaf, node: NodeId) {
+        if self.running.as_ref().is_some_and(|r| r.node == node) {
+            self.running = None;
+        }
+    }
+}
