@@ -2,9 +2,12 @@
 //!
 //! One generation, in this order, every random draw from the run's one ChaCha8
 //! generator:
-//! 1. **Baseline** (variants other than `none`): if the planner's tree is not in the
-//!    population it is appended (the population then has one extra member for this
-//!    generation's breeding, as in the reference).
+//! 1. **Baseline** (variants other than `none`): the planner's tree is in the
+//!    population — it was put back at the end of the previous generation if it had
+//!    dropped out, so the population then has `population_size + 1` members (the
+//!    reference appends it at the start of the next generation; no random draw comes
+//!    between, so the runs are the same, and this way [`Gp::population`] always holds
+//!    it).
 //! 2. **Crossover parents**: `crossover_parents` distinct individuals by rank
 //!    (with `boost-crossover` and `boost-all`, the baseline's fitness counts as the
 //!    population's maximum here).
@@ -180,16 +183,8 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
 
     /// Breeds the next generation (see the [module docs](self)) and returns its row.
     pub fn step(&mut self) -> GenerationLog {
-        // 1. The baseline, put back if it dropped out.
-        let mut baseline_at = None;
-        if let Some(b) = &self.baseline {
-            baseline_at = self.population.iter().position(|i| i.genome == *b);
-            if baseline_at.is_none() {
-                let fitness = self.cache.get(b.tokens()).unwrap_or(f64::NEG_INFINITY);
-                self.population.push(Individual { genome: b.clone(), fitness });
-                baseline_at = Some(self.population.len() - 1);
-            }
-        }
+        // 1. The baseline (put back at the end of the previous generation).
+        let baseline_at = self.keep_baseline();
         // 2-3. Crossover.
         self.parent_scores(baseline_at, self.params.variant.boosts_crossover());
         let mut parents = Vec::with_capacity(self.params.crossover_parents);
@@ -214,6 +209,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         let offspring: Vec<Individual> = offspring.into_iter().map(|g| self.individual(g)).collect();
         // 7. Survivors.
         self.survive(offspring);
+        self.keep_baseline();
         self.generation += 1;
         self.record()
     }
@@ -251,7 +247,8 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         self.cache.episodes()
     }
 
-    /// The population, elites first.
+    /// The population, elites first, then the rest in the order drawn, then the
+    /// baseline if it was put back.
     #[must_use]
     pub fn population(&self) -> &[Individual] {
         &self.population
@@ -295,6 +292,18 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
     #[must_use]
     pub fn alphabet(&self) -> &Alphabet {
         &self.alphabet
+    }
+
+    /// Puts the baseline back at the end of the population if it dropped out, and
+    /// returns where it is.
+    fn keep_baseline(&mut self) -> Option<usize> {
+        let b = self.baseline.as_ref()?;
+        if let Some(at) = self.population.iter().position(|i| i.genome == *b) {
+            return Some(at);
+        }
+        let fitness = self.cache.get(b.tokens()).unwrap_or(f64::NEG_INFINITY);
+        self.population.push(Individual { genome: b.clone(), fitness });
+        Some(self.population.len() - 1)
     }
 
     /// Fitness of the population for parent selection, the baseline boosted to the
@@ -456,4 +465,35 @@ pub fn run<F: Fitness + ?Sized>(
     on_generation: impl FnMut(&GenerationLog),
 ) -> Result<RunResult, GpError> {
     Ok(Gp::new(alphabet, fitness, params, evaluation)?.run(on_generation))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Variant;
+    use planner::duplo::Task;
+
+    #[test]
+    fn boosting_lifts_the_baseline_for_selection_only() {
+        let spec = Task::Tower.spec();
+        let alphabet = Alphabet::from_catalog(&spec).unwrap();
+        let baseline = planner::tokens::parse("s( picked 0? pick 0! )", &spec).unwrap();
+        // The baseline scores worst, every other tree by its length.
+        let b = baseline.clone();
+        let fitness = move |t: &[Node]| if t == b.as_slice() { -100.0 } else { -(t.len() as f64) };
+        let params = Params::new(1, Variant::BoostAll, Some(baseline));
+        let mut gp = Gp::new(alphabet, &fitness, params, Evaluation::Sequential).unwrap();
+        let before: Vec<f64> = gp.population.iter().map(|i| i.fitness).collect();
+        let at = gp.keep_baseline().unwrap();
+        assert_eq!(before[at], -100.0);
+        let max = before.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+
+        gp.parent_scores(Some(at), true);
+        assert_eq!(gp.scores[at], max);
+        let others = |s: &[f64]| s.iter().enumerate().filter(|(i, _)| *i != at).map(|(_, f)| *f).collect::<Vec<_>>();
+        assert_eq!(others(&gp.scores), others(&before));
+        gp.parent_scores(Some(at), false);
+        assert_eq!(gp.scores, before);
+        assert_eq!(gp.population.iter().map(|i| i.fitness).collect::<Vec<_>>(), before);
+    }
 }
