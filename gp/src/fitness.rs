@@ -6,7 +6,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use bt_core::Node;
 
-use crate::genome::{Genome, Token};
+use crate::genome::Genome;
 
 /// Scores a tree by running it: one call is one episode.
 ///
@@ -30,48 +30,28 @@ impl<F: Fn(&[Node]) -> f64 + Sync> Fitness for F {
     }
 }
 
-/// FxHash-style multiply-rotate hasher: a genome hashes in a few nanoseconds. The map
-/// is never iterated into an output, so the hash function cannot affect results.
+/// Hands the hash a [`Genome`] carries straight to the map: a genome is hashed once,
+/// when it is made. (The map is never iterated into an output, so hashing cannot affect
+/// results.)
 #[derive(Clone, Copy, Default, Debug)]
-pub struct TokenHasher(u64);
+pub struct GenomeHasher(u64);
 
-impl TokenHasher {
-    const K: u64 = 0xf135_7aea_2e62_a9c5;
-
-    #[inline(always)]
-    fn add(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(26) ^ word).wrapping_mul(Self::K);
-    }
-}
-
-impl Hasher for TokenHasher {
-    #[inline]
+impl Hasher for GenomeHasher {
     fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(word));
+        // Only reached by keys other than genomes; FNV-1a keeps it correct.
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
         }
     }
 
     #[inline(always)]
-    fn write_u32(&mut self, i: u32) {
-        self.add(u64::from(i));
-    }
-
-    #[inline(always)]
     fn write_u64(&mut self, i: u64) {
-        self.add(i);
-    }
-
-    #[inline(always)]
-    fn write_usize(&mut self, i: usize) {
-        self.add(i as u64);
+        self.0 ^= i;
     }
 
     #[inline(always)]
     fn finish(&self) -> u64 {
-        self.0.rotate_left(20)
+        self.0
     }
 }
 
@@ -79,7 +59,7 @@ impl Hasher for TokenHasher {
 /// is the number of episodes (unique simulations), the x-axis of the paper's curves.
 #[derive(Clone, Debug, Default)]
 pub struct FitnessCache {
-    map: HashMap<Genome, f64, BuildHasherDefault<TokenHasher>>,
+    map: HashMap<Genome, f64, BuildHasherDefault<GenomeHasher>>,
 }
 
 impl FitnessCache {
@@ -89,28 +69,36 @@ impl FitnessCache {
         Self::default()
     }
 
+    /// An empty cache with room for `episodes` trees.
+    #[must_use]
+    pub fn with_capacity(episodes: usize) -> Self {
+        Self { map: HashMap::with_capacity_and_hasher(episodes, BuildHasherDefault::default()) }
+    }
+
     /// The fitness of a tree simulated before.
     #[inline]
     #[must_use]
-    pub fn get(&self, tokens: &[Token]) -> Option<f64> {
-        self.map.get(tokens).copied()
+    pub fn get(&self, genome: &Genome) -> Option<f64> {
+        self.map.get(genome).copied()
     }
 
     /// Whether the tree was simulated before.
     #[inline]
     #[must_use]
-    pub fn contains(&self, tokens: &[Token]) -> bool {
-        self.map.contains_key(tokens)
+    pub fn contains(&self, genome: &Genome) -> bool {
+        self.map.contains_key(genome)
     }
 
     /// Records an episode's result (NaN stored as `-inf`). Returns false, changing
     /// nothing, if the tree was already there.
     pub fn insert(&mut self, genome: Genome, fitness: f64) -> bool {
-        if self.map.contains_key(genome.tokens()) {
-            return false;
+        match self.map.entry(genome) {
+            std::collections::hash_map::Entry::Occupied(_) => false,
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert(sanitize(fitness));
+                true
+            }
         }
-        self.map.insert(genome, sanitize(fitness));
-        true
     }
 
     /// Episodes so far: the number of distinct trees simulated.
@@ -132,6 +120,7 @@ mod tests {
 
     #[test]
     fn cache_counts_distinct_trees() {
+        use crate::genome::Token;
         let mut cache = FitnessCache::new();
         let g = Genome::from(vec![Token::Sequence, Token::Action(1), Token::Close]);
         let h = Genome::from(vec![Token::Sequence, Token::Action(2), Token::Close]);
@@ -139,8 +128,8 @@ mod tests {
         assert!(!cache.insert(g.clone(), -5.0));
         assert!(cache.insert(h.clone(), f64::NAN));
         assert_eq!(cache.episodes(), 2);
-        assert_eq!(cache.get(g.tokens()), Some(-1.0));
-        assert_eq!(cache.get(h.tokens()), Some(f64::NEG_INFINITY));
-        assert!(!cache.contains(&[Token::Action(1)]));
+        assert_eq!(cache.get(&g), Some(-1.0));
+        assert_eq!(cache.get(&h), Some(f64::NEG_INFINITY));
+        assert!(!cache.contains(&Genome::from(vec![Token::Action(1)])));
     }
 }

@@ -7,6 +7,7 @@
 //! executor and the image format see.
 
 use std::hash::{Hash, Hasher};
+use std::sync::Arc;
 
 use bt_core::{BehaviorId, Catalog, Leaf, Node, NodeKind};
 
@@ -156,49 +157,105 @@ pub enum GenomeError {
 /// A tree as GP sees it: pre-order tokens with closing tokens.
 ///
 /// Equality and hashing are by tokens, which is the same as by tree: the conversion to
-/// [`Node`]s is one to one. Validity is a separate question ([`Genome::check`]): the
-/// operators build candidates that may break the rules, then keep only valid ones.
-#[derive(Clone, Debug, PartialEq, Eq, Default)]
-pub struct Genome(Vec<Token>);
+/// [`Node`]s is one to one. The hash is computed once, when the genome is made, so
+/// cache lookups and duplicate checks cost a comparison of two words in the common
+/// case. Validity is a separate question ([`Genome::check`]): the operators build
+/// candidates that may break the rules, then keep only valid ones.
+#[derive(Clone, Default)]
+pub struct Genome {
+    // Shared: the population, the offspring lists and the cache hold the same tree
+    // without copying it.
+    tokens: Arc<[Token]>,
+    hash: u64,
+}
+
+impl PartialEq for Genome {
+    #[inline]
+    fn eq(&self, other: &Self) -> bool {
+        self.hash == other.hash && (Arc::ptr_eq(&self.tokens, &other.tokens) || self.tokens == other.tokens)
+    }
+}
+
+impl Eq for Genome {}
 
 impl Hash for Genome {
     #[inline]
     fn hash<H: Hasher>(&self, state: &mut H) {
-        self.0.as_slice().hash(state);
+        state.write_u64(self.hash);
     }
 }
 
-impl std::borrow::Borrow<[Token]> for Genome {
-    fn borrow(&self) -> &[Token] {
-        &self.0
+impl std::fmt::Debug for Genome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Genome").field(&self.tokens).finish()
     }
 }
 
 impl From<Vec<Token>> for Genome {
     fn from(tokens: Vec<Token>) -> Self {
-        Self(tokens)
+        Self::from_slice(&tokens)
     }
 }
 
+impl From<&[Token]> for Genome {
+    fn from(tokens: &[Token]) -> Self {
+        Self::from_slice(tokens)
+    }
+}
+
+/// The 64-bit hash of a token sequence: a multiply-rotate pass over the tokens (as
+/// FxHash does), then a MurmurHash3 finalizer so that every bit depends on every
+/// token. Not stable across versions; only used in memory.
+#[inline]
+#[must_use]
+pub fn hash_tokens(tokens: &[Token]) -> u64 {
+    const K: u64 = 0xf135_7aea_2e62_a9c5;
+    let mut h = tokens.len() as u64;
+    for t in tokens {
+        h = (h.rotate_left(26) ^ u64::from(t.code())).wrapping_mul(K);
+    }
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    h ^ (h >> 33)
+}
+
 impl Genome {
+    fn from_slice(tokens: &[Token]) -> Self {
+        Self::with_hash(tokens, hash_tokens(tokens))
+    }
+
+    /// A genome whose hash is already known (`hash_tokens(tokens)`).
+    pub(crate) fn with_hash(tokens: &[Token], hash: u64) -> Self {
+        debug_assert_eq!(hash, hash_tokens(tokens));
+        Self { tokens: Arc::from(tokens), hash }
+    }
+
     /// The tokens, in order.
     #[inline(always)]
     #[must_use]
     pub fn tokens(&self) -> &[Token] {
-        &self.0
+        &self.tokens
+    }
+
+    /// The hash computed when the genome was made ([`hash_tokens`]).
+    #[inline(always)]
+    pub(crate) fn hash_value(&self) -> u64 {
+        self.hash
     }
 
     /// The tree's length as seed 003 counts it: every node except the closing tokens
     /// (equal to the number of bt-core nodes).
     #[must_use]
     pub fn length(&self) -> usize {
-        length(&self.0)
+        length(&self.tokens)
     }
 
     /// Whether the genome is a valid tree of `alphabet` ([`check`]).
     #[must_use]
     pub fn is_valid(&self, alphabet: &Alphabet) -> bool {
-        check(&self.0, alphabet).is_ok()
+        check(&self.tokens, alphabet).is_ok()
     }
 
     /// The first validity rule the genome breaks, if any ([`check`]).
@@ -206,7 +263,7 @@ impl Genome {
     /// # Errors
     /// The [`Invalid`] rule.
     pub fn check(&self, alphabet: &Alphabet) -> Result<(), Invalid> {
-        check(&self.0, alphabet)
+        check(&self.tokens, alphabet)
     }
 
     /// The genome of a bt-core node array.
@@ -260,7 +317,7 @@ impl Genome {
             tokens.push(token);
         }
         tokens.extend(ends.iter().map(|_| Token::Close));
-        Ok(Self(tokens))
+        Ok(Self::from(tokens))
     }
 
     /// The bt-core node array of this genome.
@@ -269,7 +326,7 @@ impl Genome {
     /// [`GenomeError::NotATree`] unless the tokens are one balanced tree whose control
     /// nodes all have children; [`GenomeError::TooLong`] past 65535 nodes.
     pub fn to_nodes(&self) -> Result<Vec<Node>, GenomeError> {
-        let mut nodes = Vec::with_capacity(self.0.len());
+        let mut nodes = Vec::with_capacity(self.tokens.len());
         self.write_nodes(&mut nodes)?;
         Ok(nodes)
     }
@@ -280,9 +337,15 @@ impl Genome {
     /// As [`Genome::to_nodes`].
     pub fn write_nodes(&self, nodes: &mut Vec<Node>) -> Result<(), GenomeError> {
         nodes.clear();
-        let mut open: Vec<usize> = Vec::new();
-        for (at, &token) in self.0.iter().enumerate() {
-            if !nodes.is_empty() && open.is_empty() {
+        if self.tokens.len() > 2 * usize::from(u16::MAX) {
+            return Err(GenomeError::TooLong(length(&self.tokens)));
+        }
+        // The open control nodes form a stack threaded through the nodes themselves:
+        // while a control node is open, its size field holds 1 + the index of the
+        // control node that was innermost before it (0 for none). No allocation.
+        let mut innermost: Option<usize> = None;
+        for (at, &token) in self.tokens.iter().enumerate() {
+            if !nodes.is_empty() && innermost.is_none() {
                 return Err(GenomeError::NotATree(Invalid::Unbalanced { at }));
             }
             let kind = match token {
@@ -291,28 +354,33 @@ impl Genome {
                 Token::Condition(id) => NodeKind::Condition(Leaf::new(id)),
                 Token::Action(id) => NodeKind::Action(Leaf::new(id)),
                 Token::Close => {
-                    let start = open.pop().ok_or(GenomeError::NotATree(Invalid::Unbalanced { at }))?;
+                    let start = innermost.ok_or(GenomeError::NotATree(Invalid::Unbalanced { at }))?;
                     let size = nodes.len() - start;
                     if size < 2 {
                         return Err(GenomeError::NotATree(Invalid::EmptyControl { at }));
                     }
                     let size = u16::try_from(size).map_err(|_| GenomeError::TooLong(nodes.len()))?;
                     if let Some(node) = nodes.get_mut(start) {
+                        innermost = usize::from(node.size()).checked_sub(1);
                         *node = Node::new(*node.kind(), size);
                     }
                     continue;
                 }
             };
-            if token.is_control() {
-                open.push(nodes.len());
-            }
-            nodes.push(Node::new(kind, 1));
+            let link = if token.is_control() {
+                let link = innermost.map_or(0, |i| i + 1);
+                innermost = Some(nodes.len());
+                u16::try_from(link).map_err(|_| GenomeError::TooLong(nodes.len()))?
+            } else {
+                1
+            };
+            nodes.push(Node::new(kind, link));
         }
         if nodes.is_empty() {
             return Err(GenomeError::NotATree(Invalid::Empty));
         }
-        if !open.is_empty() {
-            return Err(GenomeError::NotATree(Invalid::Unbalanced { at: self.0.len() }));
+        if innermost.is_some() {
+            return Err(GenomeError::NotATree(Invalid::Unbalanced { at: self.tokens.len() }));
         }
         Ok(())
     }

@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::alphabet::{Alphabet, draw};
 use crate::fitness::{Fitness, FitnessCache};
-use crate::genome::{Genome, GenomeError, Token, length};
+use crate::genome::{Genome, GenomeError, Token, hash_tokens, length};
 use crate::log::GenerationLog;
 use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into, random_tree};
 use crate::params::{Params, ParamsError};
@@ -118,6 +118,29 @@ pub struct Gp<'f, F: Fitness + ?Sized> {
     nodes: Vec<Node>,
 }
 
+/// A copy of the run at this point: continuing both gives the same generations.
+impl<F: Fitness + ?Sized> Clone for Gp<'_, F> {
+    fn clone(&self) -> Self {
+        Self {
+            params: self.params.clone(),
+            alphabet: self.alphabet.clone(),
+            fitness: self.fitness,
+            evaluation: self.evaluation,
+            rng: self.rng.clone(),
+            cache: self.cache.clone(),
+            population: self.population.clone(),
+            baseline: self.baseline.clone(),
+            generation: self.generation,
+            log: self.log.clone(),
+            scores: Vec::new(),
+            picks: Vec::new(),
+            child_a: Vec::new(),
+            child_b: Vec::new(),
+            nodes: Vec::new(),
+        }
+    }
+}
+
 impl<F: Fitness + ?Sized> std::fmt::Debug for Gp<'_, F> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Gp")
@@ -144,6 +167,9 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             _ => None,
         };
         let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
+        let capacity = (params.population_size + 1).saturating_add(
+            (params.generations as usize).saturating_mul(offspring_per_generation(&params)).min(1 << 20),
+        );
         let mut genomes: Vec<Genome> = Vec::with_capacity(params.population_size + 1);
         for _ in 0..params.population_size {
             for _ in 0..MAX_ATTEMPTS {
@@ -164,7 +190,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             fitness,
             evaluation,
             rng,
-            cache: FitnessCache::new(),
+            cache: FitnessCache::with_capacity(capacity),
             population: Vec::new(),
             baseline,
             generation: 0,
@@ -175,8 +201,9 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             child_b: Vec::new(),
             nodes: Vec::new(),
         };
-        gp.evaluate(&genomes);
-        gp.population = genomes.into_iter().map(|g| gp.individual(g)).collect();
+        let fitness = gp.evaluate(&genomes);
+        gp.population =
+            genomes.into_iter().zip(fitness).map(|(genome, fitness)| Individual { genome, fitness }).collect();
         gp.record();
         Ok(gp)
     }
@@ -189,10 +216,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         self.parent_scores(baseline_at, self.params.variant.boosts_crossover());
         let mut parents = Vec::with_capacity(self.params.crossover_parents);
         select_by_rank(&self.scores, self.params.crossover_parents, &mut self.rng, &mut parents);
-        let mut offspring: Vec<Genome> = Vec::with_capacity(
-            self.params.crossover_parents * self.params.crossover_rounds
-                + self.params.mutation_parents * self.params.mutation_offspring,
-        );
+        let mut offspring: Vec<Genome> = Vec::with_capacity(offspring_per_generation(&self.params));
         for _ in 0..self.params.crossover_rounds {
             self.crossover_round(&parents, &mut offspring);
         }
@@ -205,8 +229,9 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             }
         }
         // 6. Episodes.
-        self.evaluate(&offspring);
-        let offspring: Vec<Individual> = offspring.into_iter().map(|g| self.individual(g)).collect();
+        let fitness = self.evaluate(&offspring);
+        let offspring: Vec<Individual> =
+            offspring.into_iter().zip(fitness).map(|(genome, fitness)| Individual { genome, fitness }).collect();
         // 7. Survivors.
         self.survive(offspring);
         self.keep_baseline();
@@ -301,7 +326,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         if let Some(at) = self.population.iter().position(|i| i.genome == *b) {
             return Some(at);
         }
-        let fitness = self.cache.get(b.tokens()).unwrap_or(f64::NEG_INFINITY);
+        let fitness = self.cache.get(b).unwrap_or(f64::NEG_INFINITY);
         self.population.push(Individual { genome: b.clone(), fitness });
         Some(self.population.len() - 1)
     }
@@ -338,13 +363,13 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
                 &mut self.child_a,
                 &mut self.child_b,
             );
-            if made
-                && self.accepts(&self.child_a, offspring)
-                && self.accepts(&self.child_b, offspring)
-                && self.child_a != self.child_b
-            {
-                offspring.push(Genome::from(self.child_a.clone()));
-                offspring.push(Genome::from(self.child_b.clone()));
+            let accepted = match made.then(|| self.accepts(&self.child_a, offspring)).flatten() {
+                Some(ha) if self.child_a != self.child_b => self.accepts(&self.child_b, offspring).map(|hb| (ha, hb)),
+                _ => None,
+            };
+            if let Some((ha, hb)) = accepted {
+                offspring.push(Genome::with_hash(&self.child_a, ha));
+                offspring.push(Genome::with_hash(&self.child_b, hb));
                 unused.remove(i.max(j));
                 unused.remove(i.min(j));
                 failures = 0;
@@ -358,25 +383,29 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         for _ in 0..MAX_ATTEMPTS {
             let tokens = self.population[parent].genome.tokens();
             let made = mutate_into(tokens, &self.alphabet, &self.params.mutation, &mut self.rng, &mut self.child_a);
-            if made && self.accepts(&self.child_a, offspring) {
-                offspring.push(Genome::from(self.child_a.clone()));
+            if let Some(hash) = made.then(|| self.accepts(&self.child_a, offspring)).flatten() {
+                offspring.push(Genome::with_hash(&self.child_a, hash));
                 return;
             }
         }
     }
 
-    /// The offspring acceptance rule.
-    fn accepts(&self, child: &[Token], offspring: &[Genome]) -> bool {
-        length(child) >= self.params.min_length
-            && !self.population.iter().any(|i| i.genome.tokens() == child)
-            && !offspring.iter().any(|g| g.tokens() == child)
+    /// The offspring acceptance rule; the child's hash if accepted.
+    fn accepts(&self, child: &[Token], offspring: &[Genome]) -> Option<u64> {
+        if length(child) < self.params.min_length {
+            return None;
+        }
+        let hash = hash_tokens(child);
+        let same = |g: &Genome| g.hash_value() == hash && g.tokens() == child;
+        (!self.population.iter().any(|i| same(&i.genome)) && !offspring.iter().any(same)).then_some(hash)
     }
 
-    /// Simulates the genomes not in the cache, each once, and caches the results.
-    fn evaluate(&mut self, genomes: &[Genome]) {
+    /// The fitness of each genome, in order: from the cache, or from an episode for
+    /// those never simulated (each once, in parallel if asked), which are then cached.
+    fn evaluate(&mut self, genomes: &[Genome]) -> Vec<f64> {
         let mut new: Vec<&Genome> = Vec::with_capacity(genomes.len());
         for g in genomes {
-            if !self.cache.contains(g.tokens()) && !new.contains(&g) {
+            if !self.cache.contains(g) && !new.contains(&g) {
                 new.push(g);
             }
         }
@@ -394,11 +423,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         for (g, s) in new.into_iter().zip(scores) {
             self.cache.insert(g.clone(), s);
         }
-    }
-
-    fn individual(&self, genome: Genome) -> Individual {
-        let fitness = self.cache.get(genome.tokens()).unwrap_or(f64::NEG_INFINITY);
-        Individual { genome, fitness }
+        genomes.iter().map(|g| self.cache.get(g).unwrap_or(f64::NEG_INFINITY)).collect()
     }
 
     fn survive(&mut self, offspring: Vec<Individual>) {
@@ -451,6 +476,13 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         self.log.push(row);
         row
     }
+}
+
+/// Offspring slots of one generation (32 with Table I).
+fn offspring_per_generation(p: &Params) -> usize {
+    p.crossover_parents
+        .saturating_mul(p.crossover_rounds)
+        .saturating_add(p.mutation_parents.saturating_mul(p.mutation_offspring))
 }
 
 /// Runs a whole GP: [`Gp::new`] then [`Gp::run`].

@@ -10,9 +10,18 @@ use rand::{Rng, RngExt};
 /// Indices of `fitness`, best first; equal fitness ranks the later index first.
 /// `out` is cleared first.
 pub fn rank_order(fitness: &[f64], out: &mut Vec<usize>) {
+    // Sort (fitness, index) keys ascending as plain integers, then read them backwards.
+    let mut keys: Vec<(u64, usize)> = fitness.iter().enumerate().map(|(i, &f)| (ordered(f), i)).collect();
+    keys.sort_unstable();
     out.clear();
-    out.extend(0..fitness.len());
-    out.sort_unstable_by(|&a, &b| fitness[b].total_cmp(&fitness[a]).then(b.cmp(&a)));
+    out.extend(keys.iter().rev().map(|&(_, i)| i));
+}
+
+/// `f64` to `u64` keeping [`f64::total_cmp`]'s order.
+#[inline]
+fn ordered(f: f64) -> u64 {
+    let bits = f.to_bits();
+    if bits >> 63 == 1 { !bits } else { bits | 1 << 63 }
 }
 
 /// The `k` best (elitism), best first; all of them if there are fewer.
