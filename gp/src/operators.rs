@@ -2,7 +2,7 @@
 //! trees, mutation (delete / add / change) and crossover by subtree insertion.
 //!
 //! Each operator draws from the caller's generator in a fixed order and returns only
-//! trees that pass [`check`](crate::genome::check). The `*_into` forms write into
+//! trees that pass [`check`](crate::genome::check()). The `*_into` forms write into
 //! buffers the caller reuses, so that breeding allocates nothing once warm.
 
 use rand::{Rng, RngExt};
@@ -93,8 +93,10 @@ pub fn random_tree_into<R: Rng + ?Sized>(
 ///   action `a` by a control node gives `control(random leaf, a)`, a condition `c`
 ///   gives `control(c, random action)`.
 ///
-/// Then the tokens are [balanced](crate::edit) and control nodes below the root with 0
-/// or 1 child are dissolved into their parent.
+/// Then the tokens are balanced (missing `)` appended, surplus ones removed from the
+/// right) and control nodes below the root with 0 or 1 child are dissolved into their
+/// parent (a lone child of the same kind as the new parent is dissolved too, so no
+/// `s(` lands under `s(`).
 pub fn mutate<R: Rng + ?Sized>(
     parent: &Genome,
     alphabet: &Alphabet,
