@@ -110,6 +110,8 @@ pub struct Gp<'f, F: Fitness + ?Sized> {
     baseline: Option<Genome>,
     generation: u32,
     log: Vec<GenerationLog>,
+    /// Members before the baseline put back, if it was.
+    survivors: usize,
     // Reused buffers.
     scores: Vec<f64>,
     picks: Vec<usize>,
@@ -132,6 +134,7 @@ impl<F: Fitness + ?Sized> Clone for Gp<'_, F> {
             baseline: self.baseline.clone(),
             generation: self.generation,
             log: self.log.clone(),
+            survivors: self.survivors,
             scores: Vec::new(),
             picks: Vec::new(),
             child_a: Vec::new(),
@@ -195,6 +198,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             baseline,
             generation: 0,
             log: Vec::new(),
+            survivors: 0,
             scores: Vec::new(),
             picks: Vec::new(),
             child_a: Vec::new(),
@@ -204,6 +208,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         let fitness = gp.evaluate(&genomes);
         gp.population =
             genomes.into_iter().zip(fitness).map(|(genome, fitness)| Individual { genome, fitness }).collect();
+        gp.survivors = gp.population.len();
         gp.record();
         Ok(gp)
     }
@@ -211,7 +216,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
     /// Breeds the next generation (see the [module docs](self)) and returns its row.
     pub fn step(&mut self) -> GenerationLog {
         // 1. The baseline (put back at the end of the previous generation).
-        let baseline_at = self.keep_baseline();
+        let baseline_at = self.baseline.as_ref().and_then(|b| self.population.iter().position(|i| i.genome == *b));
         // 2-3. Crossover.
         self.parent_scores(baseline_at, self.params.variant.boosts_crossover());
         let mut parents = Vec::with_capacity(self.params.crossover_parents);
@@ -279,14 +284,19 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         &self.population
     }
 
-    /// The best individual of the population.
+    /// The best individual of the population (the first in rank order; see
+    /// [`crate::selection`] for ties).
     #[must_use]
     pub fn best(&self) -> &Individual {
-        let mut order = Vec::with_capacity(self.population.len());
-        let fitness: Vec<f64> = self.population.iter().map(|i| i.fitness).collect();
+        // Ranked among the survivors: the baseline put back does not take part, as in
+        // the reference, where it is put back only at the next generation's start. (It
+        // cannot be better than the best survivor, only tie with it.)
+        let survivors = self.population.get(..self.survivors).unwrap_or(&self.population);
+        let mut order = Vec::with_capacity(survivors.len());
+        let fitness: Vec<f64> = survivors.iter().map(|i| i.fitness).collect();
         rank_order(&fitness, &mut order);
-        // The population is never empty: population_size >= 1, checked in `new`.
-        &self.population[order[0]]
+        // Never empty: population_size >= 1, checked in `new`.
+        &survivors[order[0]]
     }
 
     /// One row per generation so far.
@@ -322,6 +332,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
     /// Puts the baseline back at the end of the population if it dropped out, and
     /// returns where it is.
     fn keep_baseline(&mut self) -> Option<usize> {
+        self.survivors = self.population.len();
         let b = self.baseline.as_ref()?;
         if let Some(at) = self.population.iter().position(|i| i.genome == *b) {
             return Some(at);
