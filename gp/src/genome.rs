@@ -423,6 +423,7 @@ pub fn check(tokens: &[Token], alphabet: &Alphabet) -> Result<(), Invalid> {
     };
     if !root.is_control() {
         return match tokens.len() {
+            _ if root == Token::Close => Err(Invalid::Unbalanced { at: 0 }),
             1 if alphabet.knows(root) => Ok(()),
             1 => Err(Invalid::Unknown { at: 0 }),
             _ => Err(Invalid::LeafRoot),
@@ -510,6 +511,8 @@ mod tests {
         assert_eq!(check(&[x], &a), Ok(()));
         assert_eq!(check(&[c], &a), Ok(()));
         assert_eq!(check(&[], &a), Err(Invalid::Empty));
+        assert_eq!(check(&[cl], &a), Err(Invalid::Unbalanced { at: 0 }));
+        assert_eq!(check(&[cl, x], &a), Err(Invalid::Unbalanced { at: 0 }));
         assert_eq!(check(&[x, s, c, cl], &a), Err(Invalid::LeafRoot));
         assert_eq!(check(&[s, f, cl, x, cl], &a), Err(Invalid::EmptyControl { at: 1 }));
         assert_eq!(check(&[s, c, c, x, cl], &a), Err(Invalid::RepeatedCondition { at: 2 }));

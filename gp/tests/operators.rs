@@ -175,3 +175,43 @@ fn a_single_leaf_mutates_into_a_tree() {
     let other = Genome::parse("s( picked 0? pick 0! )", &spec, &a).unwrap();
     assert_eq!(crossover(&leaf, &other, &a, &mut rng), None);
 }
+
+fn any_token() -> impl Strategy<Value = Token> {
+    prop_oneof![
+        Just(Token::Sequence),
+        Just(Token::Fallback),
+        Just(Token::Close),
+        (0u16..30).prop_map(Token::Condition),
+        (0u16..30).prop_map(Token::Action),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Any token sequence, however broken: no operator panics, and whatever they
+    /// return is valid.
+    #[test]
+    fn operators_survive_any_tokens(
+        x in proptest::collection::vec(any_token(), 0..30),
+        y in proptest::collection::vec(any_token(), 0..30),
+        seed: u64,
+    ) {
+        let a = alphabet(0);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (gx, gy) = (Genome::from(x), Genome::from(y));
+        if let Some(m) = mutate(&gx, &a, &MutationRates::default(), &mut rng) {
+            prop_assert_eq!(m.check(&a), Ok(()));
+        }
+        if let Some((cx, cy)) = crossover(&gx, &gy, &a, &mut rng) {
+            prop_assert!(cx.is_valid(&a) && cy.is_valid(&a));
+        }
+        if let Ok(nodes) = gx.to_nodes() {
+            // A well-formed tree converts back, whatever GP thinks of its leaves.
+            prop_assert_eq!(nodes.len(), gx.length());
+        }
+        if gx.is_valid(&a) {
+            prop_assert_eq!(Genome::from_nodes(&gx.to_nodes().unwrap(), &a).unwrap(), gx);
+        }
+    }
+}
