@@ -164,3 +164,25 @@ fn bad_setups_are_refused_with_the_reason() {
     p.initial_length = 40;
     assert_eq!(Gp::new(alphabet, &target, p, Evaluation::Parallel).unwrap_err(), GpError::NoRandomTree(40));
 }
+
+#[test]
+fn every_brick_task_evolves_valid_trees() {
+    for task in planner::duplo::Task::ALL {
+        let spec = task.spec();
+        let alphabet = gp::Alphabet::from_catalog(&spec).unwrap();
+        // Score: fewer nodes is better, odd sizes worse; enough to drive selection.
+        let fitness = |t: &[bt_core::Node]| -(t.len() as f64) - f64::from(u8::from(t.len() % 2 == 1)) * 0.5;
+        let mut gp = Gp::new(alphabet.clone(), &fitness, Params::new(1, Variant::None, None), Evaluation::Sequential)
+            .unwrap();
+        for _ in 0..25 {
+            gp.step();
+            assert_eq!(gp.population().len(), 16, "{task:?}");
+            for i in gp.population() {
+                assert_eq!(i.genome.check(&alphabet), Ok(()), "{task:?}");
+                assert!(i.genome.length() >= 2);
+                assert_eq!(i.fitness, fitness(&i.tree().unwrap()));
+            }
+        }
+        assert!(gp.log().last().unwrap().best_fitness >= -3.0, "{task:?}: {:?}", gp.log().last());
+    }
+}
