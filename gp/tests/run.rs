@@ -172,8 +172,8 @@ fn every_brick_task_evolves_valid_trees() {
         let alphabet = gp::Alphabet::from_catalog(&spec).unwrap();
         // Score: fewer nodes is better, odd sizes worse; enough to drive selection.
         let fitness = |t: &[bt_core::Node]| -(t.len() as f64) - f64::from(u8::from(t.len() % 2 == 1)) * 0.5;
-        let mut gp = Gp::new(alphabet.clone(), &fitness, Params::new(1, Variant::None, None), Evaluation::Sequential)
-            .unwrap();
+        let mut gp =
+            Gp::new(alphabet.clone(), &fitness, Params::new(1, Variant::None, None), Evaluation::Sequential).unwrap();
         for _ in 0..25 {
             gp.step();
             assert_eq!(gp.population().len(), 16, "{task:?}");
