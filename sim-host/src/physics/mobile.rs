@@ -44,7 +44,7 @@
 //! ([`MobileWorld::with_random_agents`]); [`MobileWorld::events`] is the narration.
 
 use bt_core::{BehaviorInfo, BehaviorSet, Context, Leaf, NodeId, Status};
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rapier3d::parry::shape::Cuboid;
 use rapier3d::prelude::{
