@@ -36,6 +36,7 @@ enum Command {
     /// Write a tree image as ASCII or tokens.
     Export(export::Args),
     /// Run one episode of a tree on a brick task; print the outcome and the fitness.
+    #[command(long_about = run::LONG_ABOUT)]
     Run(run::Args),
 }
 

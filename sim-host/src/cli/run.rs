@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, anyhow, bail};
 use bt_core::{Node, Tree};
-use planner::duplo::{Spec, Task};
+use planner::duplo::{Mode, Spec, Task};
 use sim_host::episode::{End, Episode, Runner, Trace};
 use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
@@ -34,9 +34,8 @@ impl WorldKind {
     }
 }
 
-#[derive(clap::Args, Debug)]
-#[command(
-    long_about = "Runs one episode of a behavior tree on one of the four brick tasks of \
+/// The long help of `sim-host run` (set on the subcommand in `cli/mod.rs`).
+pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the four brick tasks of \
     seed 003 (Styrud et al.) and prints the outcome and the fitness of Eq. (1)/(2).\n\n\
     Tasks:\n  \
       tower      stack three 2x2 bricks and press them together (the planner solves it)\n  \
@@ -56,9 +55,12 @@ impl WorldKind {
     The tree FILE is an image (starts with `BTIM`, as `sim-host plan`/`learn` write) or\n\
     text in the token notation of seed 003, e.g.\n  \
       s( f( 0 on 1? put 0 on 1! ) apply force 0! )\n\
-    with leaves named exactly as the task's behaviors (`sim-host export` shows them).",
-    after_help = "Example: sim-host run --task tower --tree tower.txt --svg tower.svg"
-)]
+    with leaves named exactly as the task's behaviors: `picked 0?`, `1 on 0?`,\n\
+    `0 at pos (0.0, 0.05, 0.0)?`, `pick 0!`, `place on 1!`, `put 0 at (0.0, 0.0, 0.0)!`, ...\n\
+    (shared/reference/duplo-tasks.md lists them per task).";
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Example: sim-host run --task tower --tree tower.txt --svg tower.svg")]
 pub struct Args {
     /// The task: tower, croissant, balance or blocking.
     #[arg(long, value_parser = parse_task)]
@@ -129,7 +131,13 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
     let mut trace = Trace::default();
     let e = runner.run_recorded(tree, &mut trace).map_err(|err| anyhow!("{source}: {err}"))?;
     let mut out = String::new();
-    let _ = writeln!(out, "task     {} ({:?} mode), {} world", spec.task.name(), spec.mode, args.world.name());
+    let mode = match spec.mode {
+        Mode::Default => "default",
+        Mode::Croissant => "croissant",
+        Mode::Balance => "balance",
+        Mode::Blocking => "blocking",
+    };
+    let _ = writeln!(out, "task     {} ({mode} mode), {} world", spec.task.name(), args.world.name());
     let _ = writeln!(out, "tree     {source}: {} nodes, depth {}", tree.len(), tree.depth());
     let _ = writeln!(out, "\nthe tree, with each node's status after the last tick:");
     let _ = write!(out, "{}", tree.display(&spec).with_states(runner.states()));
