@@ -7,7 +7,7 @@
 
 use std::hint::black_box;
 
-use bt_core::Tree;
+use bt_core::{Leaf, LeafKind, Node, NodeKind, Tree};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use planner::duplo::Task;
 use sim_host::episode::{Runner, Trace};
@@ -50,5 +50,76 @@ fn episodes(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, episodes);
+/// A deterministic stream of pseudo-random numbers (xorshift64*).
+struct Stream(u64);
+
+impl Stream {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % n
+    }
+}
+
+/// A random tree of Sequences, Fallbacks and the task's leaves, about GP's sizes: a
+/// control node at the root, then one with probability 1/2 (as GP's random nodes).
+fn random_tree(spec: &planner::duplo::Spec, rng: &mut Stream, depth: usize, out: &mut Vec<Node>) {
+    if depth > 0 && (out.is_empty() || rng.below(2) == 0) {
+        let at = out.len();
+        out.push(Node::new(NodeKind::Sequence, 1));
+        for _ in 0..2 + rng.below(3) {
+            random_tree(spec, rng, depth - 1, out);
+        }
+        let kind = if rng.below(2) == 0 { NodeKind::Sequence } else { NodeKind::Fallback };
+        out[at] = Node::new(kind, (out.len() - at) as u16);
+    } else {
+        let id = rng.below(spec.behaviors.len());
+        let leaf = Leaf::new(id as u16);
+        let kind = match spec.behaviors[id].kind() {
+            LeafKind::Condition => NodeKind::Condition(leaf),
+            LeafKind::Action => NodeKind::Action(leaf),
+        };
+        out.push(Node::new(kind, 1));
+    }
+}
+
+/// GP's workload: many different trees, each validated and run once.
+fn random_trees(c: &mut Criterion) {
+    const TREES: usize = 1000;
+    let mut group = c.benchmark_group("symbolic_random_trees");
+    group.throughput(Throughput::Elements(TREES as u64));
+    for task in Task::ALL {
+        let spec = task.spec();
+        let mut rng = Stream(0x5eed ^ task as u64);
+        let trees: Vec<Vec<Node>> = (0..TREES)
+            .map(|_| {
+                let mut t = Vec::new();
+                random_tree(&spec, &mut rng, 3, &mut t);
+                t
+            })
+            .collect();
+        let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
+        let (nodes, ticks): (usize, u32) = trees.iter().fold((0, 0), |(n, t), tree| {
+            let e = runner.run_nodes(tree).unwrap();
+            (n + e.nodes, t + e.ticks)
+        });
+        eprintln!(
+            "{}: {TREES} random trees, {:.1} nodes and {:.1} ticks per episode on average",
+            task.name(),
+            nodes as f64 / TREES as f64,
+            f64::from(ticks) / TREES as f64
+        );
+        group.bench_function(task.name(), |b| {
+            b.iter(|| {
+                for t in &trees {
+                    black_box(runner.run_nodes(black_box(t)).unwrap());
+                }
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, episodes, random_trees);
 criterion_main!(benches);
