@@ -101,6 +101,13 @@ fn draws_the_episode_as_svg() {
     let doc = std::fs::read_to_string(&svg).unwrap();
     assert!(doc.starts_with("<svg ") && doc.trim_end().ends_with("</svg>"));
     assert!(doc.contains("blocking task, symbolic world"));
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        let plain = write(dir.path(), "plain.txt", b"x");
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&svg), mode(&plain), "the picture gets a new file's usual permissions");
+    }
 }
 
 #[test]
