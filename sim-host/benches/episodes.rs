@@ -7,14 +7,17 @@
 
 use std::hint::black_box;
 
-use bt_core::{Leaf, LeafKind, Node, NodeKind, Tree};
+use bt_core::{Node, Tree};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use planner::duplo::Task;
+use random_trees::{Stream, random_tree};
 use sim_host::episode::{Runner, Trace};
 use sim_host::symbolic::SymbolicBrickWorld;
 
 #[path = "../tests/fixtures/planner_trees.rs"]
 mod planner_trees;
+#[path = "../tests/fixtures/random_trees.rs"]
+mod random_trees;
 
 fn episodes(c: &mut Criterion) {
     let mut group = c.benchmark_group("symbolic_episode");
@@ -50,40 +53,6 @@ fn episodes(c: &mut Criterion) {
     group.finish();
 }
 
-/// A deterministic stream of pseudo-random numbers (xorshift64*).
-struct Stream(u64);
-
-impl Stream {
-    fn below(&mut self, n: usize) -> usize {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % n
-    }
-}
-
-/// A random tree of Sequences, Fallbacks and the task's leaves, about GP's sizes: a
-/// control node at the root, then one with probability 1/2 (as GP's random nodes).
-fn random_tree(spec: &planner::duplo::Spec, rng: &mut Stream, depth: usize, out: &mut Vec<Node>) {
-    if depth > 0 && (out.is_empty() || rng.below(2) == 0) {
-        let at = out.len();
-        out.push(Node::new(NodeKind::Sequence, 1));
-        for _ in 0..2 + rng.below(3) {
-            random_tree(spec, rng, depth - 1, out);
-        }
-        let kind = if rng.below(2) == 0 { NodeKind::Sequence } else { NodeKind::Fallback };
-        out[at] = Node::new(kind, (out.len() - at) as u16);
-    } else {
-        let id = rng.below(spec.behaviors.len());
-        let leaf = Leaf::new(id as u16);
-        let kind = match spec.behaviors[id].kind() {
-            LeafKind::Condition => NodeKind::Condition(leaf),
-            LeafKind::Action => NodeKind::Action(leaf),
-        };
-        out.push(Node::new(kind, 1));
-    }
-}
-
 /// GP's workload: many different trees, each validated and run once.
 fn random_trees(c: &mut Criterion) {
     const TREES: usize = 1000;
@@ -92,13 +61,7 @@ fn random_trees(c: &mut Criterion) {
     for task in Task::ALL {
         let spec = task.spec();
         let mut rng = Stream(0x5eed ^ task as u64);
-        let trees: Vec<Vec<Node>> = (0..TREES)
-            .map(|_| {
-                let mut t = Vec::new();
-                random_tree(&spec, &mut rng, 3, &mut t);
-                t
-            })
-            .collect();
+        let trees: Vec<Vec<Node>> = (0..TREES).map(|_| random_tree(&spec, &mut rng, 3)).collect();
         let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
         let (nodes, ticks): (usize, u32) = trees.iter().fold((0, 0), |(n, t), tree| {
             let e = runner.run_nodes(tree).unwrap();

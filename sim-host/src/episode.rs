@@ -145,7 +145,7 @@ pub struct Episode {
     pub fitness: Fitness,
     /// Nodes in the tree.
     pub nodes: usize,
-    /// Number of bricks; `positions[..bricks]` are meaningful.
+    /// Number of bricks; `final_positions[..bricks]` are meaningful.
     pub bricks: usize,
     /// Final position of each brick.
     pub final_positions: [[f32; 3]; MAX_BRICKS],
@@ -273,7 +273,11 @@ pub enum EpisodeError {
 /// assert_eq!(episode.fitness.timeout, 10.0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-#[derive(Debug)]
+///
+/// A runner is `Send` and, when its world is, `Clone`: parallel fitness evaluation gives
+/// each worker its own (e.g. rayon's `map_init`), and results do not depend on which
+/// worker ran which tree.
+#[derive(Clone, Debug)]
 pub struct Runner<W> {
     world: W,
     states: Vec<NodeState>,

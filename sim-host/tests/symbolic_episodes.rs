@@ -3,14 +3,17 @@
 //! (each mode can be solved), the halt rule, and determinism.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::float_cmp)]
 
-use bt_core::{Leaf, Node, NodeKind, Tree};
+use bt_core::{Node, Tree};
 use planner::duplo::Task;
+use random_trees::{Stream, random_tree};
 use sim_host::episode::{End, Episode, Runner, Trace};
 use sim_host::symbolic::{BALANCE_TIP, HaltRule, PICK_HEIGHT, SymbolicBrickWorld};
 use sim_host::world::BrickWorld;
 
 #[path = "fixtures/planner_trees.rs"]
 mod planner_trees;
+#[path = "fixtures/random_trees.rs"]
+mod random_trees;
 
 /// Hand-made solutions, derived from the task descriptions of seed 003 (the croissant's
 /// is the reference implementation's "best" tree).
@@ -122,52 +125,12 @@ fn the_reference_idiom_of_unguarded_picks_needs_the_resume_rule() {
     }
 }
 
-/// A deterministic stream of pseudo-random numbers (xorshift64*).
-struct Stream(u64);
-
-impl Stream {
-    fn below(&mut self, n: usize) -> usize {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % n
-    }
-}
-
-/// A random tree of Sequences, Fallbacks and the task's leaves.
-fn random_tree(task: Task, rng: &mut Stream, depth: usize, out: &mut Vec<Node>) {
-    let spec = task.spec();
-    if depth > 0 && rng.below(3) == 0 {
-        let at = out.len();
-        out.push(Node::new(NodeKind::Sequence, 1));
-        for _ in 0..2 + rng.below(3) {
-            random_tree(task, rng, depth - 1, out);
-        }
-        let kind = if rng.below(2) == 0 { NodeKind::Sequence } else { NodeKind::Fallback };
-        out[at] = Node::new(kind, (out.len() - at) as u16);
-    } else {
-        let id = rng.below(spec.behaviors.len());
-        let leaf = Leaf::new(id as u16);
-        let kind = if spec.behaviors[id].kind() == bt_core::LeafKind::Condition {
-            NodeKind::Condition(leaf)
-        } else {
-            NodeKind::Action(leaf)
-        };
-        out.push(Node::new(kind, 1));
-    }
-}
-
 #[test]
 fn episodes_are_deterministic_bit_for_bit() {
     for task in Task::ALL {
         let mut rng = Stream(0x9e37_79b9_7f4a_7c15 ^ task as u64);
-        let trees: Vec<Vec<Node>> = (0..200)
-            .map(|_| {
-                let mut t = Vec::new();
-                random_tree(task, &mut rng, 4, &mut t);
-                t
-            })
-            .collect();
+        let spec = task.spec();
+        let trees: Vec<Vec<Node>> = (0..200).map(|_| random_tree(&spec, &mut rng, 4)).collect();
         // One runner forwards, one backwards, a fresh runner per tree: same bits.
         let mut forwards = runner(task, HaltRule::default());
         let mut backwards = runner(task, HaltRule::default());
