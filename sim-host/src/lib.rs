@@ -1,7 +1,11 @@
 //! Worlds that run behavior trees: symbolic (exact, microseconds per episode) and
-//! physics (rapier3d), for the scenarios of the two papers.
+//! physics (rapier3d), for the scenarios of the two papers; episodes and the fitness of
+//! seed 003; pictures of runs.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod episode;
 pub mod physics;
+pub mod picture;
+pub mod symbolic;
 pub mod world;

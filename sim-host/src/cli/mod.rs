@@ -13,6 +13,7 @@ mod export;
 mod inspect;
 pub mod output;
 mod plan;
+mod run;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
 #[derive(Parser, Debug)]
@@ -37,11 +38,21 @@ enum Command {
     Export(export::Args),
     /// Plan a tree by backchaining (seed 000) from PDDL or for a brick task.
     Plan(plan::Args),
+    /// Run one episode of a tree on a brick task; print the outcome and the fitness.
+    #[command(long_about = run::LONG_ABOUT)]
+    Run(run::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => e.exit(), // --help, --version: stdout, exit 0
+        Err(e) => {
+            eprintln!("{}", one_line(&e));
+            return ExitCode::from(2);
+        }
+    };
     let result = match cli.command {
         None => {
             use clap::CommandFactory;
@@ -50,6 +61,7 @@ pub fn main() -> ExitCode {
         Some(Command::Inspect(args)) => inspect::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Plan(args)) => plan::run(&args),
+        Some(Command::Run(args)) => run::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -58,4 +70,13 @@ pub fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// A clap error as one line: its first paragraph (the message and, for bad values, the
+/// possible ones), without the usage and the `--help` tip.
+fn one_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text.split("\n\n").next().unwrap_or("");
+    let line: Vec<&str> = first.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    line.join(" ")
 }

@@ -884,6 +884,14 @@ impl BrickWorld for PhysicsBrickWorld {
         &self.spec
     }
 
+    fn reset(&mut self) {
+        // The spec and parameters were checked when the world was made, so rebuilding
+        // from them cannot fail; a rapier world has no cheaper exact reset.
+        if let Ok(fresh) = Self::with_params(&self.spec, self.params) {
+            *self = fresh;
+        }
+    }
+
     fn step(&mut self) {
         let dt = self.world.integration_parameters.dt;
         for _ in 0..self.params.steps_per_tick {

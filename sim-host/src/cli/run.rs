@@ -1,0 +1,209 @@
+//! `sim-host run --task T --world W [--tree FILE] [--svg FILE]`: one episode of a tree.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context as _, anyhow, bail};
+use bt_core::{Node, Tree};
+use planner::duplo::{Mode, Spec, Task};
+use sim_host::episode::{End, Episode, Runner, Trace};
+use sim_host::picture;
+use sim_host::symbolic::SymbolicBrickWorld;
+use sim_host::world::BrickWorld;
+
+use super::output;
+
+/// Most levels a tree may have to be run.
+const DEPTH: usize = 64;
+
+/// Which world plays the episode.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorldKind {
+    /// The fast symbolic world of seed 003: exact, 30 ticks, microseconds per episode.
+    Symbolic,
+    /// The rapier3d physics world: 200 ticks at 10 Hz.
+    Physics,
+}
+
+impl WorldKind {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Symbolic => "symbolic",
+            Self::Physics => "physics",
+        }
+    }
+}
+
+/// The long help of `sim-host run` (set on the subcommand in `cli/mod.rs`).
+pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the four brick tasks of \
+    seed 003 (Styrud et al.) and prints the outcome and the fitness of Eq. (1)/(2).\n\n\
+    Tasks:\n  \
+      tower      stack three 2x2 bricks and press them together (the planner solves it)\n  \
+      croissant  three bricks in a U, a long brick across the middle one; placing the\n             \
+                 side bricks fails once the long brick lies at y = 0\n  \
+      balance    lift an unbalanced long brick one brick high: it tips on the narrow\n             \
+                 brick 1 and needs the wide brick 2 as base\n  \
+      blocking   a Tower-of-Hanoi-like shuffle: brick 2 (with a cone) blocks the spot\n             \
+                 of bricks 0 and 1, which block its own\n\n\
+    Worlds: `symbolic` is the fast state machine GP learns in (30 ticks); `physics` is the\n\
+    rapier3d world (200 ticks at 10 Hz). An episode ends at the first root Failure, after\n\
+    root Success on two consecutive ticks, or at the tick limit (timeout).\n\n\
+    Fitness = -cost, cost = 0.1 per node (control nodes included)\n  \
+      + 1000 per metre each brick ends beyond 0.4 mm from its goal\n  \
+      + 50 if the episode ended in Failure + 10 if it ran to the tick limit\n  \
+      + 100 if a brick is still held at the end (balance only).\n\n\
+    The tree FILE is an image (starts with `BTIM`, as `sim-host plan`/`learn` write) or\n\
+    text in the token notation of seed 003, e.g.\n  \
+      s( f( 0 on 1? put 0 on 1! ) apply force 0! )\n\
+    with leaves named exactly as the task's behaviors: `picked 0?`, `1 on 0?`,\n\
+    `0 at pos (0.0, 0.05, 0.0)?`, `pick 0!`, `place on 1!`, `put 0 at (0.0, 0.0, 0.0)!`, ...\n\
+    (shared/reference/duplo-tasks.md lists them per task).";
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Example: sim-host run --task tower --tree tower.txt --svg tower.svg")]
+pub struct Args {
+    /// The task: tower, croissant, balance or blocking.
+    #[arg(long, value_parser = parse_task)]
+    pub task: Task,
+    /// The world that plays the episode.
+    #[arg(long, value_enum, default_value_t = WorldKind::Symbolic)]
+    pub world: WorldKind,
+    /// The tree: an image file or token text (required until the planner's tree becomes
+    /// the default).
+    #[arg(long, value_name = "FILE")]
+    pub tree: Option<PathBuf>,
+    /// Also draw the episode as an SVG picture: paths over the table, heights against
+    /// ticks, the tree's statuses tick by tick (written whole or not at all).
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+}
+
+fn parse_task(s: &str) -> Result<Task, String> {
+    Task::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Task::ALL.iter().map(|t| t.name()).collect();
+        format!("unknown task `{s}` (tasks: {})", names.join(", "))
+    })
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let spec = args.task.spec();
+    let (nodes, source) = match &args.tree {
+        Some(path) => (read_tree(path, &spec)?, path.display().to_string()),
+        None => (planner_tree(&spec)?, "the planner's tree".to_string()),
+    };
+    let tree: Tree<'_, DEPTH> =
+        Tree::validate(&nodes, &spec).map_err(|e| anyhow!("{source}: not a valid tree for this task: {e}"))?;
+    match args.world {
+        WorldKind::Symbolic => episode(SymbolicBrickWorld::new(&spec)?, tree, &source, args),
+        WorldKind::Physics => {
+            bail!("the physics world is not available yet in `sim-host run`; use --world symbolic")
+        }
+    }
+}
+
+/// The tree to run when no `--tree` is given.
+fn planner_tree(_spec: &Spec) -> anyhow::Result<Vec<Node>> {
+    bail!("no --tree given: give --tree FILE (an image or token text); the planner's tree is not the default yet")
+}
+
+/// Reads an image (`BTIM…`) or token text.
+fn read_tree(path: &Path, spec: &Spec) -> anyhow::Result<Vec<Node>> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    if bytes.starts_with(&bt_core::image::MAGIC) {
+        let header = bt_core::image::read_header(&bytes).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
+        let tree: Tree<'_, DEPTH> =
+            bt_core::load(&bytes, spec, &mut storage).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let n = tree.len();
+        storage.truncate(n);
+        return Ok(storage);
+    }
+    let text = std::str::from_utf8(&bytes).map_err(|_| {
+        anyhow!("{}: neither a tree image (no `BTIM` magic) nor token text (not UTF-8)", path.display())
+    })?;
+    planner::tokens::parse(text, spec).map_err(|e| anyhow!("{}: {e}", path.display()))
+}
+
+/// Runs one episode in `world` and reports it.
+fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &Args) -> anyhow::Result<()> {
+    let spec = world.spec().clone();
+    let mut runner = Runner::new(world)?;
+    let mut trace = Trace::default();
+    let e = runner.run_recorded(tree, &mut trace).map_err(|err| anyhow!("{source}: {err}"))?;
+    let mut out = String::new();
+    let mode = match spec.mode {
+        Mode::Default => "default",
+        Mode::Croissant => "croissant",
+        Mode::Balance => "balance",
+        Mode::Blocking => "blocking",
+    };
+    let _ = writeln!(out, "task     {} ({mode} mode), {} world", spec.task.name(), args.world.name());
+    let _ = writeln!(out, "tree     {source}: {} nodes, depth {}", tree.len(), tree.depth());
+    let _ = writeln!(out, "\nthe tree, with each node's status after the last tick:");
+    let _ = write!(out, "{}", tree.display(&spec).with_states(runner.states()));
+    out.push('\n');
+    report(&mut out, &spec, &e, runner.tick_limit());
+    // The picture first: if it cannot be written, nothing is printed as if all went well.
+    if let Some(path) = &args.svg {
+        let doc = picture::svg(&picture::Run {
+            spec: &spec,
+            nodes: tree.nodes(),
+            trace: &trace,
+            episode: &e,
+            world: args.world.name(),
+        });
+        output::write_whole(path, doc.as_bytes())?;
+        let _ = writeln!(out, "picture  {}", path.display());
+    }
+    print!("{out}");
+    Ok(())
+}
+
+fn report(out: &mut String, spec: &Spec, e: &Episode, limit: u32) {
+    let how = match e.end {
+        End::Success => "Success: the root succeeded on two consecutive ticks",
+        End::Failure => "Failure: the root failed",
+        End::Timeout => "Timeout: neither Failure nor Success twice in a row",
+    };
+    let limit_note = if e.timed_out && e.end != End::Timeout { " (the tick limit: timeout too)" } else { "" };
+    let _ = writeln!(out, "outcome  {how}, after {} of {limit} ticks{limit_note}", e.ticks);
+    for (b, p) in e.positions().iter().enumerate() {
+        let at = fmt_pos(*p);
+        match spec.goal.get(b).copied().flatten() {
+            Some(g) => {
+                let d = distance_mm(*p, g);
+                let _ = writeln!(
+                    out,
+                    "brick {b}  at {at}  goal {}  off {d:.1} mm  cost {:.3}",
+                    fmt_pos(g),
+                    e.fitness.distance.get(b).copied().unwrap_or(0.0)
+                );
+            }
+            None => {
+                let _ = writeln!(out, "brick {b}  at {at}  (no goal)");
+            }
+        }
+    }
+    let held = e.held.map_or_else(|| "nothing".to_string(), |b| format!("brick {b}"));
+    let _ = writeln!(out, "held     {held}");
+    let f = &e.fitness;
+    let _ = writeln!(
+        out,
+        "fitness  {:.3}  length {:.3}  distance {:.3}  failure {:.3}  timeout {:.3}  held {:.3}",
+        f.value(),
+        f.length,
+        f.distance_total(),
+        f.failure,
+        f.timeout,
+        f.held
+    );
+}
+
+fn fmt_pos(p: [f32; 3]) -> String {
+    format!("({:7.4}, {:7.4}, {:7.4})", p[0], p[1], p[2])
+}
+
+fn distance_mm(a: [f32; 3], b: [f32; 3]) -> f64 {
+    let d = |i: usize| f64::from(a[i]) - f64::from(b[i]);
+    (d(0) * d(0) + d(1) * d(1) + d(2) * d(2)).sqrt() * 1000.0
+}
