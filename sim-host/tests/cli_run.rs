@@ -117,15 +117,40 @@ fn bad_arguments_are_one_line_and_exit_2() {
     let out = sim_host(&["run", "--task", "tower", "--world", "gazebo", "--tree", "x"]);
     assert_error(&out, &["gazebo", "symbolic, physics"]);
     assert_error(&sim_host(&["run", "--tree", "x"]), &["--task"]);
-    assert_error(&sim_host(&["run", "--task", "tower"]), &["--tree"]);
 }
 
 #[test]
-fn the_physics_world_is_not_available_yet() {
-    let dir = tempfile::tempdir().unwrap();
-    let tree = write(dir.path(), "t.txt", b"pick 0!");
-    let out = sim_host(&["run", "--task", "tower", "--world", "physics", "--tree", tree.to_str().unwrap()]);
-    assert_error(&out, &["physics world is not available yet"]);
+fn the_planners_tree_is_the_default_and_solves_only_the_tower() {
+    // Seed 003: the planner's tree alone solves the tower and fails the other three.
+    for (task, solved) in [("tower", true), ("croissant", false), ("balance", false), ("blocking", false)] {
+        let out = sim_host(&["run", "--task", task]);
+        assert!(out.status.success(), "{task}: {}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains("the planner's tree"), "{text}");
+        let fitness: f64 = text
+            .lines()
+            .find_map(|l| l.strip_prefix("fitness"))
+            .and_then(|l| l.split_whitespace().next())
+            .unwrap()
+            .parse()
+            .unwrap();
+        if solved {
+            assert!(text.contains("outcome  Success"), "{text}");
+            assert!(fitness > -5.0, "{task}: {fitness}");
+        } else {
+            assert!(!text.contains("outcome  Success"), "{task}: {text}");
+            assert!(fitness < -15.0, "{task}: {fitness}");
+        }
+    }
+}
+
+#[test]
+fn the_physics_world_builds_the_tower_with_the_planners_tree() {
+    let out = sim_host(&["run", "--task", "tower", "--world", "physics"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("tower (default mode), physics world"), "{text}");
+    assert!(text.contains("outcome  Success"), "{text}");
 }
 
 #[test]

@@ -3,10 +3,11 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context as _, anyhow, bail};
+use anyhow::{Context as _, anyhow};
 use bt_core::{Node, Tree};
 use planner::duplo::{Mode, Spec, Task};
 use sim_host::episode::{End, Episode, Runner, Trace};
+use sim_host::physics::PhysicsBrickWorld;
 use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
 use sim_host::world::BrickWorld;
@@ -95,15 +96,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Tree::validate(&nodes, &spec).map_err(|e| anyhow!("{source}: not a valid tree for this task: {e}"))?;
     match args.world {
         WorldKind::Symbolic => episode(SymbolicBrickWorld::new(&spec)?, tree, &source, args),
-        WorldKind::Physics => {
-            bail!("the physics world is not available yet in `sim-host run`; use --world symbolic")
-        }
+        WorldKind::Physics => episode(PhysicsBrickWorld::new(&spec)?, tree, &source, args),
     }
 }
 
 /// The tree to run when no `--tree` is given.
-fn planner_tree(_spec: &Spec) -> anyhow::Result<Vec<Node>> {
-    bail!("no --tree given: give --tree FILE (an image or token text); the planner's tree is not the default yet")
+fn planner_tree(spec: &Spec) -> anyhow::Result<Vec<Node>> {
+    let plan = planner::duplo::plan(spec.task).map_err(|e| anyhow!("planning the {} task: {e}", spec.task.name()))?;
+    Ok(plan.nodes)
 }
 
 /// Reads an image (`BTIM…`) or token text.
