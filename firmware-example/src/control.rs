@@ -8,26 +8,29 @@
 //! One line per tick, `key=value` fields after the tick number and root status:
 //!
 //! ```text
-//! tick 52 RUNNING ran=1F,2S,4F,6S,7R act=move-to(sphere) halt=32 robot=1034,1175,785 hand=cube dig=5f0c2b19
+//! tick 52 RUNNING ran=2F,4S,6F,8S,9R act=move-to(sphere)! halt=32 robot=1660,1422 hand=cube dig=8f9599a7
 //! ```
 //!
 //! - `ran`: every leaf ticked, in order, as node id and result (`S`uccess, `F`ailure,
 //!   `R`unning); the `leaf` lines printed after loading name each id.
 //! - `act`: the action left Running, `-` when none.
 //! - `halt`: the actions halted during the tick (preempted before another started).
-//! - `robot`: base x and y in mm, heading in mrad; `hand`: what the gripper holds.
+//! - `robot`: base x and y in mm; `hand`: what the gripper holds.
 //! - `dig`: FNV-1a over the exact bits of the whole plant state after the tick.
 //!
 //! Before the ticks: `boot` (image size, node count, depth, behavior-set fingerprint),
 //! one `leaf` line per leaf, and `world` (initial positions in mm). Scripted events print
-//! an `event` line before the tick they happen at. The last line starts with `done`.
+//! an `event` line before the tick they happen at, with the position of the object they
+//! moved. The last line starts with `done`: the verdict (`GOAL`, `FAILED`, `TIMEOUT`,
+//! `ERROR`, `LOAD-ERROR`), ticks and simulated time, leaves ticked, actions halted and
+//! completed, events applied, the cube's final position and the final digest.
 
 use core::fmt::{self, Write};
 
 use bt_core::{BehaviorSet, Context, Executor, Leaf, LoadError, Node, NodeId, NodeKind, NodeState, Status, TickError};
 
 use crate::catalog::{BEHAVIORS, FINGERPRINT, object_name};
-use crate::plant::{PERIOD_MS, Plant, Vec2, heading_mrad};
+use crate::plant::{PERIOD_MS, Plant, Vec2};
 use crate::script::{self, Event, SCRIPT, Skipped};
 
 /// Most nodes an image may have: the node and state arrays are sized for it.
@@ -195,30 +198,31 @@ impl fmt::Display for Mm {
     }
 }
 
-/// A leaf as `name(arg, ...)` with object names, `?` after conditions, `!` after actions.
-struct LeafText<'a>(&'a Node);
+/// A leaf as `name(arg, ...)` with object names, `?` after conditions, `!` after
+/// actions; `-` for none.
+struct LeafText<'a>(Option<&'a Node>);
 
 impl fmt::Display for LeafText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (leaf, mark) = match self.0.kind() {
-            NodeKind::Condition(l) => (l, '?'),
-            NodeKind::Action(l) => (l, '!'),
+        let (leaf, mark) = match self.0.map(Node::kind) {
+            Some(NodeKind::Condition(l)) => (l, "?"),
+            Some(NodeKind::Action(l)) => (l, "!"),
             _ => return f.write_str("-"),
         };
         let name = BEHAVIORS.get(usize::from(leaf.behavior())).map_or("#", |b| b.name);
         f.write_str(name)?;
         let args = leaf.args();
         if !args.is_empty() {
-            f.write_char('(')?;
+            f.write_str("(")?;
             for (i, &a) in args.iter().enumerate() {
                 if i > 0 {
-                    f.write_char(',')?;
+                    f.write_str(",")?;
                 }
                 f.write_str(object_name(a))?;
             }
-            f.write_char(')')?;
+            f.write_str(")")?;
         }
-        f.write_char(mark)
+        f.write_str(mark)
     }
 }
 
@@ -228,16 +232,16 @@ struct RanList<'a>(&'a [Ran]);
 impl fmt::Display for RanList<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.0.is_empty() {
-            return f.write_char('-');
+            return f.write_str("-");
         }
         for (i, r) in self.0.iter().enumerate() {
             if i > 0 {
-                f.write_char(',')?;
+                f.write_str(",")?;
             }
             let s = match r.status {
-                Status::Success => 'S',
-                Status::Failure => 'F',
-                Status::Running => 'R',
+                Status::Success => "S",
+                Status::Failure => "F",
+                Status::Running => "R",
             };
             write!(f, "{}{s}", r.node)?;
         }
@@ -251,11 +255,11 @@ struct Ids<'a>(&'a [NodeId]);
 impl fmt::Display for Ids<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.0.is_empty() {
-            return f.write_char('-');
+            return f.write_str("-");
         }
         for (i, id) in self.0.iter().enumerate() {
             if i > 0 {
-                f.write_char(',')?;
+                f.write_str(",")?;
             }
             write!(f, "{id}")?;
         }
@@ -300,7 +304,7 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
     );
     for (id, node) in nodes.iter().enumerate() {
         if matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
-            line.say(sink, format_args!("leaf {id} {}", LeafText(node)));
+            line.say(sink, format_args!("leaf {id} {}", LeafText(Some(node))));
         }
     }
     let mut plant = Plant::new();
@@ -328,26 +332,17 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
         }
     };
 
-    let mut leaves: u32 = 0;
-    let mut events: u32 = 0;
+    let mut totals = Totals { leaves: 0, events: 0 };
     for tick in 0..MAX_TICKS {
         let event = script::event_at(tick).map(|e| (e, script::apply(e, &mut plant)));
         match event {
             Some((e, Ok(()))) => {
-                events = events.saturating_add(1);
-                match e {
-                    Event::Help => {
-                        line.say(sink, format_args!("event {tick} help: an agent puts the cube in the hand"))
-                    }
-                    Event::Slip => line.say(sink, format_args!("event {tick} slip: cube slid to {}", Mm(plant.cube))),
-                    Event::Block => line.say(sink, format_args!("event {tick} block: sphere at {}", Mm(plant.sphere))),
-                    Event::Unblock => {
-                        line.say(
-                            sink,
-                            format_args!("event {tick} unblock: an agent moves the sphere to {}", Mm(plant.sphere)),
-                        );
-                    }
-                }
+                totals.events = totals.events.saturating_add(1);
+                let (what, at) = match e {
+                    Event::Help | Event::Slip => ("cube", plant.cube),
+                    Event::Block | Event::Unblock => ("sphere", plant.sphere),
+                };
+                line.say(sink, format_args!("event {tick} {} {what}={}: {}", e.name(), Mm(at), e.describe()));
             }
             Some((e, Err(why))) => line.say(sink, format_args!("event {tick} {} skipped: {}", e.name(), why.reason())),
             None => {}
@@ -356,59 +351,76 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
         let mut rec = Recorder { plant: &mut plant, ran: heapless::Vec::new(), halted: heapless::Vec::new() };
         let result = exec.tick(&mut rec, tick.saturating_mul(PERIOD_MS));
         let Recorder { ran, halted, .. } = rec;
-        leaves = leaves.saturating_add(ran.len() as u32);
+        totals.leaves = totals.leaves.saturating_add(ran.len() as u32);
+        let ticks = tick.saturating_add(1);
         let status = match result {
             Ok(status) => status,
             Err(error) => {
                 line.say(sink, format_args!("tick {tick} ERROR {error}"));
-                line.say(sink, format_args!("done ERROR ticks={}", tick.saturating_add(1)));
+                line.say(sink, format_args!("done ERROR {}", Done { ticks, totals, plant: &plant }));
                 return Outcome::Tick { tick, error };
             }
         };
         let act = ran.iter().rev().find(|r| r.status == Status::Running).and_then(|r| nodes.get(usize::from(r.node)));
-        let act: &dyn fmt::Display = match act {
-            Some(node) => &LeafText(node),
-            None => &"-",
-        };
         line.say(
             sink,
             format_args!(
-                "tick {tick} {status} ran={} act={} halt={} robot={},{} hand={} dig={:08x}",
+                "tick {tick} {status} ran={} act={} halt={} robot={} hand={} dig={:08x}",
                 RanList(&ran),
-                act,
+                LeafText(act),
                 Ids(&halted),
                 Mm(plant.robot),
-                heading_mrad(plant.facing),
                 plant.hand.name(),
                 plant.digest()
             ),
         );
         watch(&TickReport { tick, status, nodes, ran: &ran, halted: &halted, event, plant: &plant });
 
-        let ticks = tick.saturating_add(1);
-        let c = plant.counters;
-        let verdict = match status {
+        let (verdict, outcome) = match status {
             Status::Running => continue,
-            Status::Success => "GOAL",
-            Status::Failure => "FAILED",
+            Status::Success => ("GOAL", Outcome::Goal { ticks }),
+            Status::Failure => ("FAILED", Outcome::RootFailure { ticks }),
         };
-        line.say(
-            sink,
-            format_args!(
-                "done {verdict} ticks={ticks} time={} leaves={leaves} halts={} picks={} drops={} clears={} \
-                 events={events}/{} cube={} dig={:08x}",
-                Seconds(ticks),
-                c.halts,
-                c.picks,
-                c.drops,
-                c.clears,
-                SCRIPT.len(),
-                Mm(plant.cube),
-                plant.digest()
-            ),
-        );
-        return if status == Status::Success { Outcome::Goal { ticks } } else { Outcome::RootFailure { ticks } };
+        line.say(sink, format_args!("done {verdict} {}", Done { ticks, totals, plant: &plant }));
+        return outcome;
     }
-    line.say(sink, format_args!("done TIMEOUT ticks={MAX_TICKS} time={}", Seconds(MAX_TICKS)));
+    line.say(sink, format_args!("done TIMEOUT {}", Done { ticks: MAX_TICKS, totals, plant: &plant }));
     Outcome::Timeout
+}
+
+/// Counts kept by the loop for the summary.
+#[derive(Clone, Copy)]
+struct Totals {
+    /// Leaves ticked.
+    leaves: u32,
+    /// Scripted events applied.
+    events: u32,
+}
+
+/// The fields of the `done` line.
+struct Done<'a> {
+    ticks: u32,
+    totals: Totals,
+    plant: &'a Plant,
+}
+
+impl fmt::Display for Done<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = self.plant.counters;
+        write!(
+            f,
+            "ticks={} time={} leaves={} halts={} picks={} drops={} clears={} events={}/{} cube={} dig={:08x}",
+            self.ticks,
+            Seconds(self.ticks),
+            self.totals.leaves,
+            c.halts,
+            c.picks,
+            c.drops,
+            c.clears,
+            self.totals.events,
+            SCRIPT.len(),
+            Mm(self.plant.cube),
+            self.plant.digest()
+        )
+    }
 }

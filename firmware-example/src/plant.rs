@@ -351,13 +351,6 @@ impl BehaviorSet for Plant {
     }
 }
 
-/// The heading of unit vector `facing` in milliradians from the x axis, as the trace
-/// prints it.
-#[must_use]
-pub fn heading_mrad(facing: Vec2) -> i32 {
-    libm::roundf(libm::atan2f(facing.y, facing.x) * 1000.0) as i32
-}
-
 /// Distance from point `p` to the segment from `a` to `b`.
 #[must_use]
 pub fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f32 {

@@ -24,6 +24,17 @@ pub enum Event {
 }
 
 impl Event {
+    /// What happens, in words.
+    #[must_use]
+    pub const fn describe(self) -> &'static str {
+        match self {
+            Self::Help => "an agent puts the cube in the hand",
+            Self::Slip => "the cube slips from the hand",
+            Self::Block => "the sphere rolls into the path",
+            Self::Unblock => "an agent moves the sphere away",
+        }
+    }
+
     /// The event's name in the trace.
     #[must_use]
     pub const fn name(self) -> &'static str {
