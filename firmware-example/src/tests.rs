@@ -195,3 +195,13 @@ fn the_image_matches_the_catalog_and_fits_the_controller() {
     assert_eq!(header.fingerprint, crate::catalog::FINGERPRINT);
     assert!(usize::from(header.node_count) <= crate::MAX_NODES);
 }
+
+#[test]
+fn a_line_too_long_is_cut_and_marked() {
+    let mut line = crate::Line::new();
+    let long = "x".repeat(crate::control::LINE_CAP + 10);
+    let out = line.format(format_args!("tick 1 {long}"));
+    assert_eq!(out.len(), crate::control::LINE_CAP);
+    assert!(out.starts_with(b"tick 1 xx") && out.ends_with(b"x~"));
+    assert_eq!(line.format(format_args!("tick {}", 2)), b"tick 2", "the buffer starts over");
+}

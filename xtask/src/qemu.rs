@@ -393,3 +393,66 @@ fn crate_of(path: &str) -> String {
     }
     "other".into()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_traces_count_their_ticks_and_ignore_fw_lines() {
+        let host = "boot x\ntick 0 RUNNING\ntick 1 SUCCESS\ndone GOAL\n";
+        let target = "boot x\ntick 0 RUNNING\ntick 1 SUCCESS\ndone GOAL\nfw stack_hwm=12B\nfw exit=0\n";
+        assert_eq!(compare(target, host), Ok(2));
+    }
+
+    #[test]
+    fn the_first_difference_is_shown_with_both_lines() {
+        let host = "boot x\ntick 0 RUNNING dig=1\ntick 1 RUNNING dig=2\n";
+        let target = "boot x\ntick 0 RUNNING dig=1\ntick 1 RUNNING dig=3\n";
+        let e = compare(target, host).unwrap_err();
+        assert!(e.contains("line 3 (last tick 1)"), "{e}");
+        assert!(e.contains("qemu: tick 1 RUNNING dig=3") && e.contains("host: tick 1 RUNNING dig=2"), "{e}");
+    }
+
+    #[test]
+    fn a_trace_that_stops_early_differs() {
+        let e = compare("boot x\ntick 0 RUNNING\n", "boot x\ntick 0 RUNNING\ntick 1 SUCCESS\n").unwrap_err();
+        assert!(e.contains("qemu 2 lines, host 3") && e.contains("host goes on with:\n  tick 1 SUCCESS"), "{e}");
+    }
+
+    #[test]
+    fn a_refusal_needs_the_error_no_tick_and_a_failing_exit() {
+        let run = |out: &str, code| Captured { out: out.into(), code: Some(code), wall: Duration::ZERO };
+        let refused = run("load error: image corrupted\ndone LOAD-ERROR ticks=0\n", 1);
+        assert_eq!(check_refused(&refused, "qemu"), Ok("load error: image corrupted".into()));
+        assert!(check_refused(&run("load error: x\n", 0), "qemu").unwrap_err().contains("exit status 0"));
+        assert!(check_refused(&run("load error: x\ntick 0 RUNNING\n", 1), "qemu").unwrap_err().contains("ticked"));
+        assert!(check_refused(&run("boot\n", 1), "qemu").unwrap_err().contains("no `load error:`"));
+    }
+
+    #[test]
+    fn source_paths_map_to_crates_on_both_toolchains() {
+        let cases = [
+            ("/work/x/bt-core/src/exec.rs:12", "bt-core"),
+            ("/work/x/firmware-example/src/plant.rs:3", "firmware-example"),
+            ("/usr/lib/rustlib/src/rust/library/core/src/fmt/mod.rs:2872", "core"),
+            ("/rustc/59807616e1fa2540724bfbac14d7976d7e4a3860/library/core/src/option.rs:9", "core"),
+            (
+                "/usr/lib/rustlib/src/rust/library/compiler-builtins/compiler-builtins/src/mem/impls.rs:1",
+                "compiler-builtins",
+            ),
+            (
+                "/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/cortex-m-rt-0.7.7/src/lib.rs:5",
+                "cortex-m-rt",
+            ),
+            (
+                "/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/nalgebra-0.35.0/src/base/ops.rs:?",
+                "nalgebra",
+            ),
+            ("??:0", "(no line info)"),
+        ];
+        for (path, expected) in cases {
+            assert_eq!(crate_of(path), expected, "{path}");
+        }
+    }
+}
