@@ -2,7 +2,9 @@
 //!
 //! This file is the one place to change when the planner's output replaces the
 //! hand-built tree: `image()` must return image bytes for the behavior set of
-//! `src/catalog.rs` (the loader refuses anything else), however they are made.
+//! `src/catalog.rs` (the loader refuses anything else), however they are made. If it
+//! reads files (say the planner's `planner/domains/cube-sphere/*.pddl`), add them to
+//! the `rerun-if-changed` list in `build.rs` so that the image follows them.
 
 use bt_core::image::max_image_len;
 use bt_core::{BuildError, Builder, Node, encode};
