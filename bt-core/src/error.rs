@@ -23,7 +23,7 @@ pub enum LoadError {
         inside_node: Option<NodeId>,
     },
     /// The image does not start with [`MAGIC`](crate::image::MAGIC).
-    #[error("not a behavior-tree image: starts with {found:02x?}, expected {:02x?} (\"BTIM\")", crate::image::MAGIC)]
+    #[error("not a behavior-tree image: starts with {}, expected {} (\"BTIM\")", HexBytes(found), HexBytes(&crate::image::MAGIC))]
     BadMagic {
         /// The first four bytes.
         found: [u8; 4],
@@ -227,6 +227,23 @@ pub enum EncodeError {
         /// Node count.
         count: usize,
     },
+}
+
+/// Bytes as `[47, 49, 46, 38]` (hex), written without `Debug` formatting so that
+/// firmware printing a [`LoadError`] does not link core's `Debug` builders.
+struct HexBytes<'a>(&'a [u8]);
+
+impl core::fmt::Display for HexBytes<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("[")?;
+        for (i, b) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            write!(f, "{b:02x}")?;
+        }
+        f.write_str("]")
+    }
 }
 
 enum TruncatedAt {

@@ -1,8 +1,11 @@
 //! `cargo xtask`: the project's automation, the usual Rust way.
 //!
 //! - `cargo xtask ci`: everything CI checks (what `.ci/run` calls): formatting, clippy,
-//!   the test suite, the doc tests, and the core-only cross builds of bt-core.
+//!   the test suite, the doc tests, the core-only cross builds of bt-core, the firmware's
+//!   own checks (it is a Cargo project outside the workspace) and `qemu`.
 //! - `cargo xtask cross`: bt-core built with `core` only for Cortex-M4F and Cortex-M0+.
+//! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
+//!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`).
 //! - `cargo xtask fuzz --seconds N`: the `load` fuzz target (nightly + cargo-fuzz).
 //!
 //! Cross builds use rustup's targets where they are installed (`rustup target add
@@ -15,6 +18,8 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod qemu;
+
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "Project automation: CI, cross builds, fuzzing", long_about = None)]
 struct Cli {
@@ -24,10 +29,17 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Run every check CI runs: fmt, clippy, tests, doc tests, cross builds.
+    /// Run every check CI runs: fmt, clippy, tests, doc tests, cross builds, firmware.
     Ci,
     /// Build bt-core with `core` only for thumbv7em-none-eabihf and thumbv6m-none-eabi.
     Cross,
+    /// Build the firmware, run it under QEMU and compare its trace with the host's;
+    /// check the corrupted image, panic freedom, flash and RAM.
+    Qemu {
+        /// Longest a QEMU run may take, in seconds.
+        #[arg(long, default_value_t = 60)]
+        timeout: u64,
+    },
     /// Fuzz `bt_core::load` (needs the nightly toolchain and cargo-fuzz).
     Fuzz {
         /// How long to fuzz.
@@ -45,6 +57,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Cmd::Ci => ci(),
         Cmd::Cross => cross(),
+        Cmd::Qemu { timeout } => qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(timeout) }),
         Cmd::Fuzz { seconds } => fuzz(seconds),
     };
     match result {
@@ -68,7 +81,12 @@ fn step(title: &str) {
 
 /// Runs a command in the workspace root, failing with its command line.
 fn run(cmd: &mut Command) -> Result {
-    cmd.current_dir(root());
+    run_in(&root(), cmd)
+}
+
+/// Runs a command in `dir`, failing with its command line.
+fn run_in(dir: &Path, cmd: &mut Command) -> Result {
+    cmd.current_dir(dir);
     let shown = format!("{cmd:?}");
     let status = cmd.status().map_err(|e| format!("cannot start {shown}: {e}"))?;
     if status.success() { Ok(()) } else { Err(format!("failed ({status}): {shown}")) }
@@ -92,6 +110,8 @@ fn ci() -> Result {
     step("doc tests");
     run(cargo().args(["test", "--workspace", "--doc"]))?;
     cross()?;
+    firmware_checks()?;
+    qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(60) })?;
     eprintln!("\nxtask ci: all checks passed");
     Ok(())
 }
@@ -100,7 +120,35 @@ fn has_nextest() -> bool {
     cargo().args(["nextest", "--version"]).output().is_ok_and(|o| o.status.success())
 }
 
+/// The firmware is a Cargo project of its own (outside the workspace, so that a host
+/// `cargo test` never links it): its formatting, lints and host tests, on the host.
+fn firmware_checks() -> Result {
+    let fw = root().join("firmware-example");
+    let host_dir = root().join("target").join("firmware-host");
+    let host = host_triple()?;
+    step("firmware: formatting, clippy and host tests");
+    run_in(&fw, cargo().args(["fmt", "--", "--check"]))?;
+    run_in(
+        &fw,
+        cargo()
+            .args(["clippy", "--quiet", "--all-targets", "--target", &host, "--target-dir"])
+            .arg(&host_dir)
+            .args(["--", "-D", "warnings"]),
+    )?;
+    run_in(&fw, cargo().args(["test", "--quiet", "--target", &host, "--target-dir"]).arg(&host_dir))
+}
+
+/// The host's target triple, from `rustc -vV`.
+fn host_triple() -> Result<String> {
+    let out = Command::new("rustc").arg("-vV").output().map_err(|e| format!("cannot run rustc -vV: {e}"))?;
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .find_map(|l| l.strip_prefix("host: ").map(str::to_owned))
+        .ok_or_else(|| "rustc -vV names no host triple".into())
+}
+
 /// How to build for a bare-metal target on this machine.
+#[derive(Clone, Copy, Debug)]
 enum Toolchain {
     /// rustup has the target's prebuilt `core`.
     Rustup,
