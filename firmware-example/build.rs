@@ -23,7 +23,7 @@ mod tree;
 const CORRUPT_AT: usize = bt_core::image::HEADER_LEN;
 
 fn main() -> ExitCode {
-    for path in ["build.rs", "gen/tree.rs", "src/catalog.rs", "memory.x"] {
+    for path in ["build.rs", "gen/tree.rs", "src/catalog.rs", "memory.x"].into_iter().chain(tree::SOURCES) {
         println!("cargo::rerun-if-changed={path}");
     }
     match run() {
