@@ -66,7 +66,6 @@ fn cond(w: &mut MobileWorld, behavior: u16, args: &[u16]) -> bool {
 }
 
 #[test]
-#[ignore = "known failure: a move-to after a pick or an agent event reports its path blocked; under investigation"]
 fn move_to_reaches_pick_and_place_work() {
     let mut w = MobileWorld::new();
     assert!(!cond(&mut w, NEAR, &[CUBE]));
@@ -85,7 +84,6 @@ fn move_to_reaches_pick_and_place_work() {
 }
 
 #[test]
-#[ignore = "known failure: a move-to after a pick or an agent event reports its path blocked; under investigation"]
 fn a_sphere_in_the_path_makes_path_free_fail_and_clear_path_clears_it() {
     let mut w = MobileWorld::new().with_script(&[(1, Agent::BlockPath)]);
     w.step();
@@ -197,7 +195,6 @@ fn episode(mut w: MobileWorld) -> (Status, MobileWorld, u32) {
 }
 
 #[test]
-#[ignore = "known failure: a move-to after a pick or an agent event reports its path blocked; under investigation"]
 fn the_example_tree_copes_with_agents_that_undo_and_block() {
     let w = MobileWorld::new().with_script(&[(12, Agent::BlockPath), (20, Agent::TakeCube), (60, Agent::UnblockPath)]);
     let (s, w, t) = episode(w);

@@ -76,6 +76,9 @@ pub const SPHERE: u16 = 1;
 /// The goal region.
 pub const GOAL_OBJECT: u16 = 2;
 
+/// Where the cube lies at the start, m: off the straight line from the robot's start
+/// to the goal, so that only the sphere can block that path.
+pub const CUBE_START: [f32; 2] = [1.0, -1.0];
 /// Centre of the goal region, m.
 pub const GOAL: [f32; 2] = [3.0, 0.0];
 /// Side of the goal region, m.
@@ -95,6 +98,8 @@ const CUBE_HALF: f32 = 0.05;
 const SPHERE_RADIUS: f32 = 0.15;
 const STEPS_PER_TICK: u32 = 2;
 const REACH_TICKS: u32 = 5;
+/// A move-to has arrived when it is this close to its stopping distance, m.
+const ARRIVED: f32 = 1e-4;
 
 /// What an external agent does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -182,14 +187,14 @@ impl Default for MobileWorld {
 }
 
 impl MobileWorld {
-    /// The start of Example 1: robot at the origin, cube at (1, 0), sphere at (1.5, 1.5)
+    /// The start of Example 1: robot at the origin, cube at [`CUBE_START`], sphere at (1.5, 1.5)
     /// off every path, the goal at (3, 0); no agents.
     #[must_use]
     pub fn new() -> Self {
         let mut world = engine::new_world(super::brick_world::TICK_SECONDS / STEPS_PER_TICK as f32, 4, 0.1);
         let floor = world.bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.05)));
         world.colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.05), floor, &mut world.bodies);
-        let cube = world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, CUBE_HALF)));
+        let cube = world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(CUBE_START[0], CUBE_START[1], CUBE_HALF)));
         world.colliders.insert_with_parent(
             ColliderBuilder::cuboid(CUBE_HALF, CUBE_HALF, CUBE_HALF).mass(0.5).friction(0.8),
             cube,
@@ -457,7 +462,9 @@ impl MobileWorld {
                     Some(to) => {
                         let d = dist(to, self.base_at);
                         let goal_d = NEAR * 0.9;
-                        if d <= goal_d {
+                        // Arrived within a tenth of a millimetre: the last step is cut
+                        // to the remaining distance, and f32 rounding may leave a hair.
+                        if d <= goal_d + ARRIVED {
                             Some(Status::Success)
                         } else {
                             let step = (d - goal_d).min(BASE_SPEED * super::brick_world::TICK_SECONDS);
