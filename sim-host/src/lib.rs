@@ -7,5 +7,6 @@
 pub mod episode;
 pub mod physics;
 pub mod picture;
+pub mod scenario;
 pub mod symbolic;
 pub mod world;

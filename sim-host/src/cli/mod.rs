@@ -14,6 +14,7 @@ mod inspect;
 pub mod output;
 mod plan;
 mod run;
+mod scenario;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
 #[derive(Parser, Debug)]
@@ -41,6 +42,9 @@ enum Command {
     /// Run one episode of a tree on a brick task; print the outcome and the fitness.
     #[command(long_about = run::LONG_ABOUT)]
     Run(run::Args),
+    /// Run a scenario of the papers, narrated tick by tick (`--list` shows them).
+    #[command(long_about = scenario::LONG_ABOUT)]
+    Scenario(scenario::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
@@ -54,14 +58,12 @@ pub fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        None => {
-            use clap::CommandFactory;
-            Cli::command().print_help().map_err(anyhow::Error::from)
-        }
+        None => scenario::demo(),
         Some(Command::Inspect(args)) => inspect::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Plan(args)) => plan::run(&args),
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Scenario(args)) => scenario::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -28,9 +28,11 @@
 //!   something.
 //! - `pick(i)`: needs near(i) and an empty hand; reaches for 0.5 s, then holds i.
 //! - `place(i, s)`: needs holding(i) and near(s); sets i down at the goal's centre.
-//! - `drop(i)`: needs holding(i); lets i fall where it is.
-//! - `clear-path(i, l)`: needs obstacle(i), near(i) and an empty hand; picks i and sets
-//!   it down [`CLEAR_OFFSET`] aside of the straight line from the base to l.
+//! - `drop(i)`: needs holding(i); sets i down [`SET_ASIDE`] beside the robot, off its
+//!   straight path to the goal.
+//! - `clear-path(i, l)`: needs obstacle(i), near(i) and an empty hand; reaches for 0.5 s,
+//!   then lifts i and sets it down [`CLEAR_OFFSET`] aside of the straight line from the
+//!   base to l.
 //!
 //! Actions return Running on their first tick and fail after 50 ticks without
 //! completing, as in the brick world.
@@ -91,6 +93,9 @@ pub const BASE_SPEED: f32 = 0.5;
 pub const NEAR: f32 = 0.5;
 /// Height at which the gripper holds an item, m.
 pub const HOLD_HEIGHT: f32 = 0.4;
+/// How far beside itself the robot drops something (`drop`), and an agent puts the
+/// cube it takes from the gripper, m.
+pub const SET_ASIDE: f32 = 0.6;
 /// How far `clear-path` moves the obstacle aside, m.
 pub const CLEAR_OFFSET: f32 = 1.0;
 
@@ -117,7 +122,9 @@ pub enum Agent {
 }
 
 impl Agent {
-    const ALL: [Agent; 5] = [Agent::TakeCube, Agent::BlockPath, Agent::UnblockPath, Agent::HandCube, Agent::CubeToGoal];
+    /// Every agent act.
+    pub const ALL: [Agent; 5] =
+        [Agent::TakeCube, Agent::BlockPath, Agent::UnblockPath, Agent::HandCube, Agent::CubeToGoal];
 
     fn describe(self) -> &'static str {
         match self {
@@ -149,7 +156,8 @@ impl core::fmt::Display for MobileEvent {
 enum Job {
     MoveTo(u16),
     Reach { item: u16, left: u32 },
-    Carry { to: [f32; 2], then_release: bool },
+    Carry { to: [f32; 2], then_release: bool, left: u32 },
+    Clear { to: [f32; 2], left: u32 },
 }
 
 #[derive(Debug)]
@@ -194,7 +202,11 @@ impl MobileWorld {
         let mut world = engine::new_world(super::brick_world::TICK_SECONDS / STEPS_PER_TICK as f32, 4, 0.1);
         let floor = world.bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -0.05)));
         world.colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 10.0, 0.05), floor, &mut world.bodies);
-        let cube = world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(CUBE_START[0], CUBE_START[1], CUBE_HALF)));
+        let cube = world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(
+            CUBE_START[0],
+            CUBE_START[1],
+            CUBE_HALF,
+        )));
         world.colliders.insert_with_parent(
             ColliderBuilder::cuboid(CUBE_HALF, CUBE_HALF, CUBE_HALF).mass(0.5).friction(0.8),
             cube,
@@ -349,6 +361,15 @@ impl MobileWorld {
         }
     }
 
+    /// Where the robot sets something down to keep it out of its own way: [`SET_ASIDE`]
+    /// to the right of the straight line from the base to the goal.
+    fn beside(&self) -> [f32; 2] {
+        let (dx, dy) = (GOAL[0] - self.base_at[0], GOAL[1] - self.base_at[1]);
+        let n = (dx * dx + dy * dy).sqrt();
+        let (px, py) = if n > 1e-3 { (dy / n, -dx / n) } else { (0.0, -1.0) };
+        [self.base_at[0] + px * SET_ASIDE, self.base_at[1] + py * SET_ASIDE]
+    }
+
     fn hand(&self) -> Vector {
         Vector::new(self.base_at[0] + BASE_HALF[0] + 0.1, self.base_at[1], HOLD_HEIGHT)
     }
@@ -363,11 +384,17 @@ impl MobileWorld {
         }
     }
 
-    fn act(&mut self, agent: Agent) {
+    /// Makes an agent act now, between ticks (a scenario's own triggers); returns
+    /// whether the act made sense in the current state (then it is in the event log).
+    pub fn apply(&mut self, agent: Agent) -> bool {
+        self.act(agent)
+    }
+
+    fn act(&mut self, agent: Agent) -> bool {
         let ok = match agent {
             Agent::TakeCube if self.held() == Some(CUBE) => {
                 self.release(None);
-                let at = [self.base_at[0], self.base_at[1] - 0.6];
+                let at = self.beside();
                 self.put(CUBE, at);
                 true
             }
@@ -396,6 +423,7 @@ impl MobileWorld {
         if ok {
             self.say(agent.describe());
         }
+        ok
     }
 
     fn condition_of(&self, id: u16, args: &[u16]) -> bool {
@@ -426,10 +454,11 @@ impl MobileWorld {
                 Ok(Job::Reach { item: a(0), left: REACH_TICKS })
             }
             8 if a(0) < 2 && a(1) == GOAL_OBJECT && self.held() == Some(a(0)) && self.near(GOAL_OBJECT) => {
-                Ok(Job::Carry { to: GOAL, then_release: true })
+                Ok(Job::Carry { to: GOAL, then_release: true, left: REACH_TICKS })
             }
             9 if a(0) < 2 && self.held() == Some(a(0)) => {
-                self.release(None);
+                let aside = self.beside();
+                self.release(Some(aside));
                 self.say("the robot drops what it holds");
                 Err(Status::Success)
             }
@@ -441,11 +470,10 @@ impl MobileWorld {
                 let (px, py) = (-dy / n, dx / n);
                 let side =
                     if (s[0] - self.base_at[0]) * px + (s[1] - self.base_at[1]) * py >= 0.0 { 1.0 } else { -1.0 };
-                self.attach(SPHERE);
-                self.say("the robot picks up the sphere to clear the path");
-                Ok(Job::Carry {
+                self.say("the robot reaches for the sphere to clear the path");
+                Ok(Job::Clear {
                     to: [s[0] + side * px * CLEAR_OFFSET, s[1] + side * py * CLEAR_OFFSET],
-                    then_release: true,
+                    left: REACH_TICKS,
                 })
             }
             _ => fail,
@@ -493,7 +521,20 @@ impl MobileWorld {
                         None
                     }
                 }
-                Job::Carry { to, then_release } => {
+                Job::Clear { to, left } if left > 0 => {
+                    r.job = Job::Clear { to, left: left - 1 };
+                    None
+                }
+                Job::Clear { to, .. } => {
+                    self.put(SPHERE, to);
+                    self.say("the robot lifts the sphere and sets it down out of the path");
+                    Some(Status::Success)
+                }
+                Job::Carry { to, then_release, left } if left > 0 => {
+                    r.job = Job::Carry { to, then_release, left: left - 1 };
+                    None
+                }
+                Job::Carry { to, then_release, .. } => {
                     if then_release {
                         let held = self.held();
                         self.release(Some(to));
@@ -519,14 +560,14 @@ impl MobileWorld {
                 break;
             }
             self.script.remove(0);
-            self.act(agent);
+            let _ = self.act(agent);
         }
         if let Some((rng, rate)) = self.random.as_mut()
             && rng.random::<f32>() < *rate
         {
             let pick = rng.random_range(0..Agent::ALL.len());
             if let Some(&agent) = Agent::ALL.get(pick) {
-                self.act(agent);
+                let _ = self.act(agent);
             }
         }
         self.advance();

@@ -1,0 +1,333 @@
+//! The papers' scenarios, narrated: the blended planning-and-acting demo of seed 000
+//! (cube and sphere, Examples 1-2), the two-armed cellphone assembly (seed 000,
+//! Section VI), and the four brick tasks of seed 003 with the planner's tree.
+//!
+//! ```
+//! use sim_host::scenario::{self, Scenario, WorldKind};
+//! let run = scenario::run(Scenario::Cube, WorldKind::Symbolic, None)?;
+//! assert_eq!(run.record.status, Some(bt_core::Status::Success));
+//! assert!(run.narration.contains("IncreasePriority"));
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+pub mod cellphone;
+pub mod cube;
+pub mod driver;
+pub mod svg;
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
+use planner::duplo::{Spec, Task};
+use planner::{Options, PddlCatalog, Planner, domains};
+
+use crate::physics::PhysicsBrickWorld;
+use crate::symbolic::SymbolicBrickWorld;
+use crate::world::BrickWorld;
+use driver::{Live, Record, Source};
+
+/// Which kind of world a scenario runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WorldKind {
+    /// Exact and fast: STRIPS semantics or the reference's brick world.
+    Symbolic,
+    /// rapier3d.
+    Physics,
+}
+
+impl WorldKind {
+    /// `symbolic` or `physics`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Symbolic => "symbolic",
+            Self::Physics => "physics",
+        }
+    }
+}
+
+/// A scenario of the papers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Scenario {
+    /// Seed 000, Fig. 1 and Examples 1-2: the blended demo.
+    Cube,
+    /// Seed 000, Section VI: the cellphone assembly with two arms.
+    Cellphone,
+    /// A brick task of seed 003 with the planner's tree.
+    Bricks(Task),
+}
+
+impl Scenario {
+    /// Every scenario, in the order `--list` shows them.
+    pub const ALL: [Scenario; 6] = [
+        Scenario::Cube,
+        Scenario::Cellphone,
+        Scenario::Bricks(Task::Tower),
+        Scenario::Bricks(Task::Croissant),
+        Scenario::Bricks(Task::Balance),
+        Scenario::Bricks(Task::Blocking),
+    ];
+
+    /// The name on the command line.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Cube => "cube",
+            Self::Cellphone => "cellphone",
+            Self::Bricks(t) => t.name(),
+        }
+    }
+
+    /// The scenario with that name.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The worlds it runs in.
+    #[must_use]
+    pub const fn worlds(self) -> &'static [WorldKind] {
+        match self {
+            Self::Cube | Self::Bricks(_) => &[WorldKind::Symbolic, WorldKind::Physics],
+            Self::Cellphone => &[WorldKind::Symbolic],
+        }
+    }
+
+    /// What it shows, in one line.
+    #[must_use]
+    pub const fn about(self) -> &'static str {
+        match self {
+            Self::Cube => {
+                "seed 000 Fig. 1, Examples 1-2: the tree grows from the goal as the robot acts; a \
+                 sphere blocks the path (expansion + conflict resolution, Fig. 4); agents help and \
+                 undo, and the tree copes without replanning"
+            }
+            Self::Cellphone => {
+                "seed 000 Section VI: two arms assemble a cellphone, handing parts over to regrasp \
+                 them; a part slips and a co-worker helps, without replanning"
+            }
+            Self::Bricks(Task::Tower) => "seed 003 task 1: the planner's tree stacks and presses three bricks",
+            Self::Bricks(Task::Croissant) => {
+                "seed 003 task 2: the planner's tree fails: the long brick blocks the side bricks"
+            }
+            Self::Bricks(Task::Balance) => {
+                "seed 003 task 3: the planner's tree fails: the unbalanced brick tips off a narrow base"
+            }
+            Self::Bricks(Task::Blocking) => {
+                "seed 003 task 4: the planner's tree fails: the bricks block each other's places"
+            }
+        }
+    }
+}
+
+/// A finished scenario run.
+pub struct Run {
+    /// The narration, ready to print.
+    pub narration: String,
+    /// What happened, for pictures and tests.
+    pub record: Record,
+    /// Object names for the picture's legend (the leaves' catalog renders names).
+    pub catalog: Arc<dyn bt_core::Catalog + Send + Sync>,
+    /// The goal region, for the top view, if the world has one.
+    pub goal_region: Option<([f32; 2], [f32; 2])>,
+}
+
+impl std::fmt::Debug for Run {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Run").field("record", &self.record).finish_non_exhaustive()
+    }
+}
+
+/// Most ticks of a scenario run.
+pub const MAX_TICKS: u32 = 600;
+
+/// Runs a scenario. `seed` switches the cube scenario to random agents.
+///
+/// # Errors
+/// A world the scenario does not offer, or a failure of the planner or the tree.
+pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::Result<Run> {
+    if !scenario.worlds().contains(&world) {
+        anyhow::bail!(
+            "scenario `{}` has no {} world (it runs in: {})",
+            scenario.name(),
+            world.name(),
+            scenario.worlds().iter().map(|w| w.name()).collect::<Vec<_>>().join(", ")
+        );
+    }
+    let mut out = String::new();
+    let _ = writeln!(out, "scenario {} ({} world): {}", scenario.name(), world.name(), scenario.about());
+    match scenario {
+        Scenario::Cube => {
+            let g = Arc::new(domains::cube_sphere().context("loading the cube/sphere domain")?);
+            let catalog = Arc::new(PddlCatalog::new(g.problem()));
+            let mut planner = Planner::new(g.clone(), Options::default())?;
+            let agents = match seed {
+                Some(s) => {
+                    let _ = writeln!(out, "agents: random, seed {s}");
+                    cube::Agents::random(s)
+                }
+                None => cube::Agents::story(if world == WorldKind::Physics { 5 } else { 1 }),
+            };
+            let _ = writeln!(
+                out,
+                "goal: at(cube, goal). The tree starts as the goal condition alone (Fig. 3a) and is \
+                 expanded whenever it fails (Algorithm 1, at run time).\n"
+            );
+            let record = match world {
+                WorldKind::Symbolic => {
+                    let mut w = cube::SymbolicCube::new(g, agents);
+                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?
+                }
+                WorldKind::Physics => {
+                    let mut w = cube::PhysicsCube::new(agents);
+                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?
+                }
+            };
+            summary(&mut out, &record);
+            let goal = crate::physics::mobile::GOAL;
+            let half = crate::physics::mobile::GOAL_SIZE / 2.0;
+            let region = (world == WorldKind::Physics).then_some(([goal[0] - half, goal[1] - half], [half * 2.0; 2]));
+            Ok(Run { narration: out, record, catalog, goal_region: region })
+        }
+        Scenario::Cellphone => {
+            let g = Arc::new(domains::cellphone().context("loading the cellphone domain")?);
+            let catalog = Arc::new(PddlCatalog::new(g.problem()));
+            let mut planner = Planner::new(g.clone(), Options::default())?;
+            let _ = writeln!(
+                out,
+                "goal: every part mounted. The tree starts as the goal conditions in a Sequence and is \
+                 expanded whenever it fails.\n"
+            );
+            let mut w = cellphone::Cellphone::new(g);
+            let record = driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?;
+            summary(&mut out, &record);
+            Ok(Run { narration: out, record, catalog, goal_region: None })
+        }
+        Scenario::Bricks(task) => {
+            let plan = planner::duplo::plan(task).with_context(|| format!("planning the {} task", task.name()))?;
+            let spec = task.spec();
+            let _ = writeln!(
+                out,
+                "the planner's tree ({} nodes, planned offline from the goal conditions) runs in the \
+                 {} world; episodes end as in seed 003 (first Failure, or the tick limit).\n",
+                plan.nodes.len(),
+                world.name()
+            );
+            let record = match world {
+                WorldKind::Symbolic => {
+                    let mut w = Bricks::new(SymbolicBrickWorld::new(&spec)?);
+                    let limit = w.world.tick_limit();
+                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)?
+                }
+                WorldKind::Physics => {
+                    let mut w = Bricks::new(PhysicsBrickWorld::new(&spec)?);
+                    let limit = w.world.tick_limit();
+                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)?
+                }
+            };
+            brick_summary(&mut out, &spec, &record);
+            Ok(Run { narration: out, record, catalog: Arc::new(spec), goal_region: None })
+        }
+    }
+}
+
+/// Whether a world event is an external agent's (not the robot's own doing).
+#[must_use]
+pub fn is_external(event: &str) -> bool {
+    event.starts_with("an agent") || event.starts_with("a co-worker") || event.starts_with("the board slips")
+}
+
+fn summary(out: &mut String, r: &Record) {
+    let _ = writeln!(out);
+    let verdict = match r.status {
+        Some(Status::Success) => "goal reached",
+        Some(Status::Failure) => "the tree failed",
+        _ => "stopped before the goal",
+    };
+    let external: Vec<u32> = r.events.iter().filter(|(_, e)| is_external(e)).map(|(t, _)| *t).collect();
+    let _ = writeln!(
+        out,
+        "summary: {verdict} after {} ticks, {} expansions, {} external events, {} actions halted",
+        r.ticks,
+        r.expansions.len(),
+        external.len(),
+        r.halts.len()
+    );
+    let after_last = r.expansions.last().map_or(0, |e| e.0);
+    let coped = external.iter().filter(|&&t| t > after_last).count();
+    if coped > 0 {
+        let _ = writeln!(
+            out,
+            "         {coped} of the external events came after the last expansion: the tree handled them as it was, \
+             without replanning"
+        );
+    }
+}
+
+fn brick_summary(out: &mut String, spec: &Spec, r: &Record) {
+    let _ = writeln!(out);
+    let verdict = match r.status {
+        Some(Status::Success) => "the tree succeeded",
+        Some(Status::Failure) => "the tree failed",
+        _ => "the tick limit ran out",
+    };
+    let _ = writeln!(out, "summary: {verdict} after {} ticks", r.ticks);
+    if let Some((_, last)) = r.frames.last() {
+        for (i, goal) in spec.goal.iter().enumerate() {
+            if let (Some(g), Some((name, p))) = (goal, last.get(i)) {
+                let d = ((p[0] - g[0]).powi(2) + (p[1] - g[1]).powi(2)).sqrt();
+                let _ = writeln!(out, "         {name}: {:.1} mm from its goal in the plane", d * 1000.0);
+            }
+        }
+    }
+    let _ = writeln!(out, "         `sim-host run --task {}` gives the fitness of seed 003", spec.task.name());
+}
+
+/// Names of bricks for the top view.
+const BRICK_NAMES: [&str; 4] = ["brick 0", "brick 1", "brick 2", "brick 3"];
+
+/// A brick world as a live world: no agents, the tick is the world's step.
+#[derive(Debug)]
+struct Bricks<W> {
+    world: W,
+}
+
+impl<W: BrickWorld> Bricks<W> {
+    fn new(mut world: W) -> Self {
+        world.reset();
+        Self { world }
+    }
+}
+
+impl<W: BrickWorld> BehaviorSet for Bricks<W> {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        self.world.condition(leaf, ctx)
+    }
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        self.world.action(leaf, ctx)
+    }
+    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
+        self.world.halt(leaf, node);
+    }
+}
+
+impl<W: BrickWorld> Live for Bricks<W> {
+    fn advance(&mut self, _tick: u32, _running: Option<&str>) {
+        self.world.step();
+    }
+
+    fn drain_events(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+
+    fn points(&self) -> driver::Points {
+        (0..self.world.spec().bricks.len())
+            .filter_map(|i| {
+                let p = self.world.position(i);
+                BRICK_NAMES.get(i).map(|&n| (n, [p[0], p[1]]))
+            })
+            .collect()
+    }
+}

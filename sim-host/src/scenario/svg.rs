@@ -1,0 +1,246 @@
+//! A scenario run as a picture: a top view of the world over the episode (the path of
+//! every body, the goal region, world events marked where they happened, expansions
+//! marked on the robot's path) and the tree at chosen moments (the start, after each
+//! expansion, the end), each node coloured by its status then.
+
+use std::fmt::Write as _;
+
+use bt_core::{Catalog, NodeKind, NodeStatus, Tree};
+
+use super::Run;
+use super::driver::{DEPTH, leaf_name};
+
+const PALETTE: [&str; 6] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
+const VIEW: f32 = 520.0;
+const MARGIN: f32 = 40.0;
+const LINE: f32 = 15.0;
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// The picture of `run`, titled `title`.
+#[must_use]
+pub fn svg(run: &Run, title: &str) -> String {
+    let mut body = String::new();
+    let mut y = MARGIN;
+    let _ = writeln!(body, r#"<text x="{MARGIN}" y="{y}" font-size="18" font-weight="bold">{}</text>"#, esc(title));
+    y += 20.0;
+    let has_view = run.record.frames.iter().any(|(_, p)| !p.is_empty());
+    let mut width = 900.0f32;
+    if has_view {
+        top_view(&mut body, run, MARGIN, y);
+        y += VIEW + 30.0;
+    } else {
+        let _ = writeln!(
+            body,
+            r##"<text x="{MARGIN}" y="{}" font-size="13" fill="#555">a symbolic world has no geometry: events and expansions are listed below</text>"##,
+            y + 14.0
+        );
+        y += 30.0;
+    }
+    y = timeline(&mut body, run, MARGIN, y);
+    // The tree snapshots, side by side in rows.
+    let snaps = &run.record.snapshots;
+    let mut x = MARGIN;
+    let mut row_h = 0.0f32;
+    let col_w = 430.0f32;
+    for snap in snaps {
+        let Ok(tree) = Tree::<'_, DEPTH>::validate(&snap.nodes, run.catalog.as_ref()) else { continue };
+        let h = LINE * (tree.len() as f32 + 2.0);
+        if x + col_w > 1800.0 {
+            x = MARGIN;
+            y += row_h + 20.0;
+            row_h = 0.0;
+        }
+        let label = format!("tick {}: {}", snap.tick, snap.label);
+        draw_tree(&mut body, run.catalog.as_ref(), tree, &snap.states, x, y, &label);
+        row_h = row_h.max(h);
+        x += col_w;
+        width = width.max(x);
+    }
+    y += row_h + MARGIN;
+    let mut doc = String::new();
+    let _ = writeln!(
+        doc,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{y:.0}" viewBox="0 0 {width:.0} {y:.0}" font-family="sans-serif">"#
+    );
+    let _ = writeln!(doc, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    doc.push_str(&body);
+    doc.push_str("</svg>\n");
+    doc
+}
+
+/// Paths of every named point, start and end marked, events and expansions annotated.
+fn top_view(out: &mut String, run: &Run, x0: f32, y0: f32) {
+    let frames = &run.record.frames;
+    let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
+    let mut grow = |p: [f32; 2]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    };
+    for (_, pts) in frames {
+        for (_, p) in pts {
+            grow(*p);
+        }
+    }
+    if let Some((corner, size)) = run.goal_region {
+        grow(corner);
+        grow([corner[0] + size[0], corner[1] + size[1]]);
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-3) * 1.1;
+    let (cx, cy) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
+    let map = |p: [f32; 2]| -> (f32, f32) {
+        (x0 + (p[0] - cx) / span * VIEW + VIEW / 2.0, y0 + VIEW / 2.0 - (p[1] - cy) / span * VIEW)
+    };
+    let _ = writeln!(
+        out,
+        r##"<rect x="{x0}" y="{y0}" width="{VIEW}" height="{VIEW}" fill="#fafafa" stroke="#999"/><text x="{}" y="{}" font-size="12" fill="#555">top view (x right, y up); {:.2} m across</text>"##,
+        x0 + 4.0,
+        y0 + VIEW + 14.0,
+        span
+    );
+    if let Some((corner, size)) = run.goal_region {
+        let (ax, ay) = map([corner[0], corner[1] + size[1]]);
+        let (bx, by) = map([corner[0] + size[0], corner[1]]);
+        let _ = writeln!(
+            out,
+            r##"<rect x="{ax:.1}" y="{ay:.1}" width="{:.1}" height="{:.1}" fill="#e8f5e9" stroke="#2e7d32" stroke-dasharray="4 3"/><text x="{ax:.1}" y="{:.1}" font-size="12" fill="#2e7d32">goal region</text>"##,
+            bx - ax,
+            by - ay,
+            ay - 4.0
+        );
+    }
+    let names: Vec<&str> = frames.first().map(|(_, p)| p.iter().map(|(n, _)| *n).collect()).unwrap_or_default();
+    for (k, name) in names.iter().enumerate() {
+        let colour = PALETTE.get(k % PALETTE.len()).copied().unwrap_or("#000");
+        let pts: Vec<(f32, f32)> =
+            frames.iter().filter_map(|(_, p)| p.iter().find(|(n, _)| n == name).map(|(_, q)| map(*q))).collect();
+        let path: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+        let _ = writeln!(
+            out,
+            r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="2" opacity="0.8"/>"#,
+            path.join(" ")
+        );
+        if let (Some(first), Some(last)) = (pts.first(), pts.last()) {
+            let _ = writeln!(
+                out,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="4" fill="white" stroke="{colour}" stroke-width="2"/><circle cx="{:.1}" cy="{:.1}" r="5" fill="{colour}"/>"#,
+                first.0, first.1, last.0, last.1
+            );
+        }
+        let _ = writeln!(
+            out,
+            r#"<rect x="{}" y="{}" width="12" height="4" fill="{colour}"/><text x="{}" y="{}" font-size="12">{} (open dot: start, filled: end)</text>"#,
+            x0 + VIEW + 12.0,
+            y0 + 10.0 + k as f32 * 16.0,
+            x0 + VIEW + 28.0,
+            y0 + 15.0 + k as f32 * 16.0,
+            esc(name)
+        );
+    }
+    // Events and expansions at the first point's (the robot's) position at their tick.
+    let at = |tick: u32| -> Option<(f32, f32)> {
+        frames.iter().find(|(t, _)| *t >= tick).and_then(|(_, p)| p.first()).map(|(_, q)| map(*q))
+    };
+    let mut marks: Vec<(u32, String, &str)> =
+        run.record.events.iter().map(|(t, e)| (*t, e.clone(), "#d62728")).collect();
+    marks.extend(
+        run.record
+            .expansions
+            .iter()
+            .enumerate()
+            .map(|(i, (t, e))| (*t, format!("expansion {}: {}", i + 1, e.condition), "#6a1b9a")),
+    );
+    marks.sort_by_key(|m| m.0);
+    for (n, (tick, text, colour)) in marks.iter().enumerate() {
+        if let Some((x, y)) = at(*tick) {
+            let _ = writeln!(
+                out,
+                r#"<circle cx="{x:.1}" cy="{y:.1}" r="7" fill="none" stroke="{colour}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" font-weight="bold" fill="{colour}">{}</text>"#,
+                x + 8.0,
+                y - 6.0,
+                n + 1
+            );
+        }
+        let _ = writeln!(
+            out,
+            r#"<text x="{}" y="{}" font-size="12" fill="{colour}">{}. tick {tick}: {}</text>"#,
+            x0 + VIEW + 12.0,
+            y0 + 30.0 + (names.len() + n) as f32 * 16.0,
+            n + 1,
+            esc(text)
+        );
+    }
+}
+
+/// Without geometry: the events and expansions as a list.
+fn timeline(out: &mut String, run: &Run, x0: f32, mut y: f32) -> f32 {
+    if run.record.frames.iter().any(|(_, p)| !p.is_empty()) {
+        return y;
+    }
+    let mut marks: Vec<(u32, String, &str)> =
+        run.record.events.iter().map(|(t, e)| (*t, format!("world: {e}"), "#d62728")).collect();
+    marks.extend(
+        run.record
+            .expansions
+            .iter()
+            .enumerate()
+            .map(|(i, (t, e))| (*t, format!("expansion {}: {e}", i + 1), "#6a1b9a")),
+    );
+    marks.sort_by_key(|m| m.0);
+    for (tick, text, colour) in marks {
+        let _ = writeln!(
+            out,
+            r#"<text x="{x0}" y="{y}" font-size="12" fill="{colour}">tick {tick}: {}</text>"#,
+            esc(&text)
+        );
+        y += LINE;
+    }
+    y + 10.0
+}
+
+fn draw_tree<C: Catalog + ?Sized>(
+    out: &mut String,
+    catalog: &C,
+    tree: Tree<'_, DEPTH>,
+    states: &[bt_core::NodeState],
+    x0: f32,
+    y0: f32,
+    label: &str,
+) {
+    let _ = writeln!(out, r#"<text x="{x0}" y="{y0}" font-size="13" font-weight="bold">{}</text>"#, esc(label));
+    let mut ends: Vec<usize> = Vec::new();
+    for (i, node) in tree.nodes().iter().enumerate() {
+        while ends.last().is_some_and(|&e| e <= i) {
+            ends.pop();
+        }
+        let depth = ends.len() as f32;
+        let (fill, mark) = match states.get(i).map(|s| s.status()) {
+            Some(NodeStatus::Success) => ("#2e7d32", " ✓"),
+            Some(NodeStatus::Failure) => ("#c62828", " ✕"),
+            Some(NodeStatus::Running) => ("#ef6c00", " …"),
+            _ => ("#333", ""),
+        };
+        let text = match node.kind() {
+            NodeKind::Sequence => "→ Sequence".to_string(),
+            NodeKind::Fallback => "? Fallback".to_string(),
+            NodeKind::Inverter => "¬ Inverter".to_string(),
+            NodeKind::Condition(l) => format!("({})", leaf_name(catalog, l)),
+            NodeKind::Action(l) => format!("[{}]", leaf_name(catalog, l)),
+            other => other.name().to_string(),
+        };
+        let _ = writeln!(
+            out,
+            r#"<text x="{:.1}" y="{:.1}" font-size="12" fill="{fill}">{}{mark}</text>"#,
+            x0 + 14.0 * depth,
+            y0 + LINE * (i as f32 + 1.2),
+            esc(&text)
+        );
+        if node.kind().arity() != bt_core::Arity::Leaf {
+            ends.push(i + usize::from(node.size()));
+        }
+    }
+}

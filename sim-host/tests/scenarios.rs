@@ -1,0 +1,156 @@
+//! The papers' scenarios: the blended demo reaches the goal through the expansions of
+//! Examples 1-2 and copes with agents without replanning; every scenario runs in each
+//! world it offers, deterministically; the `scenario` command's errors.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::process::{Command, Output};
+
+use bt_core::Status;
+use planner::duplo::Task;
+use sim_host::scenario::{self, Scenario, WorldKind, is_external};
+
+fn expanded(run: &scenario::Run) -> Vec<String> {
+    run.record.expansions.iter().map(|(_, e)| e.condition.clone()).collect()
+}
+
+#[test]
+fn the_blended_demo_follows_examples_1_and_2_in_both_worlds() {
+    for world in [WorldKind::Physics, WorldKind::Symbolic] {
+        let run = scenario::run(Scenario::Cube, world, None).unwrap();
+        assert_eq!(run.record.status, Some(Status::Success), "{world:?}\n{}", run.narration);
+        // Fig. 3 (b)-(e), then Example 2: the blocked path, its conflict, and the
+        // preconditions of clearing it.
+        assert_eq!(
+            expanded(&run),
+            [
+                "at(cube, goal)",
+                "holding(cube)",
+                "near(cube)",
+                "near(goal)",
+                "path-free(goal)",
+                "near(sphere)",
+                "hand-empty"
+            ],
+            "{world:?}"
+        );
+        let (_, blocked) = &run.record.expansions[4];
+        assert!(!blocked.conflicts.is_empty(), "the clearing subtree conflicts with pick(cube)");
+        assert!(run.narration.contains("IncreasePriority moves the new subtree up a level"));
+        // Fig. 4: the clearing subtree now runs first in the sequence under the root.
+        let end = run.record.snapshots.last().unwrap();
+        let tokens = |i: usize| {
+            scenario::driver::leaf_name(
+                run.catalog.as_ref(),
+                match end.nodes[i].kind() {
+                    bt_core::NodeKind::Condition(l) | bt_core::NodeKind::Action(l) => l,
+                    _ => panic!("not a leaf"),
+                },
+            )
+        };
+        assert_eq!(tokens(1), "at(cube, goal)");
+        assert_eq!(tokens(4), "path-free(goal)", "the clearing subtree comes first");
+        // The story after the last expansion: help, undo, block and unblock, all
+        // handled by the tree as it was.
+        let last = run.record.expansions.last().unwrap().0;
+        let later: Vec<&String> =
+            run.record.events.iter().filter(|(t, e)| *t > last && is_external(e)).map(|(_, e)| e).collect();
+        assert_eq!(
+            later,
+            [
+                "an agent puts the cube into the gripper",
+                "an agent takes the cube from the gripper",
+                "an agent rolls the sphere into the path to the goal",
+                "an agent rolls the sphere out of the way"
+            ],
+            "{world:?}\n{}",
+            run.narration
+        );
+    }
+}
+
+#[test]
+fn scenarios_are_deterministic() {
+    for (world, seed) in [(WorldKind::Physics, None), (WorldKind::Physics, Some(3)), (WorldKind::Symbolic, Some(3))] {
+        let a = scenario::run(Scenario::Cube, world, seed).unwrap();
+        let b = scenario::run(Scenario::Cube, world, seed).unwrap();
+        assert_eq!(a.narration, b.narration);
+        let bits = |r: &scenario::Run| -> Vec<u32> {
+            r.record.frames.iter().flat_map(|(_, p)| p.iter().flat_map(|(_, q)| q.map(f32::to_bits))).collect()
+        };
+        assert_eq!(bits(&a), bits(&b));
+    }
+    let a = scenario::run(Scenario::Cube, WorldKind::Physics, Some(3)).unwrap();
+    let b = scenario::run(Scenario::Cube, WorldKind::Physics, Some(4)).unwrap();
+    assert_ne!(a.narration, b.narration, "another seed, other agents");
+}
+
+#[test]
+fn the_cellphone_is_assembled_through_a_slip_and_a_help() {
+    let run = scenario::run(Scenario::Cellphone, WorldKind::Symbolic, None).unwrap();
+    assert_eq!(run.record.status, Some(Status::Success), "{}", run.narration);
+    let events: Vec<&str> = run.record.events.iter().map(|(_, e)| e.as_str()).collect();
+    assert_eq!(
+        events,
+        ["the board slips out of the right gripper back onto the table", "a co-worker mounts the camera on the board"]
+    );
+    // The slipped board is picked again by the tree as it was: no expansion between the
+    // slip and the board's mount.
+    let slip = run.record.events[0].0;
+    assert!(run.record.expansions.iter().all(|(t, e)| *t <= slip || !e.condition.contains("board")));
+    assert!(run.narration.contains("hand-over(left, right, chassis) succeeds"), "a regrasp by hand-over");
+    assert!(scenario::run(Scenario::Cellphone, WorldKind::Physics, None).is_err());
+}
+
+#[test]
+fn the_brick_scenarios_show_the_planners_tree_as_the_paper_reports() {
+    for task in Task::ALL {
+        for world in [WorldKind::Symbolic, WorldKind::Physics] {
+            let run = scenario::run(Scenario::Bricks(task), world, None).unwrap();
+            let solved = run.record.status == Some(Status::Success);
+            assert_eq!(solved, task == Task::Tower, "{task:?} {world:?}\n{}", run.narration);
+        }
+    }
+}
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+fn one_line_error(out: &Output, parts: &[&str]) {
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    for p in parts {
+        assert!(err.contains(p), "{err} lacks {p}");
+    }
+}
+
+#[test]
+fn the_command_line() {
+    let out = sim_host(&["scenario", "--list"]);
+    assert!(out.status.success());
+    let list = String::from_utf8(out.stdout).unwrap();
+    for s in Scenario::ALL {
+        assert!(list.contains(s.name()), "{list}");
+    }
+    one_line_error(&sim_host(&["scenario", "kitchen"]), &["unknown scenario `kitchen`", "cube, cellphone, tower"]);
+    one_line_error(&sim_host(&["scenario", "cellphone", "--world", "physics"]), &["no physics world"]);
+    one_line_error(&sim_host(&["scenario", "tower", "--seed", "1"]), &["--seed applies to the cube scenario"]);
+
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("cube.svg");
+    let out = sim_host(&["scenario", "cube", "--svg", svg.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("goal region") && text.contains("expansion 5"));
+    let nowhere = dir.path().join("missing").join("cube.svg");
+    let out = sim_host(&["scenario", "cube", "--svg", nowhere.to_str().unwrap()]);
+    one_line_error(&out, &["missing"]);
+    assert!(out.stdout.is_empty(), "nothing is narrated as if all went well");
+
+    // The demo: no arguments.
+    let out = sim_host(&[]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("the root succeeds: the goal holds"), "{text}");
+}
