@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod episode;
+pub mod learn;
 pub mod physics;
 pub mod picture;
 pub mod scenario;

@@ -11,8 +11,10 @@ use clap::{Parser, Subcommand};
 mod catalogs;
 mod export;
 mod inspect;
+mod learn;
 pub mod output;
 mod plan;
+mod plot;
 mod run;
 mod scenario;
 
@@ -45,6 +47,12 @@ enum Command {
     /// Run a scenario of the papers, narrated tick by tick (`--list` shows them).
     #[command(long_about = scenario::LONG_ABOUT)]
     Scenario(scenario::Args),
+    /// Learn trees for the brick tasks with the GP of seed 003; one folder per run.
+    #[command(long_about = learn::LONG_ABOUT)]
+    Learn(learn::Args),
+    /// Draw learning curves (PNG) and a results table from `learn`'s run folders.
+    #[command(long_about = plot::LONG_ABOUT)]
+    Plot(plot::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
@@ -64,6 +72,8 @@ pub fn main() -> ExitCode {
         Some(Command::Plan(args)) => plan::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Scenario(args)) => scenario::run(&args),
+        Some(Command::Learn(args)) => learn::run(&args),
+        Some(Command::Plot(args)) => plot::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
