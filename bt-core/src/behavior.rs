@@ -95,3 +95,14 @@ pub enum TickError {
         node: usize,
     },
 }
+
+impl TickError {
+    /// A short, stable identifier of the fault (`"condition-running"`, `"out-of-range"`).
+    #[must_use]
+    pub const fn code(&self) -> &'static str {
+        match self {
+            Self::ConditionRunning { .. } => "condition-running",
+            Self::OutOfRange { .. } => "out-of-range",
+        }
+    }
+}

@@ -229,6 +229,53 @@ pub enum EncodeError {
     },
 }
 
+impl LoadError {
+    /// A short, stable identifier of the fault (`"crc-mismatch"`, `"bad-magic"`, ...),
+    /// one per variant: for logs and for controllers too small to link `core::fmt`.
+    #[must_use]
+    pub const fn code(&self) -> &'static str {
+        match self {
+            Self::Truncated { .. } => "truncated",
+            Self::BadMagic { .. } => "bad-magic",
+            Self::UnsupportedVersion { .. } => "unsupported-version",
+            Self::CrcMismatch { .. } => "crc-mismatch",
+            Self::ForeignBehaviorSet { .. } => "foreign-behavior-set",
+            Self::TooManyNodes { .. } => "too-many-nodes",
+            Self::MalformedNode { .. } => "malformed-node",
+            Self::TrailingBytes { .. } => "trailing-bytes",
+            Self::EmptyTree => "empty-tree",
+            Self::SubtreeSizeInconsistent { .. } => "subtree-size-inconsistent",
+            Self::WrongArity { .. } => "wrong-arity",
+            Self::DepthOverLimit { .. } => "depth-over-limit",
+            Self::UnknownBehavior { .. } => "unknown-behavior",
+            Self::WrongLeafKind { .. } => "wrong-leaf-kind",
+            Self::BadArgument { .. } => "bad-argument",
+        }
+    }
+
+    /// The node the fault was found at, for the variants that have one.
+    #[must_use]
+    pub const fn node(&self) -> Option<NodeId> {
+        match *self {
+            Self::Truncated { inside_node, .. } => inside_node,
+            Self::MalformedNode { node, .. }
+            | Self::SubtreeSizeInconsistent { node, .. }
+            | Self::WrongArity { node, .. }
+            | Self::DepthOverLimit { node, .. }
+            | Self::UnknownBehavior { node, .. }
+            | Self::WrongLeafKind { node, .. }
+            | Self::BadArgument { node, .. } => Some(node),
+            Self::BadMagic { .. }
+            | Self::UnsupportedVersion { .. }
+            | Self::CrcMismatch { .. }
+            | Self::ForeignBehaviorSet { .. }
+            | Self::TooManyNodes { .. }
+            | Self::TrailingBytes { .. }
+            | Self::EmptyTree => None,
+        }
+    }
+}
+
 /// Bytes as `[47, 49, 46, 38]` (hex), written without `Debug` formatting so that
 /// firmware printing a [`LoadError`] does not link core's `Debug` builders.
 struct HexBytes<'a>(&'a [u8]);

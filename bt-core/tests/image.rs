@@ -280,6 +280,38 @@ fn every_error_reads_as_a_sentence() {
     ];
     let text: Vec<String> = errors.iter().map(ToString::to_string).collect();
     insta_like(&text);
+
+    // The short codes: one per variant, kebab-case, and the node where there is one.
+    let codes: Vec<&str> = errors.iter().map(LoadError::code).collect();
+    let mut distinct = codes.clone();
+    distinct.dedup(); // the two `Truncated` are adjacent
+    distinct.sort_unstable();
+    distinct.dedup();
+    assert_eq!(distinct.len(), errors.len() - 1, "{codes:?}");
+    assert!(codes.iter().all(|c| c.bytes().all(|b| b.is_ascii_lowercase() || b == b'-')), "{codes:?}");
+    assert_eq!(codes[4], "crc-mismatch");
+    let nodes: Vec<Option<u16>> = errors.iter().map(LoadError::node).collect();
+    assert_eq!(
+        nodes,
+        [
+            None,
+            Some(2),
+            None,
+            None,
+            None,
+            None,
+            None,
+            Some(3),
+            None,
+            None,
+            Some(1),
+            Some(1),
+            Some(7),
+            Some(1),
+            Some(1),
+            Some(1)
+        ]
+    );
 }
 
 fn insta_like(lines: &[String]) {

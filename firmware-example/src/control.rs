@@ -25,8 +25,6 @@
 //! `ERROR`, `LOAD-ERROR`), ticks and simulated time, leaves ticked, actions halted and
 //! completed, events applied, the cube's final position and the final digest.
 
-use core::fmt::{self, Write};
-
 use bt_core::{BehaviorSet, Context, Executor, Leaf, LoadError, Node, NodeId, NodeKind, NodeState, Status, TickError};
 
 use crate::catalog::{BEHAVIORS, FINGERPRINT, object_name};
@@ -46,6 +44,13 @@ pub const LINE_CAP: usize = 256;
 pub trait Sink {
     /// One line of ASCII text, without its line break.
     fn line(&mut self, line: &[u8]);
+}
+
+/// Any `FnMut(&[u8])` is a sink: handy for collecting lines in tests.
+impl<F: FnMut(&[u8])> Sink for F {
+    fn line(&mut self, line: &[u8]) {
+        self(line);
+    }
 }
 
 /// A leaf that was ticked, and what it returned.
@@ -139,6 +144,10 @@ impl BehaviorSet for Recorder<'_> {
 
 /// A trace line being written into a fixed buffer: ASCII text, cut (ending in `~`) if
 /// longer than [`LINE_CAP`]. Writing never fails.
+///
+/// Text and numbers are appended by hand rather than through `core::fmt`: the
+/// formatting machinery and its padding code would take a quarter of the controller's
+/// 16 KiB of flash.
 #[derive(Debug, Default)]
 pub struct Line {
     buf: heapless::Vec<u8, LINE_CAP>,
@@ -152,34 +161,168 @@ impl Line {
         Self { buf: heapless::Vec::new(), cut: false }
     }
 
-    /// Formats `args` into the buffer, replacing what was there, and returns the bytes.
-    pub fn format(&mut self, args: fmt::Arguments<'_>) -> &[u8] {
-        self.buf.clear();
-        self.cut = false;
-        let _ = self.write_fmt(args);
-        if self.cut {
-            self.buf.pop();
-            let _ = self.buf.push(b'~');
+    /// Appends text; what does not fit is dropped and the line marked as cut.
+    pub fn text(&mut self, s: &str) -> &mut Self {
+        self.push(s.as_bytes())
+    }
+
+    /// Appends an unsigned number in decimal.
+    pub fn num(&mut self, v: u32) -> &mut Self {
+        self.digits(u64::from(v), 10, 1)
+    }
+
+    /// Appends a count or size in decimal (saturating at `u32::MAX`).
+    pub fn size(&mut self, v: usize) -> &mut Self {
+        self.num(u32::try_from(v).unwrap_or(u32::MAX))
+    }
+
+    /// Appends a signed number in decimal.
+    pub fn int(&mut self, v: i32) -> &mut Self {
+        if v < 0 {
+            self.push(b"-");
         }
-        &self.buf
+        self.num(v.unsigned_abs())
     }
 
-    /// Formats `args` and hands the line to `sink`.
-    pub fn say<S: Sink + ?Sized>(&mut self, sink: &mut S, args: fmt::Arguments<'_>) {
-        let line = self.format(args);
-        sink.line(line);
+    /// Appends `v` in lowercase hexadecimal, zero-padded to `width` digits.
+    pub fn hex(&mut self, v: u64, width: usize) -> &mut Self {
+        self.digits(v, 16, width)
     }
-}
 
-impl Write for Line {
-    fn write_str(&mut self, s: &str) -> fmt::Result {
+    /// Appends `v` in base `radix` (10 or 16) with at least `width` digits.
+    fn digits(&mut self, mut v: u64, radix: u64, width: usize) -> &mut Self {
+        let mut out = [b'0'; 20];
+        let mut at = out.len();
+        while at > 0 && (v > 0 || out.len() - at < width.max(1)) {
+            at -= 1;
+            if let Some(d) = out.get_mut(at) {
+                *d = b"0123456789abcdef".get((v % radix) as usize).copied().unwrap_or(b'?');
+            }
+            v /= radix;
+        }
+        let tail = out.get(at..).unwrap_or_default();
+        self.push(tail)
+    }
+
+    fn push(&mut self, bytes: &[u8]) -> &mut Self {
         let room = LINE_CAP.saturating_sub(self.buf.len());
-        let bytes = s.as_bytes();
         let take = bytes.get(..room).unwrap_or(bytes);
         self.cut |= take.len() < bytes.len();
         // Cannot fail: `take` fits.
         let _ = self.buf.extend_from_slice(take);
-        Ok(())
+        self
+    }
+
+    /// The finished line: the text, its last byte replaced by `~` if it was cut.
+    pub fn finish(&mut self) -> &[u8] {
+        if self.cut {
+            self.buf.pop();
+            let _ = self.buf.push(b'~');
+            self.cut = false;
+        }
+        &self.buf
+    }
+
+    /// Hands the finished line to `sink` and starts a new one.
+    pub fn send<S: Sink + ?Sized>(&mut self, sink: &mut S) {
+        sink.line(self.finish());
+        self.buf.clear();
+    }
+
+    /// A point as `x,y` in mm.
+    fn point(&mut self, p: Vec2) -> &mut Self {
+        self.int(mm(p.x)).text(",").int(mm(p.y))
+    }
+
+    /// A leaf as `name(arg, ...)` with object names, `?` after conditions, `!` after
+    /// actions; `-` for none.
+    fn leaf(&mut self, node: Option<&Node>) -> &mut Self {
+        let (leaf, mark) = match node.map(Node::kind) {
+            Some(NodeKind::Condition(l)) => (l, "?"),
+            Some(NodeKind::Action(l)) => (l, "!"),
+            _ => return self.text("-"),
+        };
+        self.text(BEHAVIORS.get(usize::from(leaf.behavior())).map_or("#", |b| b.name));
+        let args = leaf.args();
+        for (i, &a) in args.iter().enumerate() {
+            self.text(if i == 0 { "(" } else { "," }).text(object_name(a));
+        }
+        if !args.is_empty() {
+            self.text(")");
+        }
+        self.text(mark)
+    }
+
+    /// The `ran=` list: node id and result letter per leaf ticked; `-` for none.
+    fn ran(&mut self, ran: &[Ran]) -> &mut Self {
+        if ran.is_empty() {
+            return self.text("-");
+        }
+        for (i, r) in ran.iter().enumerate() {
+            if i > 0 {
+                self.text(",");
+            }
+            let s = match r.status {
+                Status::Success => "S",
+                Status::Failure => "F",
+                Status::Running => "R",
+            };
+            self.num(u32::from(r.node)).text(s);
+        }
+        self
+    }
+
+    /// The `halt=` list; `-` for none.
+    fn ids(&mut self, ids: &[NodeId]) -> &mut Self {
+        if ids.is_empty() {
+            return self.text("-");
+        }
+        for (i, &id) in ids.iter().enumerate() {
+            if i > 0 {
+                self.text(",");
+            }
+            self.num(u32::from(id));
+        }
+        self
+    }
+
+    /// Simulated time of tick `ticks` as seconds with millisecond precision.
+    fn seconds(&mut self, ticks: u32) -> &mut Self {
+        let ms = ticks.saturating_mul(PERIOD_MS);
+        self.num(ms / 1000).text(".").digits(u64::from(ms % 1000), 10, 3).text("s")
+    }
+
+    /// What went wrong loading an image: its code, the node, and for the faults a
+    /// controller meets in the field (a corrupted or foreign image) the numbers.
+    fn load_error(&mut self, e: &LoadError) -> &mut Self {
+        self.text(e.code());
+        if let Some(node) = e.node() {
+            self.text(" node=").num(u32::from(node));
+        }
+        match *e {
+            LoadError::CrcMismatch { stored, computed } => {
+                self.text(" stored=").hex(u64::from(stored), 8).text(" computed=").hex(u64::from(computed), 8)
+            }
+            LoadError::ForeignBehaviorSet { image, expected } => {
+                self.text(" image=").hex(image, 16).text(" expected=").hex(expected, 16)
+            }
+            _ => self,
+        }
+    }
+
+    /// The fields of the `done` line.
+    fn done(&mut self, ticks: u32, totals: Totals, plant: &Plant) -> &mut Self {
+        let c = plant.counters;
+        self.text("ticks=").num(ticks).text(" time=").seconds(ticks);
+        self.text(" leaves=")
+            .num(totals.leaves)
+            .text(" halts=")
+            .num(c.halts.into())
+            .text(" picks=")
+            .num(c.picks.into());
+        self.text(" drops=").num(c.drops.into()).text(" clears=").num(c.clears.into());
+        self.text(" events=").num(totals.events).text("/").size(SCRIPT.len());
+        self.text(" cube=").point(plant.cube).text(" dig=").hex(u64::from(plant.digest()), 8)
     }
 }
 
@@ -187,94 +330,6 @@ impl Write for Line {
 #[must_use]
 pub fn mm(v: f32) -> i32 {
     libm::roundf(v * 1000.0) as i32
-}
-
-/// A point as `x,y` in mm.
-struct Mm(Vec2);
-
-impl fmt::Display for Mm {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{},{}", mm(self.0.x), mm(self.0.y))
-    }
-}
-
-/// A leaf as `name(arg, ...)` with object names, `?` after conditions, `!` after
-/// actions; `-` for none.
-struct LeafText<'a>(Option<&'a Node>);
-
-impl fmt::Display for LeafText<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (leaf, mark) = match self.0.map(Node::kind) {
-            Some(NodeKind::Condition(l)) => (l, "?"),
-            Some(NodeKind::Action(l)) => (l, "!"),
-            _ => return f.write_str("-"),
-        };
-        let name = BEHAVIORS.get(usize::from(leaf.behavior())).map_or("#", |b| b.name);
-        f.write_str(name)?;
-        let args = leaf.args();
-        if !args.is_empty() {
-            f.write_str("(")?;
-            for (i, &a) in args.iter().enumerate() {
-                if i > 0 {
-                    f.write_str(",")?;
-                }
-                f.write_str(object_name(a))?;
-            }
-            f.write_str(")")?;
-        }
-        f.write_str(mark)
-    }
-}
-
-/// The `ran=` list.
-struct RanList<'a>(&'a [Ran]);
-
-impl fmt::Display for RanList<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.0.is_empty() {
-            return f.write_str("-");
-        }
-        for (i, r) in self.0.iter().enumerate() {
-            if i > 0 {
-                f.write_str(",")?;
-            }
-            let s = match r.status {
-                Status::Success => "S",
-                Status::Failure => "F",
-                Status::Running => "R",
-            };
-            write!(f, "{}{s}", r.node)?;
-        }
-        Ok(())
-    }
-}
-
-/// The `halt=` list.
-struct Ids<'a>(&'a [NodeId]);
-
-impl fmt::Display for Ids<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.0.is_empty() {
-            return f.write_str("-");
-        }
-        for (i, id) in self.0.iter().enumerate() {
-            if i > 0 {
-                f.write_str(",")?;
-            }
-            write!(f, "{id}")?;
-        }
-        Ok(())
-    }
-}
-
-/// Simulated time of tick `ticks` as seconds with millisecond precision.
-struct Seconds(u32);
-
-impl fmt::Display for Seconds {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let ms = self.0.saturating_mul(PERIOD_MS);
-        write!(f, "{}.{:03}s", ms / 1000, ms % 1000)
-    }
 }
 
 /// Runs the whole scenario on `image`: load, validate, tick until done. Prints the
@@ -285,40 +340,23 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
     let tree = match bt_core::load::<_, DEPTH>(image, &BEHAVIORS, &mut storage) {
         Ok(tree) => tree,
         Err(e) => {
-            line.say(sink, format_args!("load error: {e}"));
-            line.say(sink, format_args!("done LOAD-ERROR ticks=0 image={}B", image.len()));
+            line.text("load error: ").load_error(&e).send(sink);
+            line.text("done LOAD-ERROR ticks=0 image=").size(image.len()).text("B").send(sink);
             return Outcome::Load(e);
         }
     };
     let nodes = tree.nodes();
-    line.say(
-        sink,
-        format_args!(
-            "boot image={}B nodes={} depth={} fp={:016x} hz={}",
-            image.len(),
-            tree.len(),
-            tree.depth(),
-            FINGERPRINT,
-            1000 / PERIOD_MS
-        ),
-    );
+    line.text("boot image=").size(image.len()).text("B nodes=").size(tree.len()).text(" depth=").size(tree.depth());
+    line.text(" fp=").hex(FINGERPRINT, 16).text(" hz=").num(1000 / PERIOD_MS).send(sink);
     for (id, node) in nodes.iter().enumerate() {
         if matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
-            line.say(sink, format_args!("leaf {id} {}", LeafText(Some(node))));
+            line.text("leaf ").size(id).text(" ").leaf(Some(node)).send(sink);
         }
     }
     let mut plant = Plant::new();
-    line.say(
-        sink,
-        format_args!(
-            "world robot={} cube={} sphere={} goal={} dig={:08x}",
-            Mm(plant.robot),
-            Mm(plant.cube),
-            Mm(plant.sphere),
-            Mm(plant.goal),
-            plant.digest()
-        ),
-    );
+    line.text("world robot=").point(plant.robot).text(" cube=").point(plant.cube);
+    line.text(" sphere=").point(plant.sphere).text(" goal=").point(plant.goal);
+    line.text(" dig=").hex(u64::from(plant.digest()), 8).send(sink);
 
     let mut state = [NodeState::IDLE; MAX_NODES];
     let mut exec = match Executor::new(tree, &mut state) {
@@ -327,7 +365,7 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
         // the same capacity as the state. Reported, not assumed.
         Err(_) => {
             let e = LoadError::TooManyNodes { count: tree.len(), capacity: MAX_NODES };
-            line.say(sink, format_args!("load error: {e}"));
+            line.text("load error: ").load_error(&e).send(sink);
             return Outcome::Load(e);
         }
     };
@@ -335,17 +373,22 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
     let mut totals = Totals { leaves: 0, events: 0 };
     for tick in 0..MAX_TICKS {
         let event = script::event_at(tick).map(|e| (e, script::apply(e, &mut plant)));
-        match event {
-            Some((e, Ok(()))) => {
-                totals.events = totals.events.saturating_add(1);
-                let (what, at) = match e {
-                    Event::Help | Event::Slip => ("cube", plant.cube),
-                    Event::Block | Event::Unblock => ("sphere", plant.sphere),
-                };
-                line.say(sink, format_args!("event {tick} {} {what}={}: {}", e.name(), Mm(at), e.describe()));
+        if let Some((e, happened)) = event {
+            line.text("event ").num(tick).text(" ").text(e.name());
+            match happened {
+                Ok(()) => {
+                    totals.events = totals.events.saturating_add(1);
+                    let (what, at) = match e {
+                        Event::Help | Event::Slip => ("cube", plant.cube),
+                        Event::Block | Event::Unblock => ("sphere", plant.sphere),
+                    };
+                    line.text(" ").text(what).text("=").point(at).text(": ").text(e.describe());
+                }
+                Err(why) => {
+                    line.text(" skipped: ").text(why.reason());
+                }
             }
-            Some((e, Err(why))) => line.say(sink, format_args!("event {tick} {} skipped: {}", e.name(), why.reason())),
-            None => {}
+            line.send(sink);
         }
 
         let mut rec = Recorder { plant: &mut plant, ran: heapless::Vec::new(), halted: heapless::Vec::new() };
@@ -356,24 +399,15 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
         let status = match result {
             Ok(status) => status,
             Err(error) => {
-                line.say(sink, format_args!("tick {tick} ERROR {error}"));
-                line.say(sink, format_args!("done ERROR {}", Done { ticks, totals, plant: &plant }));
+                line.text("tick ").num(tick).text(" ERROR ").text(error.code()).send(sink);
+                line.text("done ERROR ").done(ticks, totals, &plant).send(sink);
                 return Outcome::Tick { tick, error };
             }
         };
         let act = ran.iter().rev().find(|r| r.status == Status::Running).and_then(|r| nodes.get(usize::from(r.node)));
-        line.say(
-            sink,
-            format_args!(
-                "tick {tick} {status} ran={} act={} halt={} robot={} hand={} dig={:08x}",
-                RanList(&ran),
-                LeafText(act),
-                Ids(&halted),
-                Mm(plant.robot),
-                plant.hand.name(),
-                plant.digest()
-            ),
-        );
+        line.text("tick ").num(tick).text(" ").text(status.name()).text(" ran=").ran(&ran);
+        line.text(" act=").leaf(act).text(" halt=").ids(&halted).text(" robot=").point(plant.robot);
+        line.text(" hand=").text(plant.hand.name()).text(" dig=").hex(u64::from(plant.digest()), 8).send(sink);
         watch(&TickReport { tick, status, nodes, ran: &ran, halted: &halted, event, plant: &plant });
 
         let (verdict, outcome) = match status {
@@ -381,10 +415,10 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
             Status::Success => ("GOAL", Outcome::Goal { ticks }),
             Status::Failure => ("FAILED", Outcome::RootFailure { ticks }),
         };
-        line.say(sink, format_args!("done {verdict} {}", Done { ticks, totals, plant: &plant }));
+        line.text("done ").text(verdict).text(" ").done(ticks, totals, &plant).send(sink);
         return outcome;
     }
-    line.say(sink, format_args!("done TIMEOUT {}", Done { ticks: MAX_TICKS, totals, plant: &plant }));
+    line.text("done TIMEOUT ").done(MAX_TICKS, totals, &plant).send(sink);
     Outcome::Timeout
 }
 
@@ -395,32 +429,4 @@ struct Totals {
     leaves: u32,
     /// Scripted events applied.
     events: u32,
-}
-
-/// The fields of the `done` line.
-struct Done<'a> {
-    ticks: u32,
-    totals: Totals,
-    plant: &'a Plant,
-}
-
-impl fmt::Display for Done<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let c = self.plant.counters;
-        write!(
-            f,
-            "ticks={} time={} leaves={} halts={} picks={} drops={} clears={} events={}/{} cube={} dig={:08x}",
-            self.ticks,
-            Seconds(self.ticks),
-            self.totals.leaves,
-            c.halts,
-            c.picks,
-            c.drops,
-            c.clears,
-            self.totals.events,
-            SCRIPT.len(),
-            Mm(self.plant.cube),
-            self.plant.digest()
-        )
-    }
 }

@@ -42,7 +42,8 @@ pub fn run_and_exit(image: &[u8]) -> ! {
     let outcome = control::run(image, &mut out, |_| {});
     let stack = stack_usage();
     let mut line = Line::new();
-    line.say(&mut out, format_args!("fw stack_hwm={}B stack_size={}B paint=0xcccccccc", stack.used, stack.size));
+    line.text("fw stack_hwm=").num(stack.used).text("B stack_size=").num(stack.size).text("B paint=0xcccccccc");
+    line.send(&mut out);
     let code = u8::from(!outcome.reached_goal());
     let what = match outcome {
         Outcome::Goal { .. } => "goal reached",
@@ -51,7 +52,7 @@ pub fn run_and_exit(image: &[u8]) -> ! {
         Outcome::Load(_) => "image refused",
         Outcome::Tick { .. } => "tick error",
     };
-    line.say(&mut out, format_args!("fw exit={code} ({what})"));
+    line.text("fw exit=").num(code.into()).text(" (").text(what).text(")").send(&mut out);
     debug::exit(if code == 0 { EXIT_SUCCESS } else { EXIT_FAILURE });
     // Only reached if the debugger resumes after the exit request.
     loop {
@@ -99,7 +100,7 @@ fn stack_usage() -> StackUsage {
 fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
     let mut out = Semihosting(hio::hstdout().ok());
     let (file, at) = info.location().map_or(("?", 0), |l| (l.file(), l.line()));
-    Line::new().say(&mut out, format_args!("fw panic at {file}:{at}"));
+    Line::new().text("fw panic at ").text(file).text(":").num(at).send(&mut out);
     debug::exit(EXIT_FAILURE);
     loop {
         cortex_m::asm::wfi();

@@ -185,7 +185,7 @@ fn a_corrupted_image_is_refused_before_any_tick() {
     let outcome = run(CORRUPT_IMAGE, &mut lines, |_| ticked = true);
     assert!(matches!(outcome, Outcome::Load(bt_core::LoadError::CrcMismatch { .. })), "{outcome:?}");
     assert!(!ticked);
-    assert!(lines.0[0].starts_with("load error: image corrupted"), "{:?}", lines.0);
+    assert!(lines.0[0].starts_with("load error: crc-mismatch stored="), "{:?}", lines.0);
     assert!(lines.0.iter().all(|l| !l.starts_with("tick ")));
 }
 
@@ -200,8 +200,28 @@ fn the_image_matches_the_catalog_and_fits_the_controller() {
 fn a_line_too_long_is_cut_and_marked() {
     let mut line = crate::Line::new();
     let long = "x".repeat(crate::control::LINE_CAP + 10);
-    let out = line.format(format_args!("tick 1 {long}"));
+    let out = line.text("tick ").num(1).text(" ").text(&long).finish();
     assert_eq!(out.len(), crate::control::LINE_CAP);
     assert!(out.starts_with(b"tick 1 xx") && out.ends_with(b"x~"));
-    assert_eq!(line.format(format_args!("tick {}", 2)), b"tick 2", "the buffer starts over");
+    let mut sent = Vec::new();
+    line.send(&mut |l: &[u8]| sent.push(l.to_vec()));
+    line.text("tick ").num(2).send(&mut |l: &[u8]| sent.push(l.to_vec()));
+    assert_eq!(sent[1], b"tick 2", "the buffer starts over");
+}
+
+#[test]
+fn numbers_are_written_as_core_fmt_would() {
+    let mut line = crate::Line::new();
+    for v in [0u32, 7, 10, 999, 1000, 65_535, u32::MAX] {
+        assert_eq!(line.num(v).finish(), v.to_string().as_bytes());
+        line.send(&mut |_: &[u8]| {});
+    }
+    for v in [0i32, -1, 42, -1000, i32::MIN, i32::MAX] {
+        assert_eq!(line.int(v).finish(), v.to_string().as_bytes());
+        line.send(&mut |_: &[u8]| {});
+    }
+    for (v, w) in [(0u64, 8), (0xdead_beef, 8), (0x1f, 8), (u64::MAX, 16), (0x2a, 16), (0x1_0000_0000, 1)] {
+        assert_eq!(line.hex(v, w).finish(), format!("{v:0w$x}").as_bytes());
+        line.send(&mut |_: &[u8]| {});
+    }
 }

@@ -25,14 +25,11 @@ const CORRUPT: &str = "firmware-corrupt-image";
 /// The QEMU machine: the same as the runner in firmware-example/.cargo/config.toml.
 const QEMU_ARGS: [&str; 7] =
     ["-cpu", "cortex-m4", "-machine", "mps2-an386", "-nographic", "-semihosting-config", "enable=on,target=native"];
-/// The targets of issue 3: the whole firmware in 16 KiB of flash and 4 KiB of RAM,
-/// stack included.
+/// The targets of issue 3, enforced: the whole firmware in 16 KiB of flash and 4 KiB
+/// of RAM, stack included. A `{}` on a float or a `core::fmt` padding spec in the trace
+/// code is enough to cross the flash line (see DEVELOPERS.md, "Firmware").
 const FLASH_TARGET: u64 = 16 * 1024;
 const RAM_TARGET: u64 = 4 * 1024;
-/// Above this the build fails: a regression guard (a float formatted with `{}`, a
-/// dependency pulling in std-sized code). The 16 KiB target is reported, not enforced:
-/// see DEVELOPERS.md, "Firmware".
-const FLASH_CEILING: u64 = 24 * 1024;
 
 /// Options of `cargo xtask qemu`.
 #[derive(Debug, Clone, Copy)]
@@ -249,7 +246,7 @@ fn panic_free(elf: &Path) -> Result {
 }
 
 /// Prints flash and RAM against the targets, bt-core's share of the code, and gates
-/// on the RAM target and the flash ceiling.
+/// on both targets.
 fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain) -> Result {
     let out = Command::new("arm-none-eabi-size").arg(elf).output().map_err(|e| format!("arm-none-eabi-size: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout);
@@ -298,8 +295,8 @@ fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain) -> Result {
     if ram > RAM_TARGET {
         return Err(format!("RAM {ram} B is over the {RAM_TARGET} B target"));
     }
-    if flash > FLASH_CEILING {
-        return Err(format!("flash {flash} B is over the {FLASH_CEILING} B ceiling"));
+    if flash > FLASH_TARGET {
+        return Err(format!("flash {flash} B is over the {FLASH_TARGET} B target"));
     }
     Ok(())
 }
