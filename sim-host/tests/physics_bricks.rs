@@ -214,3 +214,42 @@ fn the_planners_tree_builds_the_tower() {
     assert_eq!((w.fixed_below(1), w.fixed_below(2)), (Some(0), Some(1)));
     assert_eq!(w.held(), None);
 }
+
+/// The GP idiom `s( pick 1! place on 0! )`: every tick `pick 1!` starts again (and
+/// succeeds at once while the brick is held), which halts `place on 0!` before the tick
+/// comes back to it. Under the default rule the place carries on and sets the brick
+/// down on 0; taken literally (`Cancel`) it restarts every tick and never gets there.
+#[test]
+fn an_action_halted_and_restarted_within_a_tick_carries_on() {
+    use bt_core::{Executor, NodeState, Tree};
+    use sim_host::physics::BrickEvent;
+    use sim_host::symbolic::HaltRule;
+
+    /// Ticks the idiom for 60 ticks; true when brick 1 was let go.
+    fn set_down(w: &mut PhysicsBrickWorld) -> bool {
+        let spec = w.spec().clone();
+        let nodes = physics_common::nodes(&spec, "s( pick 1! place on 0! )");
+        let tree: Tree<'_, 8> = Tree::validate(&nodes, &spec).unwrap();
+        let mut state = vec![NodeState::IDLE; nodes.len()];
+        let mut exec = Executor::new(tree, &mut state).unwrap();
+        for t in 0..60 {
+            exec.tick(&mut *w, t).unwrap();
+            if w.events().iter().any(|e| matches!(e, BrickEvent::Released { brick: 1, .. })) {
+                return true;
+            }
+            w.step();
+        }
+        false
+    }
+
+    let mut w = world(Task::Tower);
+    assert_eq!(w.halt_rule(), HaltRule::ResumeWithinTick);
+    assert!(set_down(&mut w), "placed within 60 ticks: {:?}", w.events());
+    assert_eq!(until_done(&mut w, "1 on 0?", 1).status, Status::Success, "{:?}", (w.position(0), w.position(1)));
+
+    let mut w = world(Task::Tower).with_halt_rule(HaltRule::Cancel);
+    assert!(!set_down(&mut w), "never set down under Cancel: {:?}", w.events());
+    assert_eq!(w.held(), Some(1));
+    w.reset();
+    assert_eq!(w.halt_rule(), HaltRule::Cancel, "reset keeps the rule");
+}

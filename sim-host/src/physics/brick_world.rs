@@ -36,6 +36,13 @@
 //! returns Running on its first tick (it only plans its motion) and reports its outcome
 //! on the tick after the motion ends; it fails when it has not completed 50 ticks after
 //! it started. A halted action stops the gripper where it is; the grasp stays as it is.
+//! An action halted and started again within the same tick carries on, as in the
+//! symbolic world ([`HaltRule`], default `ResumeWithinTick`): the GP idiom
+//! `s( pick 1! place on 0! )` restarts `pick 1!` every tick (it succeeds at once while
+//! the brick is held), which halts the place before the tick reaches it again. Unlike
+//! the symbolic world, the brick is let go before the place reports (the fingers open
+//! and the gripper rises), so there the idiom picks the brick up again: a real robot
+//! ticking that tree would too.
 //!
 //! # Behaviors
 //!
@@ -66,6 +73,7 @@ use rapier3d::prelude::{
 use super::PhysicsError;
 use super::bricks::{self, STUD_HEIGHT};
 use super::engine;
+use crate::symbolic::HaltRule;
 use crate::world::BrickWorld;
 
 /// Length of the step that finds contacts after bodies were moved by hand, s.
@@ -275,6 +283,9 @@ pub struct PhysicsBrickWorld {
     /// next step (rapier solves a step with the contacts found at the end of the last).
     moved: bool,
     job: Option<Job>,
+    /// Jobs halted since the last step, kept for [`HaltRule::ResumeWithinTick`].
+    halted: Vec<Job>,
+    halt_rule: HaltRule,
     tick: u32,
     events: Vec<BrickEvent>,
 }
@@ -355,9 +366,25 @@ impl PhysicsBrickWorld {
             gap: OPEN,
             grasp: None,
             job: None,
+            halted: Vec::new(),
+            halt_rule: HaltRule::default(),
             tick: 0,
             events: Vec::new(),
         })
+    }
+
+    /// Uses another [`HaltRule`] (default: [`HaltRule::ResumeWithinTick`], as in the
+    /// symbolic world and for the same reason).
+    #[must_use]
+    pub fn with_halt_rule(mut self, rule: HaltRule) -> Self {
+        self.halt_rule = rule;
+        self
+    }
+
+    /// The [`HaltRule`] in force.
+    #[must_use]
+    pub fn halt_rule(&self) -> HaltRule {
+        self.halt_rule
     }
 
     /// Ticks stepped so far.
@@ -888,11 +915,13 @@ impl BrickWorld for PhysicsBrickWorld {
         // The spec and parameters were checked when the world was made, so rebuilding
         // from them cannot fail; a rapier world has no cheaper exact reset.
         if let Ok(fresh) = Self::with_params(&self.spec, self.params) {
-            *self = fresh;
+            *self = fresh.with_halt_rule(self.halt_rule);
         }
     }
 
+    /// Advances the physics by one tick. Actions halted during the tick are forgotten.
     fn step(&mut self) {
+        self.halted.clear();
         let dt = self.world.integration_parameters.dt;
         for _ in 0..self.params.steps_per_tick {
             if self.quiet() {
@@ -927,8 +956,16 @@ impl BehaviorSet for PhysicsBrickWorld {
 
     fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
         let Some(behavior) = self.spec.behavior(leaf.behavior()) else { return Status::Failure };
+        let mut resumed = false;
+        if ctx.starting
+            && let Some(i) = self.halted.iter().position(|j| j.node == ctx.node)
+        {
+            // Halted and started again within the tick (ResumeWithinTick): carry on.
+            self.job = Some(self.halted.swap_remove(i));
+            resumed = true;
+        }
         let ours = self.job.as_ref().is_some_and(|j| j.node == ctx.node);
-        if ctx.starting || !ours {
+        if (ctx.starting && !resumed) || !ours {
             self.job = None;
             return match self.plan(behavior) {
                 Err(status) => status,
@@ -950,9 +987,14 @@ impl BehaviorSet for PhysicsBrickWorld {
         outcome
     }
 
+    /// Stops the action where it is. Under [`HaltRule::ResumeWithinTick`] its job is
+    /// kept until the next step, in case the tick comes back to it.
     fn halt(&mut self, _: &Leaf, node: NodeId) {
-        if self.job.as_ref().is_some_and(|j| j.node == node) {
-            self.job = None;
+        if self.job.as_ref().is_some_and(|j| j.node == node)
+            && let Some(job) = self.job.take()
+            && self.halt_rule == HaltRule::ResumeWithinTick
+        {
+            self.halted.push(job);
         }
     }
 }
