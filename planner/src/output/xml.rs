@@ -1,7 +1,16 @@
 //! BehaviorTree.CPP v4 XML: `ReactiveSequence` / `ReactiveFallback` for the reactive
-//! controls, `<Condition ID=...>` / `<Action ID=...>` leaves whose grounded arguments
-//! are input ports, and a `TreeNodesModel` section declaring every leaf type and its
-//! ports, so Groot2 shows the tree without the C++ registrations.
+//! controls, leaves in the compact form `<place i="cube" s="goal"/>` whose grounded
+//! arguments are input ports, and a `TreeNodesModel` section declaring every leaf type
+//! (`<Action ID="place">`) and its ports, so Groot2 shows the tree without the C++
+//! registrations.
+//!
+//! The compact form is the one BehaviorTree.CPP and Groot2 write themselves, and the
+//! only one releases 4.7 to 4.10 load under a `ReactiveSequence`: their check of a
+//! reactive sequence's children looks `<Action ID="...">` up by its element name
+//! (checked against 4.10.0). An element name must be an XML name, so a behavior name
+//! that is not one (the brick tasks' `put 0 on 1!`) becomes its type ID with every run
+//! of other characters turned into `_` (`put_0_on_1`), numbered if two collide; the
+//! full name stays on each node as its `name`.
 //!
 //! Other kinds map to their BehaviorTree.CPP counterparts: `SequenceWithMemory` to
 //! `Sequence` (which resumes at the running child), `FallbackWithMemory` to `Fallback`,
@@ -71,6 +80,47 @@ fn behavior_name<C: Catalog + ?Sized>(catalog: &C, id: BehaviorId) -> String {
     catalog.info(id).map_or_else(|| format!("behavior{id}"), |i| i.name.to_string())
 }
 
+/// A node type ID usable as an XML element name: letters, digits, `_` and `-`,
+/// starting with a letter; other characters become `_` (one per run, none at the ends).
+fn type_id(name: &str) -> String {
+    let mut id = String::with_capacity(name.len() + 1);
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() || c == '-' {
+            id.push(c);
+        } else if !id.is_empty() && !id.ends_with('_') {
+            id.push('_');
+        }
+    }
+    while id.ends_with('_') {
+        id.pop();
+    }
+    if !id.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        id.insert(0, 'b');
+    }
+    id
+}
+
+/// The type ID of every behavior the tree uses, distinct.
+fn type_ids<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> BTreeMap<BehaviorId, String> {
+    let mut ids = BTreeMap::new();
+    let mut taken = std::collections::BTreeSet::new();
+    for n in nodes {
+        if let NodeKind::Condition(leaf) | NodeKind::Action(leaf) = n.kind()
+            && !ids.contains_key(&leaf.behavior())
+        {
+            let base = type_id(&behavior_name(catalog, leaf.behavior()));
+            let mut id = base.clone();
+            let mut k = 2;
+            while !taken.insert(id.clone()) {
+                id = format!("{base}_{k}");
+                k += 1;
+            }
+            ids.insert(leaf.behavior(), id);
+        }
+    }
+    ids
+}
+
 /// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
 ///
 /// # Errors
@@ -85,6 +135,7 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
     );
     let mut open: Vec<(usize, &'static str)> = Vec::new();
     let mut used: BTreeMap<BehaviorId, (LeafKind, usize)> = BTreeMap::new();
+    let ids = type_ids(nodes, catalog);
     let indent = |depth: usize| "  ".repeat(depth + 2);
     for (i, n) in nodes.iter().enumerate() {
         while let Some(&(end, tag)) = open.last() {
@@ -117,8 +168,12 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 let kind =
                     if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
                 let b = leaf.behavior();
-                let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
-                let mut a = format!(" ID=\"{}\"", escape(&behavior_name(catalog, b)));
+                let name = behavior_name(catalog, b);
+                let tag = ids.get(&b).map_or("behavior", String::as_str);
+                let mut a = String::new();
+                if *tag != name {
+                    let _ = write!(a, " name=\"{}\"", escape(&name));
+                }
                 for (pos, &v) in leaf.args().iter().enumerate() {
                     let _ = write!(a, " {}=\"{}\"", port_name(ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
                 }
@@ -136,7 +191,7 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
     out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
     for (&b, &(kind, argc)) in &used {
         let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
-        let name = escape(&behavior_name(catalog, b));
+        let name = ids.get(&b).map_or("behavior", String::as_str);
         if argc == 0 {
             let _ = writeln!(out, "    <{tag} ID=\"{name}\"/>");
             continue;
@@ -149,4 +204,28 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
     }
     out.push_str("  </TreeNodesModel>\n</root>\n");
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::type_id;
+
+    #[test]
+    fn type_ids_are_xml_names() {
+        assert_eq!(type_id("place"), "place");
+        assert_eq!(type_id("hand-over"), "hand-over");
+        assert_eq!(type_id("put 0 on 1!"), "put_0_on_1");
+        assert_eq!(type_id("0 at pos (0.0, 0.05, 0.0)?"), "b0_at_pos_0_0_0_05_0_0");
+        assert_eq!(type_id("?!"), "b");
+    }
+
+    #[test]
+    fn brick_trees_use_compact_leaves_with_their_names() {
+        let plan = crate::duplo::plan(crate::duplo::Task::Tower).unwrap();
+        let spec = crate::duplo::Task::Tower.spec();
+        let xml = super::to_xml(&plan.nodes, &spec, &crate::catalog::NoPorts).unwrap();
+        assert!(xml.contains("<pick_0 name=\"pick 0!\"/>"), "{xml}");
+        assert!(xml.contains("<Action ID=\"pick_0\"/>"), "{xml}");
+        assert!(!xml[..xml.find("<TreeNodesModel>").unwrap()].contains("ID=\"pick"), "{xml}");
+    }
 }
