@@ -221,25 +221,15 @@ fn the_planners_tree_builds_the_tower() {
 /// down on 0; taken literally (`Cancel`) it restarts every tick and never gets there.
 #[test]
 fn an_action_halted_and_restarted_within_a_tick_carries_on() {
-    use bt_core::{Executor, NodeState, Tree};
     use sim_host::physics::BrickEvent;
     use sim_host::symbolic::HaltRule;
 
-    /// Ticks the idiom for 60 ticks; true when brick 1 was let go.
+    /// Ticks the idiom for up to 60 ticks; true when brick 1 was let go.
     fn set_down(w: &mut PhysicsBrickWorld) -> bool {
-        let spec = w.spec().clone();
-        let nodes = physics_common::nodes(&spec, "s( pick 1! place on 0! )");
-        let tree: Tree<'_, 8> = Tree::validate(&nodes, &spec).unwrap();
-        let mut state = vec![NodeState::IDLE; nodes.len()];
-        let mut exec = Executor::new(tree, &mut state).unwrap();
-        for t in 0..60 {
-            exec.tick(&mut *w, t).unwrap();
-            if w.events().iter().any(|e| matches!(e, BrickEvent::Released { brick: 1, .. })) {
-                return true;
-            }
-            w.step();
-        }
-        false
+        let released =
+            |w: &PhysicsBrickWorld| w.events().iter().any(|e| matches!(e, BrickEvent::Released { brick: 1, .. }));
+        physics_common::drive(w, "s( pick 1! place on 0! )", 60, |w, _, _| released(w));
+        released(w)
     }
 
     let mut w = world(Task::Tower);

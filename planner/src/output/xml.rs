@@ -18,7 +18,7 @@
 //! `ForceFailure`, `Repeat(num_cycles)`, `Retry` to `RetryUntilSuccessful`. `Timeout`
 //! counts ticks here and milliseconds there, so it is refused.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
 use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind};
@@ -100,27 +100,6 @@ fn type_id(name: &str) -> String {
     id
 }
 
-/// The type ID of every behavior the tree uses, distinct.
-fn type_ids<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> BTreeMap<BehaviorId, String> {
-    let mut ids = BTreeMap::new();
-    let mut taken = std::collections::BTreeSet::new();
-    for n in nodes {
-        if let NodeKind::Condition(leaf) | NodeKind::Action(leaf) = n.kind()
-            && !ids.contains_key(&leaf.behavior())
-        {
-            let base = type_id(&behavior_name(catalog, leaf.behavior()));
-            let mut id = base.clone();
-            let mut k = 2;
-            while !taken.insert(id.clone()) {
-                id = format!("{base}_{k}");
-                k += 1;
-            }
-            ids.insert(leaf.behavior(), id);
-        }
-    }
-    ids
-}
-
 /// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
 ///
 /// # Errors
@@ -134,8 +113,9 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"MainTree\">\n  <BehaviorTree ID=\"MainTree\">\n",
     );
     let mut open: Vec<(usize, &'static str)> = Vec::new();
-    let mut used: BTreeMap<BehaviorId, (LeafKind, usize)> = BTreeMap::new();
-    let ids = type_ids(nodes, catalog);
+    // Per behavior used: its kind, arity and type ID (distinct: numbered on collision).
+    let mut used: BTreeMap<BehaviorId, (LeafKind, usize, String)> = BTreeMap::new();
+    let mut taken = BTreeSet::new();
     let indent = |depth: usize| "  ".repeat(depth + 2);
     for (i, n) in nodes.iter().enumerate() {
         while let Some(&(end, tag)) = open.last() {
@@ -169,7 +149,16 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
                     if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
                 let b = leaf.behavior();
                 let name = behavior_name(catalog, b);
-                let tag = ids.get(&b).map_or("behavior", String::as_str);
+                let (_, _, tag) = used.entry(b).or_insert_with(|| {
+                    let base = type_id(&name);
+                    let mut id = base.clone();
+                    let mut k = 2;
+                    while !taken.insert(id.clone()) {
+                        id = format!("{base}_{k}");
+                        k += 1;
+                    }
+                    (kind, leaf.argc(), id)
+                });
                 let mut a = String::new();
                 if *tag != name {
                     let _ = write!(a, " name=\"{}\"", escape(&name));
@@ -177,7 +166,6 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 for (pos, &v) in leaf.args().iter().enumerate() {
                     let _ = write!(a, " {}=\"{}\"", port_name(ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
                 }
-                used.insert(b, (kind, leaf.argc()));
                 let _ = writeln!(out, "{pad}<{tag}{a}/>");
                 continue;
             }
@@ -189,9 +177,8 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
         let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
     }
     out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
-    for (&b, &(kind, argc)) in &used {
+    for (&b, &(kind, argc, ref name)) in &used {
         let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
-        let name = ids.get(&b).map_or("behavior", String::as_str);
         if argc == 0 {
             let _ = writeln!(out, "    <{tag} ID=\"{name}\"/>");
             continue;

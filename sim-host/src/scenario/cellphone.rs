@@ -8,7 +8,6 @@
 
 use std::sync::Arc;
 
-use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
 use planner::ground::Grounding;
 use planner::state::State;
 use planner::strips::StripsWorld;
@@ -38,17 +37,7 @@ impl Cellphone {
     }
 }
 
-impl BehaviorSet for Cellphone {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.condition(leaf, ctx)
-    }
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.action(leaf, ctx)
-    }
-    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
-        self.world.halt(leaf, node);
-    }
-}
+super::forward_behaviors!(Cellphone);
 
 impl Live for Cellphone {
     fn advance(&mut self, _tick: u32, running: Option<&str>) {

@@ -19,7 +19,6 @@
 
 use std::sync::Arc;
 
-use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
 use planner::ground::Grounding;
 use planner::state::State;
 use planner::strips::StripsWorld;
@@ -172,17 +171,7 @@ impl SymbolicCube {
     }
 }
 
-impl BehaviorSet for SymbolicCube {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.condition(leaf, ctx)
-    }
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.action(leaf, ctx)
-    }
-    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
-        self.world.halt(leaf, node);
-    }
-}
+super::forward_behaviors!(SymbolicCube);
 
 impl SymbolicCube {
     /// The one rule of motion STRIPS cannot state without quantified effects: a robot
@@ -248,17 +237,7 @@ impl PhysicsCube {
     }
 }
 
-impl BehaviorSet for PhysicsCube {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.condition(leaf, ctx)
-    }
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.action(leaf, ctx)
-    }
-    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
-        self.world.halt(leaf, node);
-    }
-}
+super::forward_behaviors!(PhysicsCube);
 
 impl Live for PhysicsCube {
     fn advance(&mut self, _tick: u32, running: Option<&str>) {

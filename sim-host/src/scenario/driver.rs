@@ -83,6 +83,14 @@ pub struct Record {
     pub ticks: u32,
 }
 
+impl Record {
+    /// The root returned `status` at `tick`: the run ends, with a last snapshot.
+    fn end(&mut self, tick: u32, status: Status, nodes: &[Node], states: &[NodeState]) {
+        self.status = Some(status);
+        self.snapshots.push(Snapshot { tick, label: "end".into(), nodes: nodes.to_vec(), states: states.to_vec() });
+    }
+}
+
 /// Where the tree comes from.
 #[derive(Debug)]
 pub enum Source<'a> {
@@ -145,13 +153,7 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
                 Status::Success => {
                     flush_quiet(out, &mut quiet, tick);
                     let _ = writeln!(out, "tick {tick:>3}  the root succeeds: the goal holds");
-                    record.status = Some(Status::Success);
-                    record.snapshots.push(Snapshot {
-                        tick,
-                        label: "end".into(),
-                        nodes: nodes.clone(),
-                        states: exec.states().to_vec(),
-                    });
+                    record.end(tick, Status::Success, &nodes, exec.states());
                     break 'run;
                 }
                 Status::Failure => {
@@ -159,13 +161,7 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
                     let failed = failed_conditions(&nodes, exec.states(), catalog);
                     let _ = writeln!(out, "tick {tick:>3}  the root fails: {}", failed.join(", "));
                     let Source::Planner(planner) = &mut source else {
-                        record.status = Some(Status::Failure);
-                        record.snapshots.push(Snapshot {
-                            tick,
-                            label: "end".into(),
-                            nodes: nodes.clone(),
-                            states: exec.states().to_vec(),
-                        });
+                        record.end(tick, Status::Failure, &nodes, exec.states());
                         break 'run;
                     };
                     let belief = world.belief(planner.grounding());

@@ -10,6 +10,25 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
+/// Implements `bt_core::BehaviorSet` for a scenario by handing every call to its
+/// `world` field: the scenario adds agents and narration, the world does the behaviors.
+macro_rules! forward_behaviors {
+    ($t:ty $(where $g:ident: $bound:path)?) => {
+        impl$(<$g: $bound>)? bt_core::BehaviorSet for $t {
+            fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> bt_core::Status {
+                bt_core::BehaviorSet::condition(&mut self.world, leaf, ctx)
+            }
+            fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> bt_core::Status {
+                bt_core::BehaviorSet::action(&mut self.world, leaf, ctx)
+            }
+            fn halt(&mut self, leaf: &bt_core::Leaf, node: bt_core::NodeId) {
+                bt_core::BehaviorSet::halt(&mut self.world, leaf, node);
+            }
+        }
+    };
+}
+pub(crate) use forward_behaviors;
+
 pub mod cellphone;
 pub mod cube;
 pub mod driver;
@@ -19,7 +38,7 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 use anyhow::Context as _;
-use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
+use bt_core::Status;
 use planner::duplo::{Spec, Task};
 use planner::{Options, PddlCatalog, Planner, domains};
 
@@ -301,17 +320,7 @@ impl<W: BrickWorld> Bricks<W> {
     }
 }
 
-impl<W: BrickWorld> BehaviorSet for Bricks<W> {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.condition(leaf, ctx)
-    }
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
-        self.world.action(leaf, ctx)
-    }
-    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
-        self.world.halt(leaf, node);
-    }
-}
+forward_behaviors!(Bricks<W> where W: BrickWorld);
 
 impl<W: BrickWorld> Live for Bricks<W> {
     fn advance(&mut self, _tick: u32, _running: Option<&str>) {

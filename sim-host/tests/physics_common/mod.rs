@@ -19,29 +19,14 @@ pub struct Outcome {
     pub ticks: u32,
 }
 
-/// Ticks `text` until the root returns something other than Running (or `limit`).
-pub fn until_done<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome {
-    let spec = world.spec().clone();
-    let nodes = nodes(&spec, text);
-    let tree: Tree<'_, 32> = Tree::validate(&nodes, &spec).unwrap();
-    let mut state = vec![NodeState::IDLE; nodes.len()];
-    let mut exec = Executor::new(tree, &mut state).unwrap();
-    let mut status = Status::Running;
-    let mut t = 0;
-    while t < limit {
-        status = exec.tick(&mut *world, t).unwrap();
-        t += 1;
-        if status != Status::Running {
-            break;
-        }
-        world.step();
-    }
-    Outcome { status, ticks: t }
-}
-
-/// One episode under seed 003's rules: ends at the first root Failure, after root
-/// Success on two consecutive ticks, or after `limit` ticks.
-pub fn episode<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome {
+/// Ticks `text` on `world`, stepping between ticks, until `stop(world, status, last)`
+/// says so after a tick (`last`: the status of the tick before) or `limit` ticks ran.
+pub fn drive<W: BrickWorld>(
+    world: &mut W,
+    text: &str,
+    limit: u32,
+    mut stop: impl FnMut(&W, Status, Status) -> bool,
+) -> Outcome {
     let spec = world.spec().clone();
     let nodes = nodes(&spec, text);
     let tree: Tree<'_, 32> = Tree::validate(&nodes, &spec).unwrap();
@@ -53,13 +38,26 @@ pub fn episode<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome 
     while t < limit {
         status = exec.tick(&mut *world, t).unwrap();
         t += 1;
-        if status == Status::Failure || (status == Status::Success && last == Status::Success) {
+        if stop(world, status, last) {
             break;
         }
         last = status;
         world.step();
     }
     Outcome { status, ticks: t }
+}
+
+/// Ticks `text` until the root returns something other than Running (or `limit`).
+pub fn until_done<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome {
+    drive(world, text, limit, |_, status, _| status != Status::Running)
+}
+
+/// One episode under seed 003's rules: ends at the first root Failure, after root
+/// Success on two consecutive ticks, or after `limit` ticks.
+pub fn episode<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome {
+    drive(world, text, limit, |_, status, last| {
+        status == Status::Failure || (status == Status::Success && last == Status::Success)
+    })
 }
 
 /// Distance between two points.
