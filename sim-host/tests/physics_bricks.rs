@@ -243,3 +243,39 @@ fn an_action_halted_and_restarted_within_a_tick_carries_on() {
     w.reset();
     assert_eq!(w.halt_rule(), HaltRule::Cancel, "reset keeps the rule");
 }
+
+/// While the gripper holds a brick, conditions see every brick where it was when the
+/// fingers closed (as the published AGX behaviors do for `at pos`): the brick in the
+/// fingers has not left its place for the tree until it is let go.
+#[test]
+fn while_a_brick_is_held_conditions_see_it_where_it_was_grasped() {
+    let mut w = world(Task::Tower);
+    let goal = "0 at pos (0.0, 0.05, 0.0)?";
+    assert_eq!(until_done(&mut w, TOWER_G0, 120).status, Status::Success, "{:?}", w.events());
+    assert_eq!(until_done(&mut w, "pick 0!", 60).status, Status::Success, "{:?}", w.events());
+    assert!(w.position(0)[2] > 0.07, "lifted: {:?}", w.position(0));
+    assert_eq!(until_done(&mut w, goal, 1).status, Status::Success, "still seen at its goal");
+    let out = until_done(&mut w, "place on 1!", 60);
+    assert_eq!((out.status, w.held()), (Status::Success, None), "{:?}", w.events());
+    assert_eq!(until_done(&mut w, goal, 1).status, Status::Failure, "seen where it is once let go");
+    assert_eq!(until_done(&mut w, "0 on 1?", 1).status, Status::Success);
+}
+
+/// The blocking task's shuffle, guarded as GP writes it: brick 0 goes on 1, brick 2 to
+/// D, then 0 to A. While `put 0 at A!` carries brick 0 off brick 1, the first `put 0 on
+/// 1!` is ticked again; seeing 0 still on 1 it succeeds at once instead of carrying it
+/// back (measured before the rule: the two puts undid each other until the tick limit,
+/// fitness -286.9).
+#[test]
+fn the_blocking_shuffle_is_not_undone_in_transit() {
+    let mut w = world(Task::Blocking);
+    let tree = "s( f( 0 at pos (-0.1, 0.0, 0.0)? s( put 0 on 1! put 2 at (0.0, -0.05, 0.0)! put 0 at (-0.1, 0.0, 0.0)! ) ) \
+                f( 1 at pos (-0.1, 0.0, 0.0192)? s( put 1 on 0! apply force 1! ) ) put 2 at (0.0, 0.0, 0.0)! )";
+    let out = episode(&mut w, tree, 200);
+    assert_eq!(out.status, Status::Success, "{out:?} {:?}", w.events());
+    assert!(out.ticks < 200, "ended by two successes: {out:?}");
+    for (i, goal) in Task::Blocking.spec().goal.iter().enumerate() {
+        let goal = goal.unwrap();
+        assert!(dist(w.position(i), goal) < 4e-4, "brick {i} at {:?}, goal {goal:?}", w.position(i));
+    }
+}

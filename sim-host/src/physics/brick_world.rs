@@ -44,10 +44,24 @@
 //! and the gripper rises), so there the idiom picks the brick up again: a real robot
 //! ticking that tree would too.
 //!
+//! # Perception
+//!
+//! While the gripper holds a brick, the tree sees every brick where it was when the
+//! fingers closed; once they open it sees the bodies as they are. This is what the
+//! published AGX behaviors of seed 003 do for `at pos` ("don't update when currently
+//! gripping a brick or it might end prematurely"), extended to `on` and to the puts'
+//! "already there" shortcuts so that all of them agree. Without it a multi-tick put
+//! exposes its brick in mid-air to the reactive tree: in the blocking task, `put 0 at
+//! A!` lifting brick 0 off brick 1 makes an earlier `put 0 on 1!` in the same sequence
+//! start again and carry it back, and the two undo each other until the tick limit
+//! (the symbolic world, where a put takes effect at once, never shows that state).
+//! `picked b?` is live.
+//!
 //! # Behaviors
 //!
-//! Conditions measure the bodies: `picked b?` is the grasp joint; `b at pos P?` is the
-//! distance of b's reference point from P below 1 mm; `i on j?` is the on-top test above.
+//! Conditions: `picked b?` is the grasp joint; `b at pos P?` is the distance of b's
+//! reference point from P below 1 mm; `i on j?` is the on-top test above; both as the
+//! tree sees the bricks (*Perception*).
 //! Actions, with the reference's shortcuts when they start:
 //!
 //! - `pick b!`: succeeds at once if b is held, fails at once if another brick is. Rise
@@ -56,8 +70,10 @@
 //!   (or over b's top, studs included), descend until the held brick is 0.5 mm above
 //!   its place, open, rise. A descent that meets anything (an occupied spot, a brick
 //!   overhanging it, the cone) stops: the action fails and the brick stays held.
-//! - `put i at P!` / `put i on j!`: succeed at once if i is already there; fail at once
-//!   if another brick is held; otherwise pick (unless i is held) then place.
+//! - `put i at P!` / `put i on j!`: succeed at once if i is already there as the tree
+//!   sees it; fail at once if another brick is held; otherwise pick (unless i is held)
+//!   then place. A brick with another one loose on top cannot be lifted: the lift meets
+//!   the upper brick and fails (press the upper one first, and the pair moves as one).
 //! - `apply force b!`: fails at once while holding. Rise, close the fingers fully, move
 //!   over b, descend onto its top (stopping early on anything above it: the force then
 //!   goes through that), press for 0.2 s, rise. If b sits aligned on a brick, it is
@@ -272,6 +288,9 @@ pub struct PhysicsBrickWorld {
     tool: Vector,
     gap: f32,
     grasp: Option<(u8, ImpulseJointHandle)>,
+    /// Every brick's position when the fingers last closed on a brick: what conditions
+    /// see while the grasp lasts.
+    at_grasp: Vec<Vector>,
     /// Per brick: the body carrying it (its own, or that of the pressed assembly it is
     /// part of) and its frame in that body's frame.
     carrier: Vec<(RigidBodyHandle, Pose)>,
@@ -365,6 +384,7 @@ impl PhysicsBrickWorld {
             tool,
             gap: OPEN,
             grasp: None,
+            at_grasp: Vec::new(),
             job: None,
             halted: Vec::new(),
             halt_rule: HaltRule::default(),
@@ -459,16 +479,29 @@ impl PhysicsBrickWorld {
         u8::try_from(i).ok()
     }
 
-    fn is_on(&self, i: u8, j: u8) -> bool {
-        if i == j {
-            return false;
+    /// Where the tree sees brick b: where it is, or while the gripper holds a brick,
+    /// where it was when the fingers closed (see the module docs, *Perception*).
+    fn seen(&self, brick: u8) -> Vector {
+        match self.grasp {
+            Some(_) => self.at_grasp.get(usize::from(brick)).copied().unwrap_or(Vector::splat(f32::NAN)),
+            None => self.pos(brick),
         }
-        let d = self.pos(i) - self.pos(j);
+    }
+
+    /// The reference's on-top test on two positions.
+    fn on_top(upper: Vector, lower: Vector) -> bool {
+        let d = upper - lower;
         d.x.abs() < ON_TOP_MARGIN && d.y.abs() < ON_TOP_MARGIN && d.z > 0.0 && d.z <= ON_TOP_MAX_DZ
     }
 
+    /// `i on j`, as the tree sees it.
+    fn is_on(&self, i: u8, j: u8) -> bool {
+        i != j && Self::on_top(self.seen(i), self.seen(j))
+    }
+
+    /// `brick at pos p`, as the tree sees it.
     fn is_at(&self, brick: u8, p: [f32; 3]) -> bool {
-        (self.pos(brick) - Vector::from_array(p)).length() < POSITION_MARGIN
+        (self.seen(brick) - Vector::from_array(p)).length() < POSITION_MARGIN
     }
 
     fn position_of(&self, p: planner::duplo::Position) -> Option<[f32; 3]> {
@@ -513,7 +546,7 @@ impl PhysicsBrickWorld {
                 if !self.known_brick(i) {
                     return Err(Status::Failure);
                 }
-                if self.is_at(i, at) && held != Some(i) {
+                if self.is_at(i, at) {
                     return Err(Status::Success);
                 }
                 match held {
@@ -526,7 +559,7 @@ impl PhysicsBrickWorld {
                 if !self.known_brick(i) || !self.known_brick(j) || i == j {
                     return Err(Status::Failure);
                 }
-                if self.is_on(i, j) && held != Some(i) {
+                if self.is_on(i, j) {
                     return Err(Status::Success);
                 }
                 match held {
@@ -646,6 +679,7 @@ impl PhysicsBrickWorld {
             .local_frame2(offset)
             .contacts_enabled(false);
         let j = self.world.impulse_joints.insert(self.gripper, body, joint, true);
+        self.at_grasp = (0..self.bricks.len()).filter_map(|k| u8::try_from(k).ok()).map(|k| self.pos(k)).collect();
         self.grasp = Some((brick, j));
         true
     }
@@ -682,8 +716,9 @@ impl PhysicsBrickWorld {
             return;
         }
         let count = u8::try_from(self.bricks.len()).unwrap_or(u8::MAX);
-        let below =
-            (0..count).filter(|&j| self.is_on(brick, j)).max_by(|&a, &b| self.pos(a).z.total_cmp(&self.pos(b).z));
+        let below = (0..count)
+            .filter(|&j| j != brick && Self::on_top(self.pos(brick), self.pos(j)))
+            .max_by(|&a, &b| self.pos(a).z.total_cmp(&self.pos(b).z));
         let Some(below) = below else { return };
         let (Some(upper), Some(lower)) = (self.pose_of(brick), self.pose_of(below)) else { return };
         let footprint = |i: u8| self.spec.bricks.get(usize::from(i)).map(|&k| bricks::dimensions(k));
