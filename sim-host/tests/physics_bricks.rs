@@ -279,3 +279,20 @@ fn the_blocking_shuffle_is_not_undone_in_transit() {
         assert!(dist(w.position(i), goal) < 4e-4, "brick {i} at {:?}, goal {goal:?}", w.position(i));
     }
 }
+
+/// A brick sitting loose on the studs of the one being lifted rides along and is set
+/// down with it, still on top (it used to stop the lift: the guard met it).
+#[test]
+fn a_loose_brick_on_top_rides_along() {
+    let mut w = world(Task::Blocking);
+    let a = [-0.1, 0.0, 0.0];
+    let tree = "s( put 1 on 0! put 2 at (0.0, 0.05, 0.0)! put 0 at (-0.1, 0.0, 0.0)! )";
+    let out = until_done(&mut w, tree, 200);
+    assert_eq!(out.status, Status::Success, "{out:?} {:?}", w.events());
+    for _ in 0..10 {
+        w.step();
+    }
+    assert!(dist(w.position(0), a) < 1e-3, "brick 0 at A: {:?}", w.position(0));
+    assert_eq!(until_done(&mut w, "1 on 0?", 1).status, Status::Success, "{:?}", (w.position(0), w.position(1)));
+    assert_eq!(w.fixed_below(1), None, "not pressed on the way");
+}

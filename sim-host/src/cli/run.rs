@@ -69,8 +69,7 @@ pub struct Args {
     /// The world that plays the episode.
     #[arg(long, value_enum, default_value_t = WorldKind::Symbolic)]
     pub world: WorldKind,
-    /// The tree: an image file or token text (required until the planner's tree becomes
-    /// the default).
+    /// The tree: an image file or token text [default: the planner's tree for the task].
     #[arg(long, value_name = "FILE")]
     pub tree: Option<PathBuf>,
     /// Also draw the episode as an SVG picture: paths over the table, heights against

@@ -22,6 +22,11 @@
 //!   gripper and the brick (friction grasping of 6 g bricks by a kinematic gripper
 //!   jitters), holding it centred between the fingertips and upright; it is removed
 //!   when the fingers open. Grasping a brick of a pressed assembly lifts the assembly.
+//!   Bricks sitting loose and aligned on what is grasped (the on-top test below) ride
+//!   along on its studs, as on a real brick: they follow it kinematically until the
+//!   fingers open, and a place onto one of them fails at once. (The symbolic world
+//!   leaves them hanging where they were; here the alternative was a lift that stops
+//!   at the brick on top.)
 //! - **Studs**: pressing a brick that sits aligned on another (the reference's on-top
 //!   test: |dx|, |dy| < 3 mm, 0 < dz <= 22.2 mm) fixes it exactly one brick height above
 //!   the lower one, as studs would: both become one rigid body (bricks whose tops the
@@ -72,8 +77,7 @@
 //!   overhanging it, the cone) stops: the action fails and the brick stays held.
 //! - `put i at P!` / `put i on j!`: succeed at once if i is already there as the tree
 //!   sees it; fail at once if another brick is held; otherwise pick (unless i is held)
-//!   then place. A brick with another one loose on top cannot be lifted: the lift meets
-//!   the upper brick and fails (press the upper one first, and the pair moves as one).
+//!   then place.
 //! - `apply force b!`: fails at once while holding. Rise, close the fingers fully, move
 //!   over b, descend onto its top (stopping early on anything above it: the force then
 //!   goes through that), press for 0.2 s, rise. If b sits aligned on a brick, it is
@@ -83,7 +87,7 @@ use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
 use planner::duplo::{BRICK_HEIGHT, Behavior, Spec};
 use rapier3d::parry::shape::{Cuboid, SharedShape};
 use rapier3d::prelude::{
-    ColliderHandle, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyHandle, Vector,
+    ColliderHandle, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyHandle, RigidBodyType, Vector,
 };
 
 use super::PhysicsError;
@@ -291,6 +295,10 @@ pub struct PhysicsBrickWorld {
     /// Every brick's position when the fingers last closed on a brick: what conditions
     /// see while the grasp lasts.
     at_grasp: Vec<Vector>,
+    /// Bodies resting on what is held when the fingers closed (a brick sitting loose on
+    /// the studs of the lifted one): they ride along, kinematic, each with its pose in
+    /// the held body's frame, until the fingers open.
+    riders: Vec<(RigidBodyHandle, Pose)>,
     /// Per brick: the body carrying it (its own, or that of the pressed assembly it is
     /// part of) and its frame in that body's frame.
     carrier: Vec<(RigidBodyHandle, Pose)>,
@@ -385,6 +393,7 @@ impl PhysicsBrickWorld {
             gap: OPEN,
             grasp: None,
             at_grasp: Vec::new(),
+            riders: Vec::new(),
             job: None,
             halted: Vec::new(),
             halt_rule: HaltRule::default(),
@@ -538,7 +547,7 @@ impl PhysicsBrickWorld {
                 _ => Err(Status::Failure),
             },
             Behavior::PlaceOn(b) => match held {
-                Some(h) if h != b && self.known_brick(b) => Ok(place(Spot::On(b))),
+                Some(h) if h != b && self.known_brick(b) && !self.is_rider(b) => Ok(place(Spot::On(b))),
                 _ => Err(Status::Failure),
             },
             Behavior::PutAt(i, p) => {
@@ -563,6 +572,7 @@ impl PhysicsBrickWorld {
                     return Err(Status::Success);
                 }
                 match held {
+                    Some(h) if h == i && self.is_rider(j) => Err(Status::Failure),
                     Some(h) if h == i => Ok(place(Spot::On(j))),
                     Some(_) => Err(Status::Failure),
                     None => Ok([pick(i), place(Spot::On(j))].concat()),
@@ -633,6 +643,7 @@ impl PhysicsBrickWorld {
         let members = held.map(|b| self.assembly(b)).unwrap_or_default();
         let mut ignore = vec![self.gripper];
         ignore.extend(members.iter().filter_map(|&m| self.body(m)));
+        ignore.extend(self.riders.iter().map(|&(h, _)| h));
         let mut hit = None;
         let mut consider = |h: Option<(ColliderHandle, f32)>| {
             if let Some((c, toi)) = h
@@ -647,7 +658,8 @@ impl PhysicsBrickWorld {
         if let Some(held_pose) = held.and_then(|b| self.pose_of(b)) {
             // What is held, where the grasp holds it (not where the joint lags it).
             let correction = self.grasp_pose() * held_pose.inverse();
-            if let Some(body) = held.and_then(|b| self.body(b)).and_then(|h| self.world.bodies.get(h)) {
+            let carried = held.and_then(|b| self.body(b)).into_iter().chain(self.riders.iter().map(|&(h, _)| h));
+            for body in carried.filter_map(|h| self.world.bodies.get(h)) {
                 for &c in body.colliders() {
                     if let Some(col) = self.world.colliders.get(c) {
                         let pose = correction * *col.position();
@@ -681,7 +693,55 @@ impl PhysicsBrickWorld {
         let j = self.world.impulse_joints.insert(self.gripper, body, joint, true);
         self.at_grasp = (0..self.bricks.len()).filter_map(|k| u8::try_from(k).ok()).map(|k| self.pos(k)).collect();
         self.grasp = Some((brick, j));
+        self.board_riders(brick, body);
         true
+    }
+
+    /// Finds the bricks resting, aligned, on the assembly of `brick` (body `held`), and
+    /// on those, and makes their bodies kinematic riders of `held`.
+    fn board_riders(&mut self, brick: u8, held: RigidBodyHandle) {
+        let count = u8::try_from(self.bricks.len()).unwrap_or(u8::MAX);
+        let mut carried: Vec<u8> = self.assembly(brick);
+        let mut bodies = vec![held];
+        loop {
+            let next = (0..count).find(|&k| {
+                self.body(k).is_some_and(|b| !bodies.contains(&b))
+                    && carried.iter().any(|&m| Self::on_top(self.pos(k), self.pos(m)))
+            });
+            let Some(k) = next else { break };
+            let Some(b) = self.body(k) else { break };
+            bodies.push(b);
+            carried.extend(self.assembly(k));
+        }
+        let Some(held_pose) = self.world.bodies.get(held).map(|b| *b.position()) else { return };
+        for &b in bodies.iter().skip(1) {
+            if let Some(body) = self.world.bodies.get_mut(b) {
+                let rel = held_pose.inverse() * *body.position();
+                body.set_body_type(RigidBodyType::KinematicPositionBased, true);
+                self.riders.push((b, rel));
+            }
+        }
+    }
+
+    /// Moves the riders with the held body: to `held`'s pose now (`snap`: at once), or
+    /// as their kinematic target for the next step.
+    fn carry_riders(&mut self, snap: bool) {
+        let Some(held) = self.held_brick().and_then(|b| self.body(b)) else { return };
+        let Some(held_pose) = self.world.bodies.get(held).map(|b| *b.position()) else { return };
+        for &(h, rel) in &self.riders {
+            if let Some(body) = self.world.bodies.get_mut(h) {
+                if snap {
+                    body.set_position(held_pose * rel, true);
+                } else {
+                    body.set_next_kinematic_position(held_pose * rel);
+                }
+            }
+        }
+    }
+
+    /// Brick b rides on what is held.
+    fn is_rider(&self, b: u8) -> bool {
+        self.body(b).is_some_and(|h| self.riders.iter().any(|&(r, _)| r == h))
     }
 
     /// Puts what is held exactly where the grasp holds it.
@@ -693,6 +753,7 @@ impl PhysicsBrickWorld {
             let at = correction * *body.position();
             body.set_position(at, true);
         }
+        self.carry_riders(true);
         self.moved = true;
     }
 
@@ -704,6 +765,13 @@ impl PhysicsBrickWorld {
                 body.set_angvel(Vector::ZERO, true);
             }
             self.events.push(BrickEvent::Released { tick: self.tick, brick: b });
+        }
+        for (h, _) in core::mem::take(&mut self.riders) {
+            if let Some(body) = self.world.bodies.get_mut(h) {
+                body.set_body_type(RigidBodyType::Dynamic, true);
+                body.set_linvel(Vector::ZERO, true);
+                body.set_angvel(Vector::ZERO, true);
+            }
         }
     }
 
@@ -932,6 +1000,7 @@ impl PhysicsBrickWorld {
         if let Some(g) = self.world.bodies.get_mut(self.gripper) {
             g.set_next_kinematic_translation(self.tool);
         }
+        self.carry_riders(false);
         self.job = Some(job);
     }
 
