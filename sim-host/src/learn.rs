@@ -4,7 +4,8 @@
 //!
 //! A run folder, `<task>-<variant>-<world>-seed<N>/`, holds:
 //! - `run.txt`: `key = value` lines — task, world, the crate version, the planner's
-//!   fitness in that world, wall time, episodes, and every GP setting
+//!   fitness in that world, wall time, episodes, for the physics world its settings
+//!   ([`crate::physics::BrickParams`]), and every GP setting
 //!   ([`gp::Params::to_record`]: seed, variant, generations, baseline, Table I);
 //! - `curve.csv`: `generation,episodes,best_fitness,best_length`, one row per
 //!   generation;
@@ -195,6 +196,15 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
     let _ = writeln!(record, "best_fitness = {:?}", run.result.best.fitness);
     let _ = writeln!(record, "episodes = {}", run.result.episodes);
     let _ = writeln!(record, "wall_seconds = {:.3}", run.seconds);
+    if run.spec.world == WorldKind::Physics {
+        // The world's own settings: the episodes of a physics run depend on them.
+        let p = crate::physics::BrickParams::default();
+        let _ = writeln!(record, "physics_steps_per_tick = {}", p.steps_per_tick);
+        let _ = writeln!(record, "physics_solver_iterations = {}", p.solver_iterations);
+        let _ = writeln!(record, "physics_pgs_iterations = {}", p.pgs_iterations);
+        let _ = writeln!(record, "physics_gripper_speed = {}", p.speed);
+        let _ = writeln!(record, "physics_travel_height = {}", p.travel_height);
+    }
     record.push_str(&params.to_record(&spec)?);
     let best = run.result.best.tree()?;
     let image = planner::output::to_image(&best, &spec)?;

@@ -121,3 +121,26 @@ fn bad_arguments_are_one_line_and_leave_nothing_behind() {
     let nowhere = dir.path().join("missing").join("c.png");
     one_line_error(&sim_host(&["plot", out, "--out", nowhere.to_str().unwrap()]), "missing");
 }
+
+#[test]
+fn a_physics_run_records_the_worlds_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let args = ["learn", "--task", "tower", "--world", "physics", "--generations", "2", "--seeds", "1", "--out", out];
+    ok(&sim_host(&args));
+    let record = std::fs::read_to_string(dir.path().join("tower-baseline-physics-seed1/run.txt")).unwrap();
+    for key in [
+        "world = physics",
+        "physics_steps_per_tick = 5",
+        "physics_solver_iterations = 4",
+        "physics_pgs_iterations = 3",
+        "physics_gripper_speed = 0.3",
+        "physics_travel_height = 0.09",
+    ] {
+        assert!(record.contains(key), "run.txt lacks `{key}`:\n{record}");
+    }
+    // The extra keys do not stop the folder from being read back.
+    let table = ok(&sim_host(&["plot", out]));
+    let row: Vec<&str> = table.lines().nth(1).unwrap_or_default().split_whitespace().collect();
+    assert_eq!(row.get(..3), Some(&["tower", "physics", "baseline"][..]), "{table}");
+}
