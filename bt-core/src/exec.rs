@@ -84,23 +84,6 @@ enum FrameKind {
 }
 
 impl FrameKind {
-    /// The frame kind of an ordered node kind (Sequence or Fallback, either flavour).
-    #[inline(always)]
-    fn ordered(kind: &NodeKind) -> Self {
-        match kind {
-            NodeKind::Fallback => Self::Fallback,
-            NodeKind::SequenceWithMemory => Self::SequenceWithMemory,
-            NodeKind::FallbackWithMemory => Self::FallbackWithMemory,
-            _ => Self::Sequence,
-        }
-    }
-
-    /// For an ordered kind: with memory.
-    #[inline(always)]
-    fn has_memory(self) -> bool {
-        (self as u8) & 2 != 0
-    }
-
     /// Sequence or Fallback, with or without memory.
     #[inline(always)]
     fn is_ordered(self) -> bool {
@@ -292,6 +275,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// Sets status and `aux` at once.
+    #[inline(always)]
+    fn set_state(&mut self, i: usize, new: NodeStatus, aux: u16) {
+        if let Some(s) = self.state.get_mut(i) {
+            let old = s.status;
+            *s = NodeState { status: new, aux };
+            if O::ENABLED && old != new {
+                self.observer.on_change(i as NodeId, old, new);
+            }
+        }
+    }
+
     #[inline(always)]
     fn set_aux(&mut self, i: usize, aux: u16) {
         if let Some(s) = self.state.get_mut(i) {
@@ -326,6 +321,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     if r == Status::Running {
                         return Err(TickError::ConditionRunning { node: c as NodeId, behavior: leaf.behavior() });
                     }
+                    self.set_status(c, r.into());
                     (r, c + 1)
                 }
                 NodeKind::Action(leaf) => {
@@ -333,12 +329,11 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     if starting {
                         self.preempt(frames, depth, c);
                     }
-                    (self.behaviors.action(leaf, Context { node: c as NodeId, now, starting }), c + 1)
+                    let r = self.behaviors.action(leaf, Context { node: c as NodeId, now, starting });
+                    self.set_status(c, r.into());
+                    (r, c + 1)
                 }
-                kind @ (NodeKind::Sequence
-                | NodeKind::Fallback
-                | NodeKind::SequenceWithMemory
-                | NodeKind::FallbackWithMemory) => 'ordered: {
+                kind @ (NodeKind::Sequence | NodeKind::Fallback) => 'ordered: {
                     // Ticks the leading leaf children in place: a frame is pushed only
                     // when a child is itself a control node or decorator.
                     let st = self.state.get(c).copied().unwrap_or_default();
@@ -346,10 +341,10 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     // The child returned at last time; children after it are Idle.
                     let last = if st.status == NodeStatus::Idle { 0 } else { usize::from(st.aux) };
                     let end = c + usize::from(node.size());
-                    let fkind = FrameKind::ordered(kind);
+                    let fkind =
+                        if matches!(kind, NodeKind::Fallback) { FrameKind::Fallback } else { FrameKind::Sequence };
                     let go_on = fkind.goes_on_after();
-                    // With memory: resume at the child that was Running.
-                    let mut k = if running && fkind.has_memory() { last } else { c + 1 };
+                    let mut k = c + 1;
                     loop {
                         let Some(child) = nodes.get(k) else {
                             return Err(oob(k));
@@ -391,7 +386,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         if last > k {
                             self.reset_range(k + 1, last.min(end - 1))?;
                         }
-                        self.set_aux(c, k as u16);
+                        self.set_state(c, r.into(), k as u16);
                         break 'ordered (r, end);
                     }
                 }
@@ -413,14 +408,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     };
                     let first = match self.enter_other(kind, st, slot, x)? {
                         Entered::Child(first) => first,
-                        Entered::Decided(v) => break 'enter (v, end),
+                        Entered::Decided(v) => {
+                            self.set_status(c, v.into());
+                            break 'enter (v, end);
+                        }
                     };
                     depth += 1;
                     c = first;
                     continue 'descend;
                 }
             };
-            self.set_status(c, r.into());
 
             // Ascend: node `c` (ending at `child_end`) returned `r` to the frame at
             // `depth - 1`.
@@ -436,7 +433,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         continue 'descend;
                     }
                     let f = *f;
-                    self.finish_ordered(&f, c, child_end)?;
+                    self.finish_ordered(&f, c, child_end, r)?;
                 } else {
                     let f = *f;
                     match self.ascend_other(&f, extra, top, c, child_end, r)? {
@@ -446,12 +443,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         }
                         Ascent::Return(v) => r = v,
                     }
+                    self.set_status(usize::from(f.node), r.into());
                 }
                 // The frame's node returns `r` to the frame below.
                 c = usize::from(f.node);
                 child_end = usize::from(f.end);
                 depth = top;
-                self.set_status(c, r.into());
             }
             return Ok(r);
         }
@@ -603,12 +600,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// ends at `next`: reset the children it reached last time beyond `child`, remember
     /// `child`.
     #[inline(always)]
-    fn finish_ordered(&mut self, f: &Frame, child: usize, next: usize) -> Result<(), TickError> {
+    fn finish_ordered(&mut self, f: &Frame, child: usize, next: usize, r: Status) -> Result<(), TickError> {
         let last = usize::from(f.a);
         if last > child {
             self.reset_range(next, last.min(usize::from(f.end).saturating_sub(1)))?;
         }
-        self.set_aux(usize::from(f.node), child as u16);
+        self.set_state(usize::from(f.node), r.into(), child as u16);
         Ok(())
     }
 
