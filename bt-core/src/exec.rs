@@ -287,6 +287,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// Sets a node Idle and its `aux` to 0: the tick relies on an Idle node's `aux`
+    /// being 0 (no child returned at, no count).
+    #[inline(always)]
+    fn set_idle(&mut self, i: usize) {
+        self.set_state(i, NodeStatus::Idle, 0);
+    }
+
     #[inline(always)]
     fn set_aux(&mut self, i: usize, aux: u16) {
         if let Some(s) = self.state.get_mut(i) {
@@ -335,15 +342,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 }
                 kind @ (NodeKind::Sequence | NodeKind::Fallback) => 'ordered: {
                     // Ticks the leading leaf children in place: a frame is pushed only
-                    // when a child is itself a control node or decorator.
-                    let st = self.state.get(c).copied().unwrap_or_default();
-                    let running = st.status == NodeStatus::Running;
-                    // The child returned at last time; children after it are Idle.
-                    let last = if st.status == NodeStatus::Idle { 0 } else { usize::from(st.aux) };
+                    // when a child is itself a control node or decorator. The node's
+                    // state stays as the tick found it until it returns, so what the
+                    // frame and the return need of it is read then, not kept in
+                    // registers through the loop.
                     let end = c + usize::from(node.size());
-                    let fkind =
-                        if matches!(kind, NodeKind::Fallback) { FrameKind::Fallback } else { FrameKind::Sequence };
-                    let go_on = fkind.goes_on_after();
+                    let go_on = if matches!(kind, NodeKind::Fallback) { Status::Failure } else { Status::Success };
                     let mut k = c + 1;
                     loop {
                         let Some(child) = nodes.get(k) else {
@@ -368,10 +372,23 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             // halt others first): ticked on the general path, under a
                             // frame for this node.
                             _ => {
+                                let st = self.state.get(c).copied().unwrap_or_default();
                                 let Some(slot) = frames.get_mut(depth) else {
                                     return Err(oob(c));
                                 };
-                                *slot = Frame { node: c as u16, end: end as u16, a: last as u16, kind: fkind, running };
+                                *slot = Frame {
+                                    node: c as u16,
+                                    end: end as u16,
+                                    // The child it returned at last time (an Idle node's
+                                    // `aux` is 0: see `set_idle`).
+                                    a: st.aux,
+                                    kind: if go_on == Status::Failure {
+                                        FrameKind::Fallback
+                                    } else {
+                                        FrameKind::Sequence
+                                    },
+                                    running: st.status == NodeStatus::Running,
+                                };
                                 depth += 1;
                                 c = k;
                                 continue 'descend;
@@ -382,7 +399,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             k += 1;
                             continue;
                         }
-                        // Returns at child `k`.
+                        // Returns at child `k`: reset the children it reached last
+                        // time beyond `k`.
+                        let last = self.state.get(c).map_or(0, |s| usize::from(s.aux));
                         if last > k {
                             self.reset_range(k + 1, last.min(end - 1))?;
                         }
@@ -702,7 +721,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 match self.end_of(a) {
                     Ok(a_end) if a_end <= i => {
                         top -= 1;
-                        self.set_status(a, NodeStatus::Idle);
+                        self.set_idle(a);
                     }
                     _ => break,
                 }
@@ -720,16 +739,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     if self.status(i) == NodeStatus::Running {
                         self.behaviors.halt(leaf, i as NodeId);
                     }
-                    self.set_status(i, NodeStatus::Idle);
+                    self.set_idle(i);
                 }
-                NodeKind::Condition(_) => self.set_status(i, NodeStatus::Idle),
+                NodeKind::Condition(_) => self.set_idle(i),
                 _ => match self.halt_stack.get_mut(top) {
                     Some(slot) => {
                         *slot = i as u16;
                         top += 1;
                     }
                     // Deeper than DEPTH: impossible for a validated tree.
-                    None => self.set_status(i, NodeStatus::Idle),
+                    None => self.set_idle(i),
                 },
             }
             i += 1;
