@@ -35,16 +35,19 @@ use crate::tree::Tree;
 /// The runtime state of one node, kept by the caller in an array parallel to the nodes.
 /// 4 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[repr(C, align(4))]
 pub struct NodeState {
-    status: NodeStatus,
     /// Sequence/Fallback (with or without memory): the child it returned at when last
     /// ticked (children after it are Idle). Repeat/Retry/Timeout: the count. Else unused.
     aux: u16,
+    status: NodeStatus,
+    /// Always 0: with no padding byte the whole state is written in one store.
+    zero: u8,
 }
 
 impl NodeState {
     /// The state of a node that has not been ticked; fill storage with it.
-    pub const IDLE: NodeState = NodeState { status: NodeStatus::Idle, aux: 0 };
+    pub const IDLE: NodeState = NodeState { status: NodeStatus::Idle, aux: 0, zero: 0 };
 
     /// What the node returned when last ticked, or Idle.
     #[inline(always)]
@@ -280,7 +283,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     fn set_state(&mut self, i: usize, new: NodeStatus, aux: u16) {
         if let Some(s) = self.state.get_mut(i) {
             let old = s.status;
-            *s = NodeState { status: new, aux };
+            *s = NodeState { status: new, aux, zero: 0 };
             if O::ENABLED && old != new {
                 self.observer.on_change(i as NodeId, old, new);
             }
