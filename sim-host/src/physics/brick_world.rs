@@ -151,7 +151,7 @@ pub struct BrickParams {
     /// rapier's inner Gauss-Seidel iterations per solver iteration. With 1 (rapier's
     /// default) the balance task's long brick set on the 4x2 base rocks, walks
     /// millimetres off and is knocked aside by the press, so the reference's published
-    /// balance solution fails (-58.0 instead of -0.6); 3 keeps it still at a fifth more
+    /// balance solution fails (-58.0 instead of -0.6); 3 keeps it still for 13-26% more
     /// time per episode (8 solver iterations do it too, at three times the time).
     pub pgs_iterations: usize,
     /// Gripper speed, m/s.
