@@ -421,6 +421,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     *slot = Frame {
                         node: c as u16,
                         end: end as u16,
+                        // (`st.aux` alone would do, an Idle node's `aux` being 0, but
+                        // measured: with it the compiler lays out the whole tick loop
+                        // worse, W100 393 -> 456 ns, D50 296 -> 327 ns.)
                         a: if st.status == NodeStatus::Idle { 0 } else { st.aux },
                         kind: FrameKind::Sequence,
                         running: st.status == NodeStatus::Running,

@@ -5,7 +5,7 @@
 //! A run folder, `<task>-<variant>-<world>-seed<N>/`, holds:
 //! - `run.txt`: `key = value` lines — task, world, the crate version, the planner's
 //!   fitness in that world, wall time, episodes, for the physics world its settings
-//!   ([`crate::physics::BrickParams`]), and every GP setting
+//!   ([`BrickParams`]), and every GP setting
 //!   ([`gp::Params::to_record`]: seed, variant, generations, baseline, Table I);
 //! - `curve.csv`: `generation,episodes,best_fitness,best_length`, one row per
 //!   generation;
@@ -25,7 +25,7 @@ use gp::{Evaluation, GenerationLog, Params, Variant};
 use planner::duplo::{Spec, Task};
 
 use crate::episode::Runner;
-use crate::physics::PhysicsBrickWorld;
+use crate::physics::{BrickParams, PhysicsBrickWorld};
 use crate::scenario::WorldKind;
 use crate::symbolic::SymbolicBrickWorld;
 use crate::world::BrickWorld;
@@ -80,12 +80,15 @@ pub fn symbolic(task: Task) -> anyhow::Result<EpisodeFitness<SymbolicBrickWorld>
     EpisodeFitness::new(move || Ok(Runner::new(SymbolicBrickWorld::new(&task.spec())?)?))
 }
 
+/// The physics world's settings for learning: recorded in every physics run's `run.txt`.
+const PHYSICS: BrickParams = BrickParams::DEFAULT;
+
 /// The physics fitness of a task.
 ///
 /// # Errors
 /// A task the world cannot build.
 pub fn physics(task: Task) -> anyhow::Result<EpisodeFitness<PhysicsBrickWorld>> {
-    EpisodeFitness::new(move || Ok(Runner::new(PhysicsBrickWorld::new(&task.spec())?)?))
+    EpisodeFitness::new(move || Ok(Runner::new(PhysicsBrickWorld::with_params(&task.spec(), PHYSICS)?)?))
 }
 
 /// The reference's generation counts (seed 003, duplo-tasks.md): physics tower 200,
@@ -198,7 +201,7 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
     let _ = writeln!(record, "wall_seconds = {:.3}", run.seconds);
     if run.spec.world == WorldKind::Physics {
         // The world's own settings: the episodes of a physics run depend on them.
-        let p = crate::physics::BrickParams::default();
+        let p = PHYSICS;
         let _ = writeln!(record, "physics_steps_per_tick = {}", p.steps_per_tick);
         let _ = writeln!(record, "physics_solver_iterations = {}", p.solver_iterations);
         let _ = writeln!(record, "physics_pgs_iterations = {}", p.pgs_iterations);

@@ -9,6 +9,9 @@
 //! so each tree here must score its published value within 0.02.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+#[path = "fixtures/planner_trees.rs"]
+mod planner_trees;
+
 use planner::duplo::Task;
 use sim_host::episode::{End, Runner};
 use sim_host::physics::PhysicsBrickWorld;
@@ -16,13 +19,7 @@ use sim_host::physics::PhysicsBrickWorld;
 /// (task, tree in the token notation of seed 003, fitness published for it in AGX).
 const SOLVED: [(Task, &str, f64); 9] = [
     // Tower: the planner's tree, and two smaller ones GP found.
-    (
-        Task::Tower,
-        "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \
-         f( 1 at pos (0.0, 0.05, 0.0192)? s( f( 1 on 0? s( f( picked 1? pick 1! ) place on 0! ) ) apply force 1! ) ) \
-         f( 2 at pos (0.0, 0.05, 0.0384)? s( f( 2 on 1? s( f( picked 2? pick 2! ) place on 1! ) ) apply force 2! ) ) )",
-        -3.0109,
-    ),
+    (Task::Tower, planner_trees::TOWER, -3.0109),
     (
         Task::Tower,
         "s( f( 0 at pos (0.0, 0.05, 0.0)? s( pick 0! place at (0.0, 0.05, 0.0)! ) ) \

@@ -162,11 +162,15 @@ pub struct BrickParams {
 
 impl Default for BrickParams {
     fn default() -> Self {
-        Self { steps_per_tick: 5, solver_iterations: 4, pgs_iterations: 3, speed: 0.3, travel_height: 0.09 }
+        Self::DEFAULT
     }
 }
 
 impl BrickParams {
+    /// The tested settings, as a constant.
+    pub const DEFAULT: Self =
+        Self { steps_per_tick: 5, solver_iterations: 4, pgs_iterations: 3, speed: 0.3, travel_height: 0.09 };
+
     fn check(&self) -> Result<(), PhysicsError> {
         let bad = |name, value: f64, why| Err(PhysicsError::BadParameter { name, value, why });
         if !(1..=1000).contains(&self.steps_per_tick) {
