@@ -77,6 +77,8 @@ enum FrameKind {
     Fallback = 1,
     SequenceWithMemory = 2,
     FallbackWithMemory = 3,
+    /// A reactive Sequence or Fallback ticking its last child: see [`Frame`].
+    Last,
     Parallel,
     Inverter,
     ForceSuccess,
@@ -102,6 +104,13 @@ impl FrameKind {
 
 /// One level of the path from the root to the node being ticked. 8 bytes, so the
 /// innermost frame lives in a register.
+///
+/// A reactive Sequence or Fallback ticking its *last* child gets a
+/// [`FrameKind::Last`] frame, of which only `node` is read: when the child returns,
+/// there is no next child, no later child to reset, and the status goes up unchanged;
+/// the node only records it and the child it returned at. Rule 4 has nothing to halt in
+/// it either: its previous child cannot come after its last. Trees built by
+/// backchaining are mostly such tails (`Fallback[condition, Sequence[...]]`).
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(8))]
 struct Frame {
@@ -374,6 +383,15 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             // A control child, or an action about to start (rule 4 may
                             // halt others first): ticked on the general path, under a
                             // frame for this node.
+                            _ if k + usize::from(child.size()) >= end => {
+                                let Some(slot) = frames.get_mut(depth) else {
+                                    return Err(oob(c));
+                                };
+                                *slot = Frame { node: c as u16, kind: FrameKind::Last, ..Frame::default() };
+                                depth += 1;
+                                c = k;
+                                continue 'descend;
+                            }
                             _ => {
                                 let st = self.state.get(c).copied().unwrap_or_default();
                                 let Some(slot) = frames.get_mut(depth) else {
@@ -450,6 +468,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 let Some(f) = frames.get(top) else {
                     return Err(oob(c));
                 };
+                if f.kind == FrameKind::Last {
+                    // Its subtree ends where its last child's does.
+                    let node = usize::from(f.node);
+                    self.set_state(node, r.into(), c as u16);
+                    c = node;
+                    depth = top;
+                    continue;
+                }
                 let more = child_end < usize::from(f.end);
                 if f.kind.is_ordered() {
                     // Sequence goes on after Success, Fallback after Failure.
