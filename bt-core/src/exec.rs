@@ -384,6 +384,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             // halt others first): ticked on the general path, under a
                             // frame for this node.
                             _ if k + usize::from(child.size()) >= end => {
+                                // The last child: a one-field frame (see `Frame`).
                                 let Some(slot) = frames.get_mut(depth) else {
                                     return Err(oob(c));
                                 };
@@ -713,7 +714,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 
     /// Rule 4: action `idx` is about to start. Halt every branch it preempts: for each
     /// reactive ancestor on the path (`frames[..depth]`) that was Running at a later
-    /// child than the one being ticked, that child's subtree. Innermost first.
+    /// child than the one being ticked, that child's subtree. Innermost first. Frames
+    /// of nodes ticking their last child are passed over: nothing comes after it.
     #[cold]
     #[inline(never)]
     fn preempt(&mut self, frames: &[Frame; DEPTH], depth: usize, idx: usize) {
