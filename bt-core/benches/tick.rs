@@ -16,9 +16,9 @@ use std::hint::black_box;
 
 mod trees;
 
-use bt_core::{Executor, Node, NodeState, Status, Tree};
+use bt_core::{Executor, Node, NodeState, Tree};
 use criterion::{Criterion, criterion_group, criterion_main};
-use trees::{SET, TREES, Visits, world};
+use trees::{SET, TREES, first_tick, world};
 
 fn bench(c: &mut Criterion) {
     eprintln!(
@@ -35,10 +35,7 @@ fn bench(c: &mut Criterion) {
         let mut state = vec![NodeState::IDLE; nodes.len()];
         let mut exec = Executor::new(tree, &mut state).unwrap();
         let mut w = world();
-        // First tick: every visited node goes from Idle to its status, once.
-        let mut first = Visits(0);
-        assert_eq!(exec.tick_observed(&mut w, 0, &mut first).unwrap(), Status::Running);
-        assert_eq!(first.0, visited, "{name}: nodes visited on the first tick");
+        first_tick(&mut exec, &mut w, name, visited);
         eprintln!("{name}: {} nodes, {visited} visited per tick", nodes.len());
         let mut now = 1u32;
         group.throughput(criterion::Throughput::Elements(visited));

@@ -38,10 +38,7 @@ fn main() -> ExitCode {
     let mut state = vec![NodeState::IDLE; nodes.len()];
     let mut exec = Executor::new(tree, &mut state).unwrap();
     let mut w = trees::world();
-    // As in the benchmark: the first tick, observed, checks the visited count.
-    let mut first = trees::Visits(0);
-    exec.tick_observed(&mut w, 0, &mut first).unwrap();
-    assert_eq!(first.0, visited, "{name}: nodes visited on the first tick");
+    trees::first_tick(&mut exec, &mut w, &name, visited);
     let start = std::time::Instant::now();
     for t in 1..=ticks {
         black_box(exec.tick(&mut w, black_box(t)).unwrap());

@@ -2,7 +2,9 @@
 //! by `benches/tick.rs` (wall time) and `examples/tick_loop.rs` (instruction counts), so
 //! both measure the same code: the executor is compiled for this world type.
 
-use bt_core::{BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeStatus, Observer, Status};
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeStatus, Observer, Status,
+};
 
 /// Behavior ids index `values`: the leaf returns Success when the value is positive,
 /// Failure when zero, Running when negative (actions only).
@@ -133,10 +135,18 @@ pub const TREES: [(&str, MakeTree, u64); 3] = [("W100", w100, 202), ("D50", d50,
 
 /// Counts status changes. On the first tick every visited node goes from Idle to its
 /// status once, so this counts the nodes a tick visits.
-pub struct Visits(pub u64);
+struct Visits(u64);
 
 impl Observer for Visits {
     fn on_change(&mut self, _: NodeId, _: NodeStatus, _: NodeStatus) {
         self.0 += 1;
     }
+}
+
+/// Ticks a fresh executor once, observed, and checks that the tree runs and that the
+/// tick visits `visited` nodes, as the benchmark's figures per visited node assume.
+pub fn first_tick(exec: &mut Executor<'_, '_, 64>, world: &mut World, name: &str, visited: u64) {
+    let mut first = Visits(0);
+    assert_eq!(exec.tick_observed(world, 0, &mut first).unwrap(), Status::Running, "{name}: first tick");
+    assert_eq!(first.0, visited, "{name}: nodes visited on the first tick");
 }
