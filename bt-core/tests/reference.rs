@@ -4,13 +4,18 @@
 //! status, the leaves ticked (in order, with whether an action was starting), the halt
 //! calls (in order) and every node's status must agree.
 //!
+//! A second executor ticks the same tree with an [`Observer`]: it must behave the same,
+//! and the changes it reports, replayed from all-Idle, must give exactly its node
+//! statuses, each change starting from the status the node had.
+//!
 //! `PROPTEST_CASES` overrides the number of cases (10,000 by default).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
 
 use bt_core::{
-    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Status, Tree,
+    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Observer, Status,
+    Tree,
 };
 use proptest::prelude::*;
 
@@ -124,6 +129,23 @@ impl BehaviorSet for Script<'_> {
     }
     fn halt(&mut self, _: &Leaf, node: NodeId) {
         self.log.push(Ev::Halt { node: usize::from(node) });
+    }
+}
+
+/// Replays the reported changes onto its own copy of the statuses and keeps the first
+/// change that does not start from the status the node had, or changes nothing.
+struct Shadow {
+    st: Vec<NodeStatus>,
+    wrong: Option<(NodeId, NodeStatus, NodeStatus, NodeStatus)>,
+}
+
+impl Observer for Shadow {
+    fn on_change(&mut self, node: NodeId, old: NodeStatus, new: NodeStatus) {
+        let had = self.st[usize::from(node)];
+        if self.wrong.is_none() && (had != old || old == new) {
+            self.wrong = Some((node, had, old, new));
+        }
+        self.st[usize::from(node)] = new;
     }
 }
 
@@ -364,6 +386,9 @@ proptest! {
         let tree = Tree::<8>::validate(nodes, catalog.as_slice()).unwrap();
         let mut state = vec![NodeState::IDLE; nodes.len()];
         let mut exec = Executor::new(tree, &mut state).unwrap();
+        let mut observed_state = vec![NodeState::IDLE; nodes.len()];
+        let mut observed = Executor::new(tree, &mut observed_state).unwrap();
+        let mut shadow = Shadow { st: vec![NodeStatus::Idle; nodes.len()], wrong: None };
         let mut reference = Reference::new(nodes);
 
         for (k, script) in ticks.iter().enumerate() {
@@ -375,7 +400,16 @@ proptest! {
             prop_assert_eq!(&world.log, &reference.log, "leaves and halts on tick {}", k);
             let got_states: Vec<_> = exec.states().iter().map(|s| s.status()).collect();
             let want_states: Vec<_> = reference.st.iter().map(|s| s.status).collect();
-            prop_assert_eq!(got_states, want_states, "node statuses after tick {}", k);
+            prop_assert_eq!(&got_states, &want_states, "node statuses after tick {}", k);
+
+            let mut world_o = Script { nodes, tick: script, log: vec![] };
+            let got_o = observed.tick_observed(&mut world_o, k as u32, &mut shadow).unwrap();
+            prop_assert_eq!(got_o, got, "observed: root status on tick {}", k);
+            prop_assert_eq!(&world_o.log, &world.log, "observed: leaves and halts on tick {}", k);
+            let observed_states: Vec<_> = observed.states().iter().map(|s| s.status()).collect();
+            prop_assert_eq!(&observed_states, &got_states, "observed: node statuses after tick {}", k);
+            prop_assert_eq!(shadow.wrong, None, "observed: a change (node, had, old, new) on tick {}", k);
+            prop_assert_eq!(&shadow.st, &observed_states, "observed: replayed changes after tick {}", k);
         }
     }
 }
