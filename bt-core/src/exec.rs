@@ -105,6 +105,10 @@ impl FrameKind {
 /// One level of the path from the root to the node being ticked. 8 bytes, so the
 /// innermost frame lives in a register.
 ///
+/// A Sequence or Fallback (either flavour) keeps the rest of what it needs in its own
+/// state, which does not change before it returns: the child it returned at last time,
+/// and whether it was Running. The loop writes only `node`, `end` and `kind` for it.
+///
 /// A reactive Sequence or Fallback ticking its *last* child gets a
 /// [`FrameKind::Last`] frame, of which only `node` is read: when the child returns,
 /// there is no next child, no later child to reset, and the status goes up unchanged;
@@ -118,11 +122,11 @@ struct Frame {
     node: u16,
     /// One past its last descendant.
     end: u16,
-    /// Sequence/Fallback (either flavour): the child it returned at when last ticked
-    /// (0: none). Repeat/Retry/Timeout: the count so far. Parallel: unused.
+    /// Repeat/Retry/Timeout: the count so far. Otherwise unused.
     a: u16,
     kind: FrameKind,
-    /// The node was Running when the tick reached it (not a new activation).
+    /// The node was Running when the tick reached it (not a new activation). Set for
+    /// the nodes [`Run::enter_other`] opens.
     running: bool,
 }
 
@@ -151,6 +155,8 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     tree: Tree<'t, DEPTH>,
     state: &'s mut [NodeState],
     stack: Stack<DEPTH>,
+    /// No `Parallel` or `Timeout` in the tree: see [`Run::still_running`].
+    still_running: bool,
 }
 
 #[derive(Debug)]
@@ -172,7 +178,9 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         }
         state.fill(NodeState::IDLE);
         let stack = Stack { frames: [Frame::default(); DEPTH], extra: [Extra::default(); DEPTH], halt: [0; DEPTH] };
-        Ok(Self { tree, state, stack })
+        let still_running =
+            !tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::Parallel { .. } | NodeKind::Timeout(_)));
+        Ok(Self { tree, state, stack, still_running })
     }
 
     /// The tree being ticked.
@@ -220,11 +228,11 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             Some(s) => s,
             None => return Err(oob(nodes.len())),
         };
-        let mut run = Run { nodes, state, halt_stack: halt, behaviors, observer };
+        let mut run = Run { nodes, state, halt_stack: halt, behaviors, observer, still_running: self.still_running };
         let result = run.tick(frames, extra, now);
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
-            run.reset(0, Scan::All);
+            run.cold().reset(0, Scan::All);
         }
         result
     }
@@ -236,8 +244,14 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
 
     /// As [`Executor::halt_all`], reporting status changes to `observer`.
     pub fn halt_all_observed<B: BehaviorSet, O: Observer>(&mut self, behaviors: &mut B, observer: &mut O) {
-        let mut run =
-            Run { nodes: self.tree.nodes(), state: self.state, halt_stack: &mut self.stack.halt, behaviors, observer };
+        let mut run = Run {
+            nodes: self.tree.nodes(),
+            state: self.state,
+            halt_stack: &mut self.stack.halt,
+            behaviors,
+            observer,
+            still_running: self.still_running,
+        };
         run.reset(0, Scan::All);
     }
 }
@@ -259,6 +273,12 @@ struct Run<'r, B, O, const DEPTH: usize> {
     halt_stack: &'r mut [u16; DEPTH],
     behaviors: &'r mut B,
     observer: &'r mut O,
+    /// An action that was Running and runs on ends the tick: every ancestor was Running
+    /// at the child on the path to it and stays so, with nothing to reset (an ancestor's
+    /// later children were reset when it last returned there). True when the tree has
+    /// no `Parallel`, which goes on to tick other children, and no `Timeout`, which
+    /// counts the tick; the other decorators return Running unchanged.
+    still_running: bool,
 }
 
 const fn oob(node: usize) -> TickError {
@@ -266,6 +286,21 @@ const fn oob(node: usize) -> TickError {
 }
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
+    /// The same pieces, reborrowed for a call out of the tick loop. Built where the call
+    /// is made, so that the loop keeps its pieces in registers instead of laying out a
+    /// `Run` in memory on every tick for calls that are rarely made.
+    #[inline(always)]
+    fn cold(&mut self) -> Run<'_, B, O, DEPTH> {
+        Run {
+            nodes: self.nodes,
+            state: &mut *self.state,
+            halt_stack: &mut *self.halt_stack,
+            behaviors: &mut *self.behaviors,
+            observer: &mut *self.observer,
+            still_running: self.still_running,
+        }
+    }
+
     #[inline(always)]
     fn node(&self, i: usize) -> Result<&Node, TickError> {
         self.nodes.get(i).ok_or(oob(i))
@@ -346,9 +381,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 NodeKind::Action(leaf) => {
                     let starting = self.status(c) != NodeStatus::Running;
                     if starting {
-                        self.preempt(frames, depth, c);
+                        self.cold().preempt(frames, depth, c);
                     }
                     let r = self.behaviors.action(leaf, Context { node: c as NodeId, now, starting });
+                    if r == Status::Running && !starting && self.still_running {
+                        return Ok(r);
+                    }
                     self.set_status(c, r.into());
                     (r, c + 1)
                 }
@@ -358,8 +396,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     // state stays as the tick found it until it returns, so what the
                     // frame and the return need of it is read then, not kept in
                     // registers through the loop.
-                    let end = c + usize::from(node.size());
-                    let go_on = if matches!(kind, NodeKind::Fallback) { Status::Failure } else { Status::Success };
+                    let mut end = c + usize::from(node.size());
+                    let mut go_on = if matches!(kind, NodeKind::Fallback) { Status::Failure } else { Status::Success };
                     let mut k = c + 1;
                     loop {
                         let Some(child) = nodes.get(k) else {
@@ -378,42 +416,49 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 r
                             }
                             NodeKind::Action(leaf) if self.status(k) == NodeStatus::Running => {
-                                self.behaviors.action(leaf, Context { node: k as NodeId, now, starting: false })
+                                let r =
+                                    self.behaviors.action(leaf, Context { node: k as NodeId, now, starting: false });
+                                if r == Status::Running && self.still_running {
+                                    return Ok(r);
+                                }
+                                r
                             }
                             // A control child, or an action about to start (rule 4 may
                             // halt others first): ticked on the general path, under a
                             // frame for this node.
-                            _ if k + usize::from(child.size()) >= end => {
-                                // The last child: a one-field frame (see `Frame`).
+                            child_kind => {
+                                let child_end = k + usize::from(child.size());
                                 let Some(slot) = frames.get_mut(depth) else {
                                     return Err(oob(c));
                                 };
-                                *slot = Frame { node: c as u16, kind: FrameKind::Last, ..Frame::default() };
-                                depth += 1;
-                                c = k;
-                                continue 'descend;
-                            }
-                            _ => {
-                                let st = self.state.get(c).copied().unwrap_or_default();
-                                let Some(slot) = frames.get_mut(depth) else {
-                                    return Err(oob(c));
-                                };
-                                *slot = Frame {
-                                    node: c as u16,
-                                    end: end as u16,
-                                    // The child it returned at last time (an Idle node's
-                                    // `aux` is 0: see `set_idle`).
-                                    a: st.aux,
-                                    kind: if go_on == Status::Failure {
+                                if child_end >= end {
+                                    // The last child: a one-field frame (see `Frame`).
+                                    slot.node = c as u16;
+                                    slot.kind = FrameKind::Last;
+                                } else {
+                                    // What it returned at last time, and whether it was
+                                    // Running, are read from its state when needed: that
+                                    // stays as it was until the node returns.
+                                    slot.node = c as u16;
+                                    slot.end = end as u16;
+                                    slot.kind = if go_on == Status::Failure {
                                         FrameKind::Fallback
                                     } else {
                                         FrameKind::Sequence
-                                    },
-                                    running: st.status == NodeStatus::Running,
-                                };
+                                    };
+                                }
                                 depth += 1;
                                 c = k;
-                                continue 'descend;
+                                // A reactive Sequence or Fallback child is ticked by this
+                                // same loop, without going back to the dispatch above.
+                                match child_kind {
+                                    NodeKind::Sequence => go_on = Status::Success,
+                                    NodeKind::Fallback => go_on = Status::Failure,
+                                    _ => continue 'descend,
+                                }
+                                end = child_end;
+                                k = c + 1;
+                                continue;
                             }
                         };
                         self.set_status(k, r.into());
@@ -425,9 +470,28 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         // time beyond `k`.
                         let last = self.state.get(c).map_or(0, |s| usize::from(s.aux));
                         if last > k {
-                            self.reset_range(k + 1, last.min(end - 1))?;
+                            self.cold().reset_range(k + 1, last.min(end - 1))?;
                         }
                         self.set_state(c, r.into(), k as u16);
+                        // Its parent goes on to the next child, a reactive Sequence or
+                        // Fallback: ticked by this loop at once (the way back would
+                        // come to the same).
+                        if let Some(f) = depth.checked_sub(1).and_then(|top| frames.get(top))
+                            && f.kind.is_ordered()
+                            && r == f.kind.goes_on_after()
+                            && end < usize::from(f.end)
+                            && let Some(next) = nodes.get(end)
+                        {
+                            go_on = match next.kind() {
+                                NodeKind::Sequence => Status::Success,
+                                NodeKind::Fallback => Status::Failure,
+                                _ => break 'ordered (r, end),
+                            };
+                            c = end;
+                            end = c + usize::from(next.size());
+                            k = c + 1;
+                            continue;
+                        }
                         break 'ordered (r, end);
                     }
                 }
@@ -450,7 +514,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let Some(x) = extra.get_mut(depth) else {
                         return Err(oob(c));
                     };
-                    let first = match self.enter_other(kind, st, slot, x)? {
+                    let first = match self.cold().enter_other(kind, st, slot, x)? {
                         Entered::Child(first) => first,
                         Entered::Decided(v) => {
                             self.set_status(c, v.into());
@@ -488,7 +552,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     self.finish_ordered(&f, c, child_end, r)?;
                 } else {
                     let f = *f;
-                    match self.ascend_other(&f, extra, top, c, child_end, r)? {
+                    match self.cold().ascend_other(&f, extra, top, c, child_end, r)? {
                         Ascent::Tick(next) => {
                             c = next;
                             continue 'descend;
@@ -527,9 +591,6 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 } else {
                     FrameKind::FallbackWithMemory
                 };
-                if st.status != NodeStatus::Idle {
-                    frame.a = st.aux;
-                }
                 // Resume at the child that was Running.
                 return Ok(Entered::Child(if running { usize::from(st.aux) } else { idx + 1 }));
             }
@@ -653,9 +714,11 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// `child`.
     #[inline(always)]
     fn finish_ordered(&mut self, f: &Frame, child: usize, next: usize, r: Status) -> Result<(), TickError> {
-        let last = usize::from(f.a);
+        // The child it returned at last time (0 for an Idle node: see `set_idle`), from
+        // its state, which does not change before it returns.
+        let last = self.state.get(usize::from(f.node)).map_or(0, |s| usize::from(s.aux));
         if last > child {
-            self.reset_range(next, last.min(usize::from(f.end).saturating_sub(1)))?;
+            self.cold().reset_range(next, last.min(usize::from(f.end).saturating_sub(1)))?;
         }
         self.set_state(usize::from(f.node), r.into(), child as u16);
         Ok(())
@@ -724,8 +787,11 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
         let mut current = idx;
         for f in frames.iter().take(depth).rev() {
-            if f.running && matches!(f.kind, FrameKind::Sequence | FrameKind::Fallback) {
-                let old = usize::from(f.a);
+            if matches!(f.kind, FrameKind::Sequence | FrameKind::Fallback)
+                && let Some(&st) = self.state.get(usize::from(f.node))
+                && st.status == NodeStatus::Running
+            {
+                let old = usize::from(st.aux);
                 if old > current {
                     self.reset_subtree(old);
                 }
