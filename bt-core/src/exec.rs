@@ -357,7 +357,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     ///
     /// `frames[..depth]` is the path from the root to the parent of node `c`, the node
     /// about to be ticked; `extra[d]` belongs to the frame at depth `d` when it is a
-    /// Parallel or a counting decorator.
+    /// Parallel or a counting decorator. While a reactive Sequence or Fallback ticks its
+    /// children in place, its index is in `frames[depth].node`, the frame it pushes if
+    /// a child needs one.
     #[inline(always)]
     fn tick(&mut self, frames: &mut [Frame; DEPTH], extra: &mut [Extra; DEPTH], now: u32) -> Result<Status, TickError> {
         let nodes = self.nodes;
@@ -399,6 +401,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let mut end = c + usize::from(node.size());
                     let mut go_on = if matches!(kind, NodeKind::Fallback) { Status::Failure } else { Status::Success };
                     let mut k = c + 1;
+                    // The node being ticked is kept in the frame it would push, not in a
+                    // register through the loop.
+                    let Some(slot) = frames.get_mut(depth) else {
+                        return Err(oob(c));
+                    };
+                    slot.node = c as u16;
                     loop {
                         let Some(child) = nodes.get(k) else {
                             return Err(oob(k));
@@ -429,17 +437,15 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             child_kind => {
                                 let child_end = k + usize::from(child.size());
                                 let Some(slot) = frames.get_mut(depth) else {
-                                    return Err(oob(c));
+                                    return Err(oob(k));
                                 };
                                 if child_end >= end {
                                     // The last child: a one-field frame (see `Frame`).
-                                    slot.node = c as u16;
                                     slot.kind = FrameKind::Last;
                                 } else {
                                     // What it returned at last time, and whether it was
                                     // Running, are read from its state when needed: that
                                     // stays as it was until the node returns.
-                                    slot.node = c as u16;
                                     slot.end = end as u16;
                                     slot.kind = if go_on == Status::Failure {
                                         FrameKind::Fallback
@@ -448,16 +454,22 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                     };
                                 }
                                 depth += 1;
-                                c = k;
                                 // A reactive Sequence or Fallback child is ticked by this
                                 // same loop, without going back to the dispatch above.
                                 match child_kind {
                                     NodeKind::Sequence => go_on = Status::Success,
                                     NodeKind::Fallback => go_on = Status::Failure,
-                                    _ => continue 'descend,
+                                    _ => {
+                                        c = k;
+                                        continue 'descend;
+                                    }
                                 }
+                                let Some(slot) = frames.get_mut(depth) else {
+                                    return Err(oob(k));
+                                };
+                                slot.node = k as u16;
                                 end = child_end;
-                                k = c + 1;
+                                k += 1;
                                 continue;
                             }
                         };
@@ -468,6 +480,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         }
                         // Returns at child `k`: reset the children it reached last
                         // time beyond `k`.
+                        c = frames.get(depth).map_or(0, |f| usize::from(f.node));
                         let last = self.state.get(c).map_or(0, |s| usize::from(s.aux));
                         if last > k {
                             self.cold().reset_range(k + 1, last.min(end - 1))?;
@@ -487,9 +500,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 NodeKind::Fallback => Status::Failure,
                                 _ => break 'ordered (r, end),
                             };
-                            c = end;
-                            end = c + usize::from(next.size());
-                            k = c + 1;
+                            let Some(slot) = frames.get_mut(depth) else {
+                                return Err(oob(end));
+                            };
+                            slot.node = end as u16;
+                            k = end + 1;
+                            end += usize::from(next.size());
                             continue;
                         }
                         break 'ordered (r, end);
