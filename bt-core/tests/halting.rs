@@ -199,3 +199,52 @@ fn each_node_is_visited_at_most_once_per_tick() {
         }
     }
 }
+
+#[test]
+fn an_action_that_runs_on_leaves_every_ancestor_running_and_halts_nothing() {
+    // Fallback[ C0?, Inverter[ Repeat(5)[ SeqWithMemory[ Seq[ C1?, ForceSuccess[
+    //     Retry(3)[ Fallback[ C2?, A0! ] ] ] ] ] ] ] ]
+    // Every ancestor of A0 passes Running through; while A0 runs on, the tick ends at it
+    // (see `Executor`), and nothing above it may change.
+    use bt_core::NodeKind;
+    let nodes = build(|b| {
+        b.fallback()?.condition(cond(0), &[])?;
+        b.open(NodeKind::Inverter)?.open(NodeKind::Repeat(5))?.open(NodeKind::SequenceWithMemory)?;
+        b.sequence()?.condition(cond(1), &[])?;
+        b.open(NodeKind::ForceSuccess)?.open(NodeKind::Retry(3))?;
+        b.fallback()?.condition(cond(2), &[])?.action(act(0), &[])?;
+        for _ in 0..8 {
+            b.end()?;
+        }
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(cond(1), Status::Success).set(act(0), Status::Running);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), Status::Running);
+    let first: Vec<NodeStatus> = exec.states().iter().map(|s| s.status()).collect();
+    assert!(first.iter().skip(1).all(|&s| s != NodeStatus::Idle), "every node was ticked: {first:?}");
+    for t in 1..4 {
+        let mut seen = Changes::default();
+        w.clear();
+        assert_eq!(exec.tick_observed(&mut w, t, &mut seen).unwrap(), Status::Running);
+        assert_eq!(seen.0, [], "tick {t}: no status changes");
+        assert_eq!(exec.states().iter().map(|s| s.status()).collect::<Vec<_>>(), first, "tick {t}");
+        assert_eq!(
+            w.log,
+            [
+                Call::Tick { behavior: cond(0), starting: true },
+                Call::Tick { behavior: cond(1), starting: true },
+                Call::Tick { behavior: cond(2), starting: true },
+                Call::Tick { behavior: act(0), starting: false },
+            ],
+            "tick {t}: the conditions again, then the action runs on"
+        );
+    }
+    // The goal holds: the root returns at its first child and halts the running branch.
+    w.set(cond(0), Status::Success);
+    w.clear();
+    assert_eq!(exec.tick(&mut w, 4).unwrap(), Status::Success);
+    assert_eq!(w.log, [Call::Tick { behavior: cond(0), starting: true }, Call::Halt { behavior: act(0) }]);
+    assert!(exec.states().iter().skip(2).all(|s| s.status() == NodeStatus::Idle));
+}
