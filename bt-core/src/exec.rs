@@ -334,6 +334,19 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// Records `node` as the reactive Sequence or Fallback whose children the child loop
+    /// ticks at `depth`: it goes in the frame it pushes if a child needs one.
+    #[inline(always)]
+    fn ticking(frames: &mut [Frame; DEPTH], depth: usize, node: usize) -> Result<(), TickError> {
+        match frames.get_mut(depth) {
+            Some(slot) => {
+                slot.node = node as u16;
+                Ok(())
+            }
+            None => Err(oob(node)),
+        }
+    }
+
     /// Sets a node Idle and its `aux` to 0: the tick relies on an Idle node's `aux`
     /// being 0 (no child returned at, no count).
     #[inline(always)]
@@ -403,10 +416,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let mut k = c + 1;
                     // The node being ticked is kept in the frame it would push, not in a
                     // register through the loop.
-                    let Some(slot) = frames.get_mut(depth) else {
-                        return Err(oob(c));
-                    };
-                    slot.node = c as u16;
+                    Self::ticking(frames, depth, c)?;
                     loop {
                         let Some(child) = nodes.get(k) else {
                             return Err(oob(k));
@@ -464,10 +474,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                         continue 'descend;
                                     }
                                 }
-                                let Some(slot) = frames.get_mut(depth) else {
-                                    return Err(oob(k));
-                                };
-                                slot.node = k as u16;
+                                Self::ticking(frames, depth, k)?;
                                 end = child_end;
                                 k += 1;
                                 continue;
@@ -481,11 +488,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         // Returns at child `k`: reset the children it reached last
                         // time beyond `k`.
                         c = frames.get(depth).map_or(0, |f| usize::from(f.node));
-                        let last = self.state.get(c).map_or(0, |s| usize::from(s.aux));
-                        if last > k {
-                            self.cold().reset_range(k + 1, last.min(end - 1))?;
-                        }
-                        self.set_state(c, r.into(), k as u16);
+                        self.finish_ordered(c, end, k, k + 1, r)?;
                         // Its parent goes on to the next child, a reactive Sequence or
                         // Fallback: ticked by this loop at once (the way back would
                         // come to the same).
@@ -500,10 +503,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 NodeKind::Fallback => Status::Failure,
                                 _ => break 'ordered (r, end),
                             };
-                            let Some(slot) = frames.get_mut(depth) else {
-                                return Err(oob(end));
-                            };
-                            slot.node = end as u16;
+                            Self::ticking(frames, depth, end)?;
                             k = end + 1;
                             end += usize::from(next.size());
                             continue;
@@ -520,10 +520,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     *slot = Frame {
                         node: c as u16,
                         end: end as u16,
-                        // (`st.aux` alone would do, an Idle node's `aux` being 0, but
-                        // measured: with it the compiler lays out the whole tick loop
-                        // worse, W100 393 -> 456 ns, D50 296 -> 327 ns.)
-                        a: if st.status == NodeStatus::Idle { 0 } else { st.aux },
+                        // Set by `enter_other` for the kinds that count.
+                        a: 0,
                         kind: FrameKind::Sequence,
                         running: st.status == NodeStatus::Running,
                     };
@@ -565,7 +563,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         continue 'descend;
                     }
                     let f = *f;
-                    self.finish_ordered(&f, c, child_end, r)?;
+                    self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
                 } else {
                     let f = *f;
                     match self.cold().ascend_other(&f, extra, top, c, child_end, r)? {
@@ -725,18 +723,26 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }))
     }
 
-    /// A Sequence or Fallback (either flavour) returns at child `child`, whose subtree
-    /// ends at `next`: reset the children it reached last time beyond `child`, remember
-    /// `child`.
+    /// Sequence or Fallback `node` (either flavour, subtree ending at `end`) returns `r`
+    /// at child `child`, whose subtree ends at `next`: reset the children it reached last
+    /// time beyond `child`, remember `child`.
     #[inline(always)]
-    fn finish_ordered(&mut self, f: &Frame, child: usize, next: usize, r: Status) -> Result<(), TickError> {
+    fn finish_ordered(
+        &mut self,
+        node: usize,
+        end: usize,
+        child: usize,
+        next: usize,
+        r: Status,
+    ) -> Result<(), TickError> {
         // The child it returned at last time (0 for an Idle node: see `set_idle`), from
         // its state, which does not change before it returns.
-        let last = self.state.get(usize::from(f.node)).map_or(0, |s| usize::from(s.aux));
+        let last = self.state.get(node).map_or(0, |s| usize::from(s.aux));
         if last > child {
-            self.cold().reset_range(next, last.min(usize::from(f.end).saturating_sub(1)))?;
+            // `end - 1` cannot wrap: `child` lies inside the subtree, below `end`.
+            self.cold().reset_range(next, last.min(end - 1))?;
         }
-        self.set_state(usize::from(f.node), r.into(), child as u16);
+        self.set_state(node, r.into(), child as u16);
         Ok(())
     }
 
