@@ -5,7 +5,7 @@ use crate::status::{NodeStatus, Status};
 
 /// What a behavior is told when it is ticked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Context {
+pub struct Context<'t> {
     /// The leaf's node id: lets a behavior set keep per-node state.
     pub node: NodeId,
     /// The caller's clock, as given to [`Executor::tick`](crate::Executor::tick).
@@ -13,6 +13,22 @@ pub struct Context {
     /// For actions, true on the first tick of an activation (the action was not Running);
     /// false while it continues. Always true for conditions.
     pub starting: bool,
+    /// The tree's value table, where extended leaves keep their values.
+    pub values: &'t [u16],
+}
+
+impl<'t> Context<'t> {
+    /// The values of `leaf` (grounded arguments or port references), inline or from the
+    /// tree's value table: what a behavior reads instead of [`Leaf::args`], which only
+    /// knows inline values.
+    #[inline]
+    #[must_use]
+    pub fn args<'a>(self, leaf: &'a Leaf) -> &'a [u16]
+    where
+        't: 'a,
+    {
+        leaf.args_in(self.values)
+    }
 }
 
 /// The conditions and actions a tree's leaves run, implemented by the caller over its
@@ -20,10 +36,10 @@ pub struct Context {
 pub trait BehaviorSet {
     /// Evaluates a condition. Must return Success or Failure: Running is a usage error
     /// that the tick reports as [`TickError::ConditionRunning`].
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status;
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status;
 
     /// Starts or continues an action.
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status;
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status;
 
     /// Stops a Running action that the tree no longer wants. Called exactly once per
     /// preemption, before any other action starts in its place.
@@ -32,12 +48,12 @@ pub trait BehaviorSet {
 
 impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
     #[inline(always)]
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         (**self).condition(leaf, ctx)
     }
 
     #[inline(always)]
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         (**self).action(leaf, ctx)
     }
 

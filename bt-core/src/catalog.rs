@@ -60,18 +60,18 @@ pub trait Catalog {
         h.finish()
     }
 
-    /// Writes a whole leaf for the renderer. By default `name` or `name(arg, ...)` with
+    /// Writes a whole leaf for the renderer, whose values are `args` (inline or from the
+    /// tree's value table). By default `name` or `name(arg, ...)` with
     /// [`Catalog::write_arg`] for each argument; host catalogs override it to print
     /// grounded names such as `0 at pos (0.0, 0.05, 0.0)?`.
     ///
     /// # Errors
     /// Whatever the formatter returns.
-    fn write_leaf(&self, f: &mut core::fmt::Formatter<'_>, leaf: &crate::Leaf) -> core::fmt::Result {
+    fn write_leaf(&self, f: &mut core::fmt::Formatter<'_>, leaf: &crate::Leaf, args: &[u16]) -> core::fmt::Result {
         match self.info(leaf.behavior()) {
             Some(info) => f.write_str(info.name)?,
             None => write!(f, "#{}", leaf.behavior())?,
         }
-        let args = leaf.args();
         if !args.is_empty() {
             f.write_str("(")?;
             for (pos, &a) in args.iter().enumerate() {

@@ -29,11 +29,15 @@ pub enum LoadError {
         found: [u8; 4],
     },
     /// The image has a format version this build cannot read.
-    #[error("image format version {found} is not supported (this build reads version {supported})")]
+    #[error(
+        "image format version {found} is not supported (this build reads versions {} to {supported})",
+        crate::image::OLDEST_VERSION
+    )]
     UnsupportedVersion {
         /// Version in the image.
         found: u16,
-        /// The version this build reads.
+        /// The newest version this build reads (it reads every version from
+        /// [`OLDEST_VERSION`](crate::image::OLDEST_VERSION) on).
         supported: u16,
     },
     /// The CRC-32 at the end does not match the bytes before it.
@@ -68,11 +72,36 @@ pub enum LoadError {
         /// Byte offset of the node in the image.
         offset: usize,
     },
-    /// Bytes left between the last node and the CRC.
+    /// Bytes left between the last node and the CRC (a version-1 image has no sections).
     #[error("{count} unexpected bytes after the last node")]
     TrailingBytes {
         /// How many.
         count: usize,
+    },
+    /// A section tag this build does not know.
+    #[error("unknown section {tag} at offset {offset}")]
+    UnknownSection {
+        /// The tag.
+        tag: u8,
+        /// Byte offset of the section in the image.
+        offset: usize,
+    },
+    /// A section whose length runs past the end, whose body does not decode, or that
+    /// repeats or comes out of order.
+    #[error("section {tag} at offset {offset} is malformed")]
+    MalformedSection {
+        /// The tag.
+        tag: u8,
+        /// Byte offset of the section in the image.
+        offset: usize,
+    },
+    /// The value table does not fit the value storage.
+    #[error("value table has {count} entries, capacity is {capacity}")]
+    TooManyValues {
+        /// Entries in the image.
+        count: usize,
+        /// Entries that fit.
+        capacity: usize,
     },
     /// A tree needs at least one node.
     #[error("the tree has no nodes")]
@@ -149,13 +178,23 @@ pub enum ArgumentFault {
         /// Declared arity.
         expected: u8,
         /// Arguments in the leaf.
-        found: u8,
+        found: u16,
     },
     /// An argument is `u16::MAX`, which is reserved.
     #[error("argument {position} is 65535, a reserved value")]
     Reserved {
         /// Position of the argument.
         position: u8,
+    },
+    /// An extended leaf's values lie (partly) outside the tree's value table.
+    #[error("the leaf's values {start}..+{len} lie outside the value table of {table} entries")]
+    ValuesOutOfRange {
+        /// First value's index in the table.
+        start: u16,
+        /// Number of values.
+        len: u16,
+        /// Entries in the table.
+        table: u16,
     },
     /// `Repeat`, `Retry` or `Timeout` with a count of zero.
     #[error("{kind}(0): the count must be at least 1")]
@@ -173,6 +212,17 @@ pub enum ArgumentFault {
         /// Number of children.
         children: u16,
     },
+}
+
+impl From<LeafError> for ArgumentFault {
+    /// The fault in a decoded leaf: a reserved inline value, or an extended leaf whose
+    /// range is malformed (reported as lying outside any table).
+    fn from(e: LeafError) -> Self {
+        match e {
+            LeafError::ReservedValue(p) | LeafError::TooManyArgs(p) => Self::Reserved { position: p as u8 },
+            LeafError::BadRange(len, start) => Self::ValuesOutOfRange { start, len, table: 0 },
+        }
+    }
 }
 
 /// Why the [`Builder`](crate::Builder) refused an operation.
@@ -227,6 +277,12 @@ pub enum EncodeError {
         /// Node count.
         count: usize,
     },
+    /// A value table longer than an image can hold (`u16::MAX` entries).
+    #[error("value table has {count} entries; an image holds at most 65535")]
+    TooManyValues {
+        /// Entries.
+        count: usize,
+    },
 }
 
 impl LoadError {
@@ -243,6 +299,9 @@ impl LoadError {
             Self::TooManyNodes { .. } => "too-many-nodes",
             Self::MalformedNode { .. } => "malformed-node",
             Self::TrailingBytes { .. } => "trailing-bytes",
+            Self::UnknownSection { .. } => "unknown-section",
+            Self::MalformedSection { .. } => "malformed-section",
+            Self::TooManyValues { .. } => "too-many-values",
             Self::EmptyTree => "empty-tree",
             Self::SubtreeSizeInconsistent { .. } => "subtree-size-inconsistent",
             Self::WrongArity { .. } => "wrong-arity",
@@ -271,6 +330,9 @@ impl LoadError {
             | Self::ForeignBehaviorSet { .. }
             | Self::TooManyNodes { .. }
             | Self::TrailingBytes { .. }
+            | Self::UnknownSection { .. }
+            | Self::MalformedSection { .. }
+            | Self::TooManyValues { .. }
             | Self::EmptyTree => None,
         }
     }

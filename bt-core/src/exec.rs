@@ -228,7 +228,9 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             Some(s) => s,
             None => return Err(oob(nodes.len())),
         };
-        let mut run = Run { nodes, state, halt_stack: halt, behaviors, observer, still_running: self.still_running };
+        let values = self.tree.values();
+        let mut run =
+            Run { nodes, values, state, halt_stack: halt, behaviors, observer, still_running: self.still_running };
         let result = run.tick(frames, extra, now);
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
@@ -246,6 +248,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
     pub fn halt_all_observed<B: BehaviorSet, O: Observer>(&mut self, behaviors: &mut B, observer: &mut O) {
         let mut run = Run {
             nodes: self.tree.nodes(),
+            values: self.tree.values(),
             state: self.state,
             halt_stack: &mut self.stack.halt,
             behaviors,
@@ -269,6 +272,8 @@ enum Scan {
 /// The borrowed pieces of one tick, split so that the hot loop sees plain slices.
 struct Run<'r, B, O, const DEPTH: usize> {
     nodes: &'r [Node],
+    /// The tree's value table, handed to behaviors in their [`Context`].
+    values: &'r [u16],
     state: &'r mut [NodeState],
     halt_stack: &'r mut [u16; DEPTH],
     behaviors: &'r mut B,
@@ -293,6 +298,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     fn cold(&mut self) -> Run<'_, B, O, DEPTH> {
         Run {
             nodes: self.nodes,
+            values: self.values,
             state: &mut *self.state,
             halt_stack: &mut *self.halt_stack,
             behaviors: &mut *self.behaviors,
@@ -376,6 +382,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     #[inline(always)]
     fn tick(&mut self, frames: &mut [Frame; DEPTH], extra: &mut [Extra; DEPTH], now: u32) -> Result<Status, TickError> {
         let nodes = self.nodes;
+        let values = self.values;
         let mut depth = 0usize;
         let mut c = 0usize;
         'descend: loop {
@@ -386,7 +393,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             // frame and descends into its first child.
             let (mut r, mut child_end) = match node.kind() {
                 NodeKind::Condition(leaf) => {
-                    let r = self.behaviors.condition(leaf, Context { node: c as NodeId, now, starting: true });
+                    let r = self.behaviors.condition(leaf, Context { node: c as NodeId, now, starting: true, values });
                     if r == Status::Running {
                         return Err(TickError::ConditionRunning { node: c as NodeId, behavior: leaf.behavior() });
                     }
@@ -398,7 +405,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     if starting {
                         self.cold().preempt(frames, depth, c);
                     }
-                    let r = self.behaviors.action(leaf, Context { node: c as NodeId, now, starting });
+                    let r = self.behaviors.action(leaf, Context { node: c as NodeId, now, starting, values });
                     if r == Status::Running && !starting && self.still_running {
                         return Ok(r);
                     }
@@ -423,8 +430,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         };
                         let r = match child.kind() {
                             NodeKind::Condition(leaf) => {
-                                let r =
-                                    self.behaviors.condition(leaf, Context { node: k as NodeId, now, starting: true });
+                                let r = self
+                                    .behaviors
+                                    .condition(leaf, Context { node: k as NodeId, now, starting: true, values });
                                 if r == Status::Running {
                                     return Err(TickError::ConditionRunning {
                                         node: k as NodeId,
@@ -434,8 +442,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 r
                             }
                             NodeKind::Action(leaf) if self.status(k) == NodeStatus::Running => {
-                                let r =
-                                    self.behaviors.action(leaf, Context { node: k as NodeId, now, starting: false });
+                                let r = self
+                                    .behaviors
+                                    .action(leaf, Context { node: k as NodeId, now, starting: false, values });
                                 if r == Status::Running && self.still_running {
                                     return Ok(r);
                                 }

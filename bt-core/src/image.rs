@@ -1,16 +1,17 @@
 //! The deployable image: a tree as bytes, checked end to end before it can run.
 //!
-//! # Byte layout (format version 1)
+//! # Byte layout (format version 2)
 //!
 //! All fixed-width integers are little-endian.
 //!
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0      | 4    | magic, the ASCII bytes `BTIM` |
-//! | 4      | 2    | format version, `u16` (currently 1) |
+//! | 4      | 2    | format version, `u16` (2; version 1 is still read) |
 //! | 6      | 8    | fingerprint of the behavior set, `u64` (see [`fingerprint`](crate::fingerprint)) |
 //! | 14     | 2    | node count `n`, `u16`, at least 1 |
 //! | 16     | …    | `n` nodes in pre-order, each [postcard]-encoded as below |
+//! | …      | …    | sections (version 2), see below |
 //! | end-4  | 4    | CRC-32 (ISO-HDLC, as zlib's `crc32`) of every byte before it, `u32` |
 //!
 //! A node is encoded as its subtree size (`u16`, itself included) followed by its kind:
@@ -30,26 +31,49 @@
 //! | 8  | `Repeat` | count `u16` |
 //! | 9  | `Retry` | attempts `u16` |
 //! | 10 | `Timeout` | ticks `u16` |
-//! | 11 | `Condition` | behavior id `u16`, arguments: list of at most 3 `u16` |
-//! | 12 | `Action` | behavior id `u16`, arguments: list of at most 3 `u16` |
+//! | 11 | `Condition` | behavior id `u16`, values: list of at most 3 `u16` |
+//! | 12 | `Action` | behavior id `u16`, values: list of at most 3 `u16` |
+//! | 13 | `Condition`, extended (version 2) | behavior id `u16`, then the list `[start, length]` of its values in the value table |
+//! | 14 | `Action`, extended (version 2) | behavior id `u16`, then the list `[start, length]` of its values in the value table |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
+//! ## Sections
+//!
+//! Between the last node and the CRC, a version-2 image holds zero or more sections,
+//! each a tag byte, the body's length in bytes (a varint `u32`) and the body, in
+//! increasing tag order, each tag at most once:
+//!
+//! | tag | section | body |
+//! |----:|---------|------|
+//! | 1 | values | the value table of extended leaves: a varint count, then that many varint `u16` |
+//! | 2 | names | for tools on the host (behavior and object names); never read by the loader |
+//! | 3 | reserved | |
+//!
+//! A leaf's values (grounded arguments, port references) are kept inline when there are
+//! at most [`MAX_ARGS`](crate::MAX_ARGS); a leaf with more refers to a range of the
+//! value table, so every node keeps its 12 bytes. [`load_with`] decodes the table into
+//! storage the caller gives; behaviors read values with
+//! [`Context::args`](crate::Context::args).
+//!
 //! # Versioning
 //!
-//! The version names the whole layout: header, tags, field order, varint rules, CRC.
-//! Any change to any of them — a new node kind included — takes the next version; a
-//! loader reads exactly the versions it knows and refuses others with
-//! [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer image. The
-//! magic and the version field stay at offsets 0 and 4 in every version.
+//! The version names the whole layout: header, tags, field order, varint rules,
+//! sections, CRC. Any change to any of them — a new node kind or section included —
+//! takes the next version; a loader reads exactly the versions it knows and refuses
+//! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
+//! image. The magic and the version field stay at offsets 0 and 4 in every version. This
+//! build writes version 2 and reads versions 1 and 2; a version-1 image has neither
+//! extended leaves nor sections.
 //!
 //! # Loading
 //!
 //! [`load`] checks, in this order, and stops at the first fault: the length, the magic,
 //! the version, the CRC, the fingerprint against the given behavior set, the node count
-//! against the storage, the decoding of every node, that no bytes follow the last node,
-//! and the tree itself ([`Tree::validate`]). What it returns is a [`Tree`] — the only
-//! thing the executor accepts.
+//! against the storage, the decoding of every node, the sections (framing, order, the
+//! value table against its storage), that no bytes follow the last section, and the tree
+//! itself ([`Tree::validate_with`]). What it returns is a [`Tree`] — the only thing the
+//! executor accepts.
 //!
 //! [postcard]: https://docs.rs/postcard
 
@@ -57,24 +81,44 @@ use serde::{Deserialize, Serialize};
 
 use crate::catalog::Catalog;
 use crate::error::{ArgumentFault, EncodeError, LoadError};
-use crate::node::{Leaf, Node, NodeId, NodeKind};
+use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind};
 use crate::tree::Tree;
 
 /// The first four bytes of every image.
 pub const MAGIC: [u8; 4] = *b"BTIM";
-/// The format version this build writes and reads.
-pub const VERSION: u16 = 1;
+/// The format version this build writes.
+pub const VERSION: u16 = 2;
+/// The oldest format version this build reads.
+pub const OLDEST_VERSION: u16 = 1;
 /// Bytes before the first node.
 pub const HEADER_LEN: usize = 16;
 /// Bytes of the trailing CRC-32.
 pub const CRC_LEN: usize = 4;
 /// Most bytes one encoded node can take.
 pub const MAX_NODE_LEN: usize = 3 + 1 + 3 + 1 + 3 * 3;
+/// Most bytes a section's tag and length take.
+pub const MAX_SECTION_HEAD_LEN: usize = 1 + 5;
 
-/// An upper bound on the size of the image of a tree of `nodes` nodes.
+/// Tag of the value table section.
+pub const SECTION_VALUES: u8 = 1;
+/// Tag of the names section: host tools' names, never read by the loader.
+pub const SECTION_NAMES: u8 = 2;
+/// The highest section tag this build knows.
+const LAST_SECTION: u8 = SECTION_NAMES;
+
+/// An upper bound on the size of the image of a tree of `nodes` nodes, without sections.
 #[must_use]
 pub const fn max_image_len(nodes: usize) -> usize {
     HEADER_LEN + nodes * MAX_NODE_LEN + CRC_LEN
+}
+
+/// An upper bound on the size of the image of [`ImageParts`] with `nodes` nodes, a value
+/// table of `values` entries, and a names section of `names` bytes (0 for none).
+#[must_use]
+pub const fn max_image_len_with(nodes: usize, values: usize, names: usize) -> usize {
+    let values_len = if values == 0 { 0 } else { MAX_SECTION_HEAD_LEN + 3 + 3 * values };
+    let names_len = if names == 0 { 0 } else { MAX_SECTION_HEAD_LEN + names };
+    max_image_len(nodes) + values_len + names_len
 }
 
 const CRC32: crc::Crc<u32, crc::NoTable> = crc::Crc::<u32, crc::NoTable>::new(&crc::CRC_32_ISO_HDLC);
@@ -96,6 +140,54 @@ pub struct Header {
     pub node_count: u16,
     /// Total image length in bytes.
     pub len: usize,
+}
+
+/// What an image holds besides its fingerprint: the nodes, the value table of their
+/// extended leaves, and an optional names section for host tools.
+///
+/// ```
+/// use bt_core::image::ImageParts;
+/// # let nodes = [bt_core::Node::EMPTY];
+/// let parts = ImageParts::new(&nodes).values(&[4, 5, 6, 7]).names(b"cube");
+/// assert_eq!(parts.nodes.len(), 1);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct ImageParts<'a> {
+    /// The nodes, in pre-order.
+    pub nodes: &'a [Node],
+    /// The value table (empty: no values section).
+    pub values: &'a [u16],
+    /// The names section's body (`None`: no names section).
+    pub names: Option<&'a [u8]>,
+}
+
+impl<'a> ImageParts<'a> {
+    /// Just the nodes.
+    #[must_use]
+    pub const fn new(nodes: &'a [Node]) -> Self {
+        Self { nodes, values: &[], names: None }
+    }
+
+    /// With a value table.
+    #[must_use]
+    pub const fn values(mut self, values: &'a [u16]) -> Self {
+        self.values = values;
+        self
+    }
+
+    /// With a names section.
+    #[must_use]
+    pub const fn names(mut self, names: &'a [u8]) -> Self {
+        self.names = Some(names);
+        self
+    }
+
+    /// An upper bound on the size of their image.
+    #[must_use]
+    pub fn max_len(&self) -> usize {
+        max_image_len_with(self.nodes.len(), self.values.len(), self.names.map_or(0, <[u8]>::len))
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -126,11 +218,20 @@ enum WireKind {
     Timeout(u16),
     Condition(WireLeaf),
     Action(WireLeaf),
+    // Version 2: extended leaves, `args` being the start and length of their values in
+    // the value table (the same wire struct, so that no second decoder is linked).
+    ConditionExt(WireLeaf),
+    ActionExt(WireLeaf),
+}
+
+impl WireKind {
+    /// Whether version `version` has this tag.
+    fn in_version(&self, version: u16) -> bool {
+        version >= 2 || !matches!(self, Self::ConditionExt(_) | Self::ActionExt(_))
+    }
 }
 
 fn to_wire(node: &Node) -> WireNode {
-    let leaf =
-        |l: &Leaf| WireLeaf { behavior: l.behavior(), args: heapless::Vec::from_slice(l.args()).unwrap_or_default() };
     let kind = match node.kind() {
         NodeKind::Sequence => WireKind::Sequence,
         NodeKind::Fallback => WireKind::Fallback,
@@ -145,21 +246,34 @@ fn to_wire(node: &Node) -> WireNode {
         &NodeKind::Repeat(n) => WireKind::Repeat(n),
         &NodeKind::Retry(n) => WireKind::Retry(n),
         &NodeKind::Timeout(n) => WireKind::Timeout(n),
-        NodeKind::Condition(l) => WireKind::Condition(leaf(l)),
-        NodeKind::Action(l) => WireKind::Action(leaf(l)),
+        NodeKind::Condition(l) => match wire_leaf(l) {
+            Ok(w) => WireKind::Condition(w),
+            Err(x) => WireKind::ConditionExt(x),
+        },
+        NodeKind::Action(l) => match wire_leaf(l) {
+            Ok(w) => WireKind::Action(w),
+            Err(x) => WireKind::ActionExt(x),
+        },
     };
     WireNode { size: node.size(), kind }
 }
 
+/// A leaf's wire form: inline (`Ok`), or extended (`Err`, with start and length).
+fn wire_leaf(l: &Leaf) -> Result<WireLeaf, WireLeaf> {
+    let wire =
+        |args: &[u16]| WireLeaf { behavior: l.behavior(), args: heapless::Vec::from_slice(args).unwrap_or_default() };
+    match l.range() {
+        Some((start, len)) => Err(wire(&[start, len])),
+        None => Ok(wire(l.args())),
+    }
+}
+
 fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
-    let leaf = |l: WireLeaf| {
-        Leaf::with_args(l.behavior, &l.args).map_err(|e| {
-            let position = match e {
-                crate::node::LeafError::ReservedValue(p) => p as u8,
-                crate::node::LeafError::TooManyArgs(n) => n as u8,
-            };
-            LoadError::BadArgument { node: id, fault: ArgumentFault::Reserved { position } }
-        })
+    let fault = |e: LeafError| LoadError::BadArgument { node: id, fault: ArgumentFault::from(e) };
+    let leaf = |l: WireLeaf| Leaf::with_args(l.behavior, &l.args).map_err(fault);
+    let extended = |l: WireLeaf| match *l.args {
+        [start, len] => Leaf::extended(l.behavior, start, len).map_err(fault),
+        _ => Err(fault(LeafError::TooManyArgs(l.args.len()))),
     };
     let kind = match w.kind {
         WireKind::Sequence => NodeKind::Sequence,
@@ -177,18 +291,35 @@ fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
         WireKind::Timeout(n) => NodeKind::Timeout(n),
         WireKind::Condition(l) => NodeKind::Condition(leaf(l)?),
         WireKind::Action(l) => NodeKind::Action(leaf(l)?),
+        WireKind::ConditionExt(l) => NodeKind::Condition(extended(l)?),
+        WireKind::ActionExt(l) => NodeKind::Action(extended(l)?),
     };
     Ok(Node::new(kind, w.size))
 }
 
 /// Writes the image of `nodes` for the behavior set with `fingerprint` into `out`;
 /// returns the image length. Any node array is written as given: [`load`] validates.
+/// The nodes may not have extended leaves: [`encode_with`] writes their value table.
 ///
 /// # Errors
 /// [`EncodeError::BufferTooSmall`] (nothing meaningful is left in `out`), or
 /// [`EncodeError::TooManyNodes`].
 pub fn encode(nodes: &[Node], fingerprint: u64, out: &mut [u8]) -> Result<usize, EncodeError> {
+    encode_with(&ImageParts::new(nodes), fingerprint, out)
+}
+
+/// Writes the image of `parts` for the behavior set with `fingerprint` into `out`;
+/// returns the image length. [`ImageParts::max_len`] bounds the size.
+///
+/// # Errors
+/// [`EncodeError::BufferTooSmall`] (nothing meaningful is left in `out`),
+/// [`EncodeError::TooManyNodes`] or [`EncodeError::TooManyValues`].
+pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> Result<usize, EncodeError> {
+    let nodes = parts.nodes;
     let count = u16::try_from(nodes.len()).map_err(|_| EncodeError::TooManyNodes { count: nodes.len() })?;
+    if parts.values.len() > usize::from(u16::MAX) {
+        return Err(EncodeError::TooManyValues { count: parts.values.len() });
+    }
     let capacity = out.len();
     let too_small = EncodeError::BufferTooSmall { capacity };
     let (header, body) = out.split_at_mut_checked(HEADER_LEN).ok_or(too_small)?;
@@ -196,16 +327,63 @@ pub fn encode(nodes: &[Node], fingerprint: u64, out: &mut [u8]) -> Result<usize,
     header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&VERSION.to_le_bytes());
     header.get_mut(6..14).ok_or(too_small)?.copy_from_slice(&fingerprint.to_le_bytes());
     header.get_mut(14..16).ok_or(too_small)?.copy_from_slice(&count.to_le_bytes());
-    let mut used = 0usize;
+    let mut w = Writer { buf: body, used: 0, too_small };
     for node in nodes {
-        let rest = body.get_mut(used..).ok_or(too_small)?;
-        let written = postcard::to_slice(&to_wire(node), rest).map_err(|_| too_small)?;
-        used += written.len();
+        w.put(&to_wire(node))?;
     }
-    let payload_end = HEADER_LEN + used;
+    if !parts.values.is_empty() {
+        // The body's length first: the count and the values, each a varint.
+        let len = varint_len(parts.values.len() as u32)
+            + parts.values.iter().map(|&v| varint_len(u32::from(v))).sum::<usize>();
+        w.put(&SECTION_VALUES)?;
+        w.put(&(len as u32))?;
+        w.put(&(parts.values.len() as u32))?;
+        for v in parts.values {
+            w.put(v)?;
+        }
+    }
+    if let Some(names) = parts.names {
+        w.put(&SECTION_NAMES)?;
+        w.put(&u32::try_from(names.len()).map_err(|_| too_small)?)?;
+        w.bytes(names)?;
+    }
+    let payload_end = HEADER_LEN + w.used;
     let crc = crc32(out.get(..payload_end).ok_or(too_small)?);
     out.get_mut(payload_end..payload_end + CRC_LEN).ok_or(too_small)?.copy_from_slice(&crc.to_le_bytes());
     Ok(payload_end + CRC_LEN)
+}
+
+/// Bytes of `v` as a LEB128 varint.
+const fn varint_len(v: u32) -> usize {
+    match v {
+        0..0x80 => 1,
+        0x80..0x4000 => 2,
+        0x4000..0x20_0000 => 3,
+        0x20_0000..0x1000_0000 => 4,
+        _ => 5,
+    }
+}
+
+struct Writer<'o> {
+    buf: &'o mut [u8],
+    used: usize,
+    too_small: EncodeError,
+}
+
+impl Writer<'_> {
+    fn put<T: Serialize>(&mut self, value: &T) -> Result<(), EncodeError> {
+        let rest = self.buf.get_mut(self.used..).ok_or(self.too_small)?;
+        let written = postcard::to_slice(value, rest).map_err(|_| self.too_small)?;
+        self.used += written.len();
+        Ok(())
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) -> Result<(), EncodeError> {
+        let end = self.used + bytes.len();
+        self.buf.get_mut(self.used..end).ok_or(self.too_small)?.copy_from_slice(bytes);
+        self.used = end;
+        Ok(())
+    }
 }
 
 fn u16_at(bytes: &[u8], at: usize) -> u16 {
@@ -251,7 +429,7 @@ pub fn read_header(bytes: &[u8]) -> Result<Header, LoadError> {
         return Err(LoadError::BadMagic { found: magic });
     }
     let version = u16_at(bytes, 4);
-    if version != VERSION {
+    if !(OLDEST_VERSION..=VERSION).contains(&version) {
         return Err(LoadError::UnsupportedVersion { found: version, supported: VERSION });
     }
     let stored = u32_at(bytes, len - CRC_LEN);
@@ -262,8 +440,98 @@ pub fn read_header(bytes: &[u8]) -> Result<Header, LoadError> {
     Ok(Header { version, fingerprint: u64_at(bytes, 6), node_count: u16_at(bytes, 14), len })
 }
 
+/// Decodes the nodes of a checked image into `storage` (or, without storage, only
+/// checks that they decode); returns the bytes after the last node.
+fn decode_nodes<'b>(bytes: &'b [u8], header: &Header, mut storage: Option<&mut [Node]>) -> Result<&'b [u8], LoadError> {
+    let payload = bytes.get(HEADER_LEN..header.len - CRC_LEN).unwrap_or(&[]);
+    let mut rest = payload;
+    for i in 0..usize::from(header.node_count) {
+        let id = i as NodeId;
+        let offset = HEADER_LEN + (payload.len() - rest.len());
+        let (wire, tail) = postcard::take_from_bytes::<WireNode>(rest).map_err(|e| match e {
+            postcard::Error::DeserializeUnexpectedEnd => {
+                LoadError::Truncated { len: header.len, inside_node: Some(id) }
+            }
+            _ => LoadError::MalformedNode { node: id, offset },
+        })?;
+        if !wire.kind.in_version(header.version) {
+            return Err(LoadError::MalformedNode { node: id, offset });
+        }
+        let node = from_wire(id, wire)?;
+        if let Some(slot) = storage.as_deref_mut().and_then(|s| s.get_mut(i)) {
+            *slot = node;
+        }
+        rest = tail;
+    }
+    Ok(rest)
+}
+
+/// One section: its tag, the offset of its head in the image, and its body.
+struct Section<'b> {
+    tag: u8,
+    offset: usize,
+    body: &'b [u8],
+}
+
+/// Walks the sections in `rest` (the bytes between the last node and the CRC, at
+/// `offset` in the image), checking their framing and order, and calls `each` on them.
+fn sections<'b>(
+    mut rest: &'b [u8],
+    mut offset: usize,
+    header: &Header,
+    mut each: impl FnMut(Section<'b>) -> Result<(), LoadError>,
+) -> Result<(), LoadError> {
+    if header.version < 2 {
+        if !rest.is_empty() {
+            return Err(LoadError::TrailingBytes { count: rest.len() });
+        }
+        return Ok(());
+    }
+    let mut last = 0u8;
+    while let Some((&tag, after_tag)) = rest.split_first() {
+        let malformed = LoadError::MalformedSection { tag, offset };
+        if tag == 0 || tag > LAST_SECTION {
+            return Err(LoadError::UnknownSection { tag, offset });
+        }
+        if tag <= last {
+            return Err(malformed);
+        }
+        let (len, after_len) = postcard::take_from_bytes::<u32>(after_tag).map_err(|_| malformed)?;
+        let len = len as usize;
+        if len > after_len.len() {
+            return Err(malformed);
+        }
+        let (body, tail) = after_len.split_at(len);
+        each(Section { tag, offset, body })?;
+        offset += rest.len() - tail.len();
+        rest = tail;
+        last = tag;
+    }
+    Ok(())
+}
+
+/// Decodes a value table section's body into `values`; returns the number of values.
+fn decode_values(section: &Section<'_>, values: &mut [u16]) -> Result<usize, LoadError> {
+    let malformed = LoadError::MalformedSection { tag: section.tag, offset: section.offset };
+    let (count, mut rest) = postcard::take_from_bytes::<u32>(section.body).map_err(|_| malformed)?;
+    let count = count as usize;
+    if count > values.len() {
+        return Err(LoadError::TooManyValues { count, capacity: values.len() });
+    }
+    for slot in values.iter_mut().take(count) {
+        let (v, tail) = postcard::take_from_bytes::<u16>(rest).map_err(|_| malformed)?;
+        *slot = v;
+        rest = tail;
+    }
+    if !rest.is_empty() {
+        return Err(malformed);
+    }
+    Ok(count)
+}
+
 /// Decodes and validates an image into `storage`, for the behavior set `catalog`, with
-/// at most `DEPTH` levels. Never panics, whatever `bytes` hold.
+/// at most `DEPTH` levels. Never panics, whatever `bytes` hold. An image with a value
+/// table needs [`load_with`].
 ///
 /// ```
 /// use bt_core::{load, encode, fingerprint, BehaviorInfo, Builder, Node, Tree, image::max_image_len};
@@ -290,35 +558,112 @@ pub fn load<'s, C: Catalog + ?Sized, const DEPTH: usize>(
     catalog: &C,
     storage: &'s mut [Node],
 ) -> Result<Tree<'s, DEPTH>, LoadError> {
+    load_with(bytes, catalog, storage, &mut [])
+}
+
+/// As [`load`], decoding the image's value table (extended leaves' values) into
+/// `values`.
+///
+/// ```
+/// use bt_core::{load_with, encode_with, fingerprint, image::ImageParts};
+/// use bt_core::{BehaviorInfo, Leaf, Node, NodeKind, Tree};
+/// const SET: [BehaviorInfo<'static>; 1] = [BehaviorInfo::action("drive-truck", 4)];
+/// let leaf = Leaf::extended(0, 0, 4)?; // its values: the table's entries 0..4
+/// let nodes = [Node::new(NodeKind::Action(leaf), 1)];
+/// let parts = ImageParts::new(&nodes).values(&[7, 1, 2, 3]);
+/// let mut image = vec![0u8; parts.max_len()];
+/// let len = encode_with(&parts, fingerprint(&SET), &mut image)?;
+///
+/// let (mut storage, mut values) = ([Node::EMPTY; 4], [0u16; 8]);
+/// let tree: Tree<'_, 4> = load_with(&image[..len], &SET, &mut storage, &mut values)?;
+/// assert_eq!(tree.args(&leaf), &[7, 1, 2, 3]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`load`]; [`LoadError::TooManyValues`] when the table does not fit `values`.
+pub fn load_with<'s, C: Catalog + ?Sized, const DEPTH: usize>(
+    bytes: &[u8],
+    catalog: &C,
+    storage: &'s mut [Node],
+    values: &'s mut [u16],
+) -> Result<Tree<'s, DEPTH>, LoadError> {
     let header = read_header(bytes)?;
     let expected = catalog.fingerprint();
     if header.fingerprint != expected {
         return Err(LoadError::ForeignBehaviorSet { image: header.fingerprint, expected });
     }
-    let count = usize::from(header.node_count);
-    if count == 0 {
+    if header.node_count == 0 {
         return Err(LoadError::EmptyTree);
     }
+    let (count, value_count) = decode_body(bytes, &header, storage, values)?;
+    let nodes: &'s [Node] = storage;
+    let values: &'s [u16] = values;
+    Tree::validate_with(nodes.get(..count).unwrap_or(&[]), values.get(..value_count).unwrap_or(&[]), catalog)
+}
+
+/// What [`decode`] found in an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decoded {
+    /// The envelope.
+    pub header: Header,
+    /// Nodes written to the storage.
+    pub nodes: usize,
+    /// Values written to the value storage.
+    pub values: usize,
+}
+
+/// Decodes an image's nodes and value table without validating the tree or checking
+/// the fingerprint: for host tools that must show an image whose behavior set they do
+/// not know. A controller uses [`load_with`].
+///
+/// # Errors
+/// The first fault in the envelope, the nodes or the sections, as a [`LoadError`].
+pub fn decode(bytes: &[u8], storage: &mut [Node], values: &mut [u16]) -> Result<Decoded, LoadError> {
+    let header = read_header(bytes)?;
+    let (nodes, values) = decode_body(bytes, &header, storage, values)?;
+    Ok(Decoded { header, nodes, values })
+}
+
+/// Decodes the nodes and the value table of an image whose envelope checked out;
+/// returns how many of each.
+fn decode_body(
+    bytes: &[u8],
+    header: &Header,
+    storage: &mut [Node],
+    values: &mut [u16],
+) -> Result<(usize, usize), LoadError> {
+    let count = usize::from(header.node_count);
     if count > storage.len() {
         return Err(LoadError::TooManyNodes { count, capacity: storage.len() });
     }
-    let payload = bytes.get(HEADER_LEN..header.len - CRC_LEN).unwrap_or(&[]);
-    let mut rest = payload;
-    for (i, slot) in storage.iter_mut().take(count).enumerate() {
-        let id = i as NodeId;
-        let offset = HEADER_LEN + (payload.len() - rest.len());
-        let (wire, tail) = postcard::take_from_bytes::<WireNode>(rest).map_err(|e| match e {
-            postcard::Error::DeserializeUnexpectedEnd => {
-                LoadError::Truncated { len: header.len, inside_node: Some(id) }
-            }
-            _ => LoadError::MalformedNode { node: id, offset },
-        })?;
-        *slot = from_wire(id, wire)?;
-        rest = tail;
-    }
-    if !rest.is_empty() {
-        return Err(LoadError::TrailingBytes { count: rest.len() });
-    }
-    let nodes: &'s [Node] = storage;
-    Tree::validate(nodes.get(..count).unwrap_or(&[]), catalog)
+    let rest = decode_nodes(bytes, header, Some(storage))?;
+    let offset = header.len - CRC_LEN - rest.len();
+    let mut value_count = 0;
+    sections(rest, offset, header, |s| {
+        if s.tag == SECTION_VALUES {
+            value_count = decode_values(&s, values)?;
+        }
+        Ok(())
+    })?;
+    Ok((count, value_count))
+}
+
+/// The body of section `tag` of an image, `None` when the image has no such section.
+/// Checks the envelope, the nodes' decoding and the sections' framing, not the tree.
+///
+/// # Errors
+/// The first fault found in those, as a [`LoadError`].
+pub fn section(bytes: &[u8], tag: u8) -> Result<Option<&[u8]>, LoadError> {
+    let header = read_header(bytes)?;
+    let rest = decode_nodes(bytes, &header, None)?;
+    let offset = header.len - CRC_LEN - rest.len();
+    let mut found = None;
+    sections(rest, offset, &header, |s| {
+        if s.tag == tag {
+            found = Some(s.body);
+        }
+        Ok(())
+    })?;
+    Ok(found)
 }

@@ -17,10 +17,10 @@
 //!
 //! struct World { position: i32, goal: i32 }
 //! impl BehaviorSet for World {
-//!     fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+//!     fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
 //!         if self.position == self.goal { Status::Success } else { Status::Failure }
 //!     }
-//!     fn action(&mut self, _: &Leaf, _: Context) -> Status {
+//!     fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
 //!         self.position += 1;
 //!         Status::Running
 //!     }
@@ -69,7 +69,7 @@ pub use builder::Builder;
 pub use catalog::{BehaviorInfo, Catalog, fingerprint};
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};
 pub use exec::{Executor, NodeState, StateTooSmall};
-pub use image::{encode, load};
+pub use image::{encode, encode_with, load, load_with};
 pub use node::{Arity, BehaviorId, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind};
 pub use render::Render;
 pub use status::{NodeStatus, Status};

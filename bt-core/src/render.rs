@@ -54,7 +54,7 @@ impl<const DEPTH: usize, C: Catalog + ?Sized> fmt::Display for Render<'_, '_, '_
             for _ in 0..ends.len() {
                 f.write_str("    ")?;
             }
-            write_label(f, self.catalog, node.kind())?;
+            write_label(f, self.catalog, node.kind(), self.tree.values())?;
             let status = self.states.and_then(|s| s.get(i)).map_or(NodeStatus::Idle, NodeState::status);
             f.write_str(match status {
                 NodeStatus::Idle => "",
@@ -73,11 +73,17 @@ impl<const DEPTH: usize, C: Catalog + ?Sized> fmt::Display for Render<'_, '_, '_
     }
 }
 
-/// Writes one node's label (glyph, name, parameters or arguments) without a newline.
+/// Writes one node's label (glyph, name, parameters or arguments) without a newline;
+/// extended leaves take their values from `values`, the tree's value table.
 ///
 /// # Errors
 /// Whatever the formatter returns.
-pub fn write_label<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C, kind: &NodeKind) -> fmt::Result {
+pub fn write_label<C: Catalog + ?Sized>(
+    f: &mut fmt::Formatter<'_>,
+    catalog: &C,
+    kind: &NodeKind,
+    values: &[u16],
+) -> fmt::Result {
     match *kind {
         NodeKind::Sequence => f.write_str("{-} Sequence"),
         NodeKind::Fallback => f.write_str("[o] Fallback"),
@@ -94,15 +100,43 @@ pub fn write_label<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C,
         NodeKind::Timeout(n) => write!(f, "-^- Timeout({n} ticks)"),
         NodeKind::Condition(ref leaf) | NodeKind::Action(ref leaf) => {
             f.write_str("--> ")?;
-            write_leaf(f, catalog, leaf)
+            write_leaf(f, catalog, leaf, values)
         }
     }
 }
 
-/// Writes a leaf as the catalog names it (by default `name` or `name(arg, ...)`).
+/// Writes a leaf as the catalog names it (by default `name` or `name(arg, ...)`);
+/// an extended leaf takes its values from `values`, the tree's value table.
 ///
 /// # Errors
 /// Whatever the formatter returns.
-pub fn write_leaf<C: Catalog + ?Sized>(f: &mut fmt::Formatter<'_>, catalog: &C, leaf: &Leaf) -> fmt::Result {
-    catalog.write_leaf(f, leaf)
+pub fn write_leaf<C: Catalog + ?Sized>(
+    f: &mut fmt::Formatter<'_>,
+    catalog: &C,
+    leaf: &Leaf,
+    values: &[u16],
+) -> fmt::Result {
+    catalog.write_leaf(f, leaf, leaf.args_in(values))
+}
+
+/// A [`Display`](fmt::Display) of one leaf as the catalog names it; made by
+/// [`display_leaf`].
+#[derive(Debug)]
+pub struct DisplayLeaf<'a, C: ?Sized> {
+    catalog: &'a C,
+    leaf: &'a Leaf,
+    values: &'a [u16],
+}
+
+/// Displays `leaf` as `catalog` names it, e.g. `holding(cube)`; an extended leaf takes
+/// its values from `values`, the tree's value table.
+#[must_use]
+pub fn display_leaf<'a, C: Catalog + ?Sized>(catalog: &'a C, leaf: &'a Leaf, values: &'a [u16]) -> DisplayLeaf<'a, C> {
+    DisplayLeaf { catalog, leaf, values }
+}
+
+impl<C: Catalog + ?Sized> fmt::Display for DisplayLeaf<'_, C> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write_leaf(f, self.catalog, self.leaf, self.values)
+    }
 }

@@ -2,7 +2,7 @@
 
 use crate::catalog::Catalog;
 use crate::error::{ArgumentFault, LoadError};
-use crate::node::{Arity, Node, NodeId, NodeKind};
+use crate::node::{Arity, Leaf, Node, NodeId, NodeKind};
 
 /// A node array that passed validation against a behavior set, with a depth of at most
 /// `DEPTH` levels (the root is level 1).
@@ -14,6 +14,7 @@ use crate::node::{Arity, Node, NodeId, NodeKind};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Tree<'a, const DEPTH: usize> {
     nodes: &'a [Node],
+    values: &'a [u16],
     depth: u16,
 }
 
@@ -26,10 +27,26 @@ struct Open {
 
 impl<'a, const DEPTH: usize> Tree<'a, DEPTH> {
     /// Checks `nodes` against `catalog` and the depth limit. One pass, no recursion.
+    /// The tree has no value table: an extended leaf is refused
+    /// ([`Tree::validate_with`] takes one).
     ///
     /// # Errors
     /// The first fault found, as a structural [`LoadError`] naming the node.
     pub fn validate<C: Catalog + ?Sized>(nodes: &'a [Node], catalog: &C) -> Result<Self, LoadError> {
+        Self::validate_with(nodes, &[], catalog)
+    }
+
+    /// Checks `nodes`, whose extended leaves take their values from `values`, against
+    /// `catalog` and the depth limit. One pass, no recursion.
+    ///
+    /// # Errors
+    /// The first fault found, as a structural [`LoadError`] naming the node; an extended
+    /// leaf whose range leaves `values` is [`ArgumentFault::ValuesOutOfRange`].
+    pub fn validate_with<C: Catalog + ?Sized>(
+        nodes: &'a [Node],
+        values: &'a [u16],
+        catalog: &C,
+    ) -> Result<Self, LoadError> {
         let Some(root) = nodes.first() else {
             return Err(LoadError::EmptyTree);
         };
@@ -64,12 +81,12 @@ impl<'a, const DEPTH: usize> Tree<'a, DEPTH> {
                 return Err(LoadError::DepthOverLimit { node: id, limit: DEPTH });
             }
             depth = depth.max(open.len());
-            check_node(id, node, catalog)?;
+            check_node(id, node, values.len(), catalog)?;
         }
         while let Some(top) = open.pop() {
             check_children(nodes, top)?;
         }
-        Ok(Self { nodes, depth: depth as u16 })
+        Ok(Self { nodes, values, depth: depth as u16 })
     }
 
     /// The nodes, in pre-order.
@@ -77,6 +94,22 @@ impl<'a, const DEPTH: usize> Tree<'a, DEPTH> {
     #[must_use]
     pub fn nodes(&self) -> &'a [Node] {
         self.nodes
+    }
+
+    /// The value table extended leaves take their values from (often empty).
+    #[inline(always)]
+    #[must_use]
+    pub fn values(&self) -> &'a [u16] {
+        self.values
+    }
+
+    /// The values of `leaf`, inline or from the value table.
+    #[must_use]
+    pub fn args<'l>(&self, leaf: &'l Leaf) -> &'l [u16]
+    where
+        'a: 'l,
+    {
+        leaf.args_in(self.values)
     }
 
     /// Number of nodes (at least one).
@@ -154,7 +187,7 @@ pub fn children(nodes: &[Node], id: NodeId) -> Children<'_> {
     Children { nodes, next: i + 1, end }
 }
 
-fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, catalog: &C) -> Result<(), LoadError> {
+fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catalog: &C) -> Result<(), LoadError> {
     let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
     match node.kind() {
         NodeKind::Repeat(0) => zero("Repeat"),
@@ -173,8 +206,20 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, catalog: &C) -> Resu
             if info.kind != used {
                 return Err(LoadError::WrongLeafKind { node: id, behavior, declared: info.kind });
             }
-            let found = leaf.argc() as u8;
-            if found != info.arity {
+            if let Some((start, len)) = leaf.range()
+                && usize::from(start) + usize::from(len) > values
+            {
+                return Err(LoadError::BadArgument {
+                    node: id,
+                    fault: ArgumentFault::ValuesOutOfRange {
+                        start,
+                        len,
+                        table: values.min(usize::from(u16::MAX)) as u16,
+                    },
+                });
+            }
+            let found = leaf.argc() as u16; // at most u16::MAX by construction
+            if found != u16::from(info.arity) {
                 return Err(LoadError::BadArgument {
                     node: id,
                     fault: ArgumentFault::Count { behavior, expected: info.arity, found },

@@ -90,9 +90,15 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
+    for version in [0u16, 3, 0xffff] {
+        let mut b = good();
+        b[4..6].copy_from_slice(&version.to_le_bytes());
+        assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: version, supported: 2 }));
+    }
+    // Version 1 (no extended leaves, no sections) still loads, as the same tree.
     let mut b = good();
-    b[4..6].copy_from_slice(&2u16.to_le_bytes());
-    assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: 2, supported: 1 }));
+    b[4..6].copy_from_slice(&1u16.to_le_bytes());
+    assert_eq!(try_load(&reseal(b)), try_load(&good()));
 }
 
 #[test]
@@ -128,7 +134,7 @@ fn too_many_nodes_for_the_storage() {
 #[test]
 fn malformed_node() {
     let mut b = good();
-    b[HEADER_LEN + 1] = 13; // first node's kind tag: there is no kind 13
+    b[HEADER_LEN + 1] = 100; // first node's kind tag: there is no kind 100
     assert_eq!(try_load(&reseal(b)), Err(LoadError::MalformedNode { node: 0, offset: HEADER_LEN }));
     // A leaf with four arguments.
     let mut b = good();
@@ -140,10 +146,17 @@ fn malformed_node() {
 
 #[test]
 fn trailing_bytes() {
+    // Version 1 has no sections: any byte after the last node is one too many.
+    let mut b = good();
+    b[4..6].copy_from_slice(&1u16.to_le_bytes());
+    let at = b.len() - CRC_LEN;
+    b.splice(at..at, [1, 0, 0]);
+    assert_eq!(try_load(&reseal(b)), Err(LoadError::TrailingBytes { count: 3 }));
+    // In version 2 they are read as a section, here one with tag 0, which does not exist.
     let mut b = good();
     let at = b.len() - CRC_LEN;
     b.splice(at..at, [0, 0, 0]);
-    assert_eq!(try_load(&reseal(b)), Err(LoadError::TrailingBytes { count: 3 }));
+    assert_eq!(try_load(&reseal(b)), Err(LoadError::UnknownSection { tag: 0, offset: at }));
 }
 
 #[test]
@@ -264,12 +277,15 @@ fn every_error_reads_as_a_sentence() {
         LoadError::Truncated { len: 3, inside_node: None },
         LoadError::Truncated { len: 30, inside_node: Some(2) },
         LoadError::BadMagic { found: *b"GIF8" },
-        LoadError::UnsupportedVersion { found: 9, supported: 1 },
+        LoadError::UnsupportedVersion { found: 9, supported: 2 },
         LoadError::CrcMismatch { stored: 1, computed: 2 },
         LoadError::ForeignBehaviorSet { image: 1, expected: 2 },
         LoadError::TooManyNodes { count: 70, capacity: 64 },
         LoadError::MalformedNode { node: 3, offset: 40 },
         LoadError::TrailingBytes { count: 2 },
+        LoadError::UnknownSection { tag: 9, offset: 60 },
+        LoadError::MalformedSection { tag: 1, offset: 60 },
+        LoadError::TooManyValues { count: 9, capacity: 4 },
         LoadError::EmptyTree,
         LoadError::SubtreeSizeInconsistent { node: 1, size: 9 },
         LoadError::WrongArity { node: 1, kind: "Inverter", children: 2, expected: Arity::One },
@@ -277,6 +293,7 @@ fn every_error_reads_as_a_sentence() {
         LoadError::UnknownBehavior { node: 1, behavior: 99 },
         LoadError::WrongLeafKind { node: 1, behavior: 0, declared: LeafKind::Condition },
         LoadError::BadArgument { node: 1, fault: ArgumentFault::ZeroCount { kind: "Retry" } },
+        LoadError::BadArgument { node: 1, fault: ArgumentFault::ValuesOutOfRange { start: 4, len: 5, table: 6 } },
     ];
     let text: Vec<String> = errors.iter().map(ToString::to_string).collect();
     insta_like(&text);
@@ -287,7 +304,7 @@ fn every_error_reads_as_a_sentence() {
     distinct.dedup(); // the two `Truncated` are adjacent
     distinct.sort_unstable();
     distinct.dedup();
-    assert_eq!(distinct.len(), errors.len() - 1, "{codes:?}");
+    assert_eq!(distinct.len(), errors.len() - 2, "{codes:?}"); // two Truncated, two BadArgument
     assert!(codes.iter().all(|c| c.bytes().all(|b| b.is_ascii_lowercase() || b == b'-')), "{codes:?}");
     assert_eq!(codes[4], "crc-mismatch");
     let nodes: Vec<Option<u16>> = errors.iter().map(LoadError::node).collect();
@@ -304,9 +321,13 @@ fn every_error_reads_as_a_sentence() {
             Some(3),
             None,
             None,
+            None,
+            None,
+            None,
             Some(1),
             Some(1),
             Some(7),
+            Some(1),
             Some(1),
             Some(1),
             Some(1)
@@ -319,12 +340,15 @@ fn insta_like(lines: &[String]) {
         "image truncated: 3 bytes, shorter than the 20 bytes of header and CRC",
         "image truncated: 30 bytes, the payload ends inside node 2",
         "not a behavior-tree image: starts with [47, 49, 46, 38], expected [42, 54, 49, 4d] (\"BTIM\")",
-        "image format version 9 is not supported (this build reads version 1)",
+        "image format version 9 is not supported (this build reads versions 1 to 2)",
         "image corrupted: stored CRC-32 0x00000001, computed 0x00000002",
         "image built for behavior set 0x0000000000000001, this controller has 0x0000000000000002",
         "tree has 70 nodes, capacity is 64",
         "node 3 is malformed (bytes from offset 40 do not decode as a node)",
         "2 unexpected bytes after the last node",
+        "unknown section 9 at offset 60",
+        "section 1 at offset 60 is malformed",
+        "value table has 9 entries, capacity is 4",
         "the tree has no nodes",
         "node 1 claims a subtree of 9 nodes, which does not fit inside its parent",
         "node 1 (Inverter) has 2 children; a decorator has exactly one",
@@ -332,6 +356,7 @@ fn insta_like(lines: &[String]) {
         "node 1 uses behavior 99, which the behavior set does not have",
         "node 1 uses behavior 0 as an action, but it is declared as a condition",
         "node 1: Retry(0): the count must be at least 1",
+        "node 1: the leaf's values 4..+5 lie outside the value table of 6 entries",
     ];
     assert_eq!(lines, expected);
 }
@@ -382,10 +407,10 @@ proptest! {
 
 struct Always(Status);
 impl bt_core::BehaviorSet for Always {
-    fn condition(&mut self, _: &Leaf, _: bt_core::Context) -> Status {
+    fn condition(&mut self, _: &Leaf, _: bt_core::Context<'_>) -> Status {
         Status::Failure
     }
-    fn action(&mut self, _: &Leaf, _: bt_core::Context) -> Status {
+    fn action(&mut self, _: &Leaf, _: bt_core::Context<'_>) -> Status {
         self.0
     }
     fn halt(&mut self, _: &Leaf, _: bt_core::NodeId) {}

@@ -114,7 +114,7 @@ fn b(v: bool) -> Status {
 }
 
 impl BehaviorSet for World {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         match leaf.behavior() {
             ON_GOAL => b(self.cube_on_goal()),
             HOLDING => b(self.cube.is_none()),
@@ -125,7 +125,7 @@ impl BehaviorSet for World {
         }
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let name = match leaf.behavior() {
             MOVE_TO => format!("MoveTo({}, {})", ["cube", "goal"][usize::from(leaf.args()[0])], leaf.args()[1]),
             PICK => "Pick".to_string(),

@@ -118,11 +118,11 @@ struct Script<'a> {
 }
 
 impl BehaviorSet for Script<'_> {
-    fn condition(&mut self, _: &Leaf, ctx: Context) -> Status {
+    fn condition(&mut self, _: &Leaf, ctx: Context<'_>) -> Status {
         self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: true });
         outcome(self.nodes, self.tick, usize::from(ctx.node))
     }
-    fn action(&mut self, _: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, _: &Leaf, ctx: Context<'_>) -> Status {
         self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: ctx.starting });
         outcome(self.nodes, self.tick, usize::from(ctx.node))
     }

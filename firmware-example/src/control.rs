@@ -123,14 +123,14 @@ struct Recorder<'p> {
 }
 
 impl BehaviorSet for Recorder<'_> {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let status = self.plant.condition(leaf, ctx);
         // A tick visits each node at most once, so `ran` cannot overflow.
         let _ = self.ran.push(Ran { node: ctx.node, status });
         status
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let status = self.plant.action(leaf, ctx);
         let _ = self.ran.push(Ran { node: ctx.node, status });
         status
@@ -168,7 +168,7 @@ impl Line {
 
     /// Appends an unsigned number in decimal.
     pub fn num(&mut self, v: u32) -> &mut Self {
-        self.digits(u64::from(v), 10, 1)
+        self.digits(u64::from(v), false, 1)
     }
 
     /// Appends a count or size in decimal (saturating at `u32::MAX`).
@@ -186,19 +186,24 @@ impl Line {
 
     /// Appends `v` in lowercase hexadecimal, zero-padded to `width` digits.
     pub fn hex(&mut self, v: u64, width: usize) -> &mut Self {
-        self.digits(v, 16, width)
+        self.digits(v, true, width)
     }
 
-    /// Appends `v` in base `radix` (10 or 16) with at least `width` digits.
-    fn digits(&mut self, mut v: u64, radix: u64, width: usize) -> &mut Self {
+    /// Appends `v` in hexadecimal, or in decimal (then `v` is at most `u32::MAX`), with
+    /// at least `width` digits. Hex digits come from shifts and decimal ones from 32-bit
+    /// division, which the Cortex-M4 does in hardware: a 64-bit division would link
+    /// compiler-builtins' `u64_div_rem`, about 400 bytes.
+    fn digits(&mut self, mut v: u64, hex: bool, width: usize) -> &mut Self {
         let mut out = [b'0'; 20];
         let mut at = out.len();
         while at > 0 && (v > 0 || out.len() - at < width.max(1)) {
             at -= 1;
+            let (digit, rest) =
+                if hex { (v & 0xf, v >> 4) } else { (u64::from(v as u32 % 10), u64::from(v as u32 / 10)) };
             if let Some(d) = out.get_mut(at) {
-                *d = b"0123456789abcdef".get((v % radix) as usize).copied().unwrap_or(b'?');
+                *d = b"0123456789abcdef".get(digit as usize).copied().unwrap_or(b'?');
             }
-            v /= radix;
+            v = rest;
         }
         let tail = out.get(at..).unwrap_or_default();
         self.push(tail)
@@ -289,7 +294,7 @@ impl Line {
     /// Simulated time of tick `ticks` as seconds with millisecond precision.
     fn seconds(&mut self, ticks: u32) -> &mut Self {
         let ms = ticks.saturating_mul(PERIOD_MS);
-        self.num(ms / 1000).text(".").digits(u64::from(ms % 1000), 10, 3).text("s")
+        self.num(ms / 1000).text(".").digits(u64::from(ms % 1000), false, 3).text("s")
     }
 
     /// What went wrong loading an image: its code, the node, and for the faults a

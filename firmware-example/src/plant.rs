@@ -317,7 +317,7 @@ impl Plant {
 }
 
 impl BehaviorSet for Plant {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         let a = |i| leaf.arg(i).unwrap_or(u16::MAX);
         let holds = match leaf.behavior() {
             AT => self.at(a(0), a(1)),
@@ -331,7 +331,7 @@ impl BehaviorSet for Plant {
         if holds { Status::Success } else { Status::Failure }
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let a = |i| leaf.arg(i).unwrap_or(u16::MAX);
         match leaf.behavior() {
             MOVE_TO => self.move_to(a(0)),
@@ -430,7 +430,7 @@ mod tests {
     #[test]
     fn nonsense_arguments_fail() {
         let mut p = Plant::new();
-        let ctx = Context { node: 0, now: 0, starting: true };
+        let ctx = Context { node: 0, now: 0, starting: true, values: &[] };
         for (behavior, args) in [(NEAR, &[9u16][..]), (AT, &[GOAL, CUBE]), (PICK, &[GOAL]), (MOVE_TO, &[7])] {
             let leaf = Leaf::with_args(behavior, args).unwrap();
             let r = if behavior < MOVE_TO { p.condition(&leaf, ctx) } else { p.action(&leaf, ctx) };

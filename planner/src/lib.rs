@@ -42,6 +42,7 @@ mod duplo_plan;
 mod error;
 pub mod ground;
 pub mod model;
+pub mod names;
 pub mod output;
 pub mod pddl;
 mod planner;

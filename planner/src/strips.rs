@@ -136,14 +136,14 @@ impl StripsWorld {
 }
 
 impl BehaviorSet for StripsWorld {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         match self.g.leaf_atom(leaf) {
             Some(a) if self.state.holds(a) => Status::Success,
             _ => Status::Failure,
         }
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         if !ctx.starting
             && let Some(i) = self.running.iter().position(|r| r.0 == ctx.node)
         {

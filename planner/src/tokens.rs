@@ -131,14 +131,8 @@ pub fn to_string<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Str
 }
 
 fn push_leaf<C: Catalog + ?Sized>(out: &mut String, catalog: &C, leaf: &Leaf, mark: char) {
-    struct L<'a, C: ?Sized>(&'a C, &'a Leaf);
-    impl<C: Catalog + ?Sized> std::fmt::Display for L<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_leaf(f, self.1)
-        }
-    }
     let start = out.len();
-    let _ = write!(out, "{}", L(catalog, leaf));
+    let _ = write!(out, "{}", bt_core::render::display_leaf(catalog, leaf, &[]));
     if !out[start..].ends_with(mark) {
         out.push(mark);
     }

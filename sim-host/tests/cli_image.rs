@@ -76,3 +76,60 @@ fn a_bad_image_is_one_line_and_exit_2() {
     let out = sim_host(&["inspect"]);
     assert_eq!(out.status.code(), Some(2), "clap usage errors exit 2 too");
 }
+
+/// Plans `problem` on `domain` (file contents) into an image; returns its path.
+fn planned_image(dir: &Path, domain: &str, problem: &str) -> std::path::PathBuf {
+    let (d, p, img) = (dir.join("d.pddl"), dir.join("p.pddl"), dir.join("t.bt"));
+    std::fs::write(&d, domain).unwrap();
+    std::fs::write(&p, problem).unwrap();
+    let args = ["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap()];
+    let out = sim_host(&[&args[..], &["--format", "image", "--out", img.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    img
+}
+
+fn inspect(image: &Path) -> String {
+    let out = sim_host(&["inspect", image.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn images_name_their_own_objects_and_behaviors() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = planner::domains::CUBE_SPHERE_DOMAIN;
+    // The shipped domain with the objects in another order than the shipped problem's:
+    // the image must print this problem's names, not the shipped one's.
+    let problem = "(define (problem mine) (:domain cube-sphere)
+        (:objects goal - spot sphere cube - item)
+        (:init (hand-empty) (path-free cube) (path-free sphere) (path-free goal))
+        (:goal (at cube goal)))";
+    let text = inspect(&planned_image(dir.path(), domain, problem));
+    assert!(text.contains("PDDL problem `mine` of domain `cube-sphere` (names from the image)"), "{text}");
+    assert!(text.contains("--> at(cube, goal)"), "{text}");
+    let out = sim_host(&["export", dir.path().join("t.bt").to_str().unwrap(), "--format", "tokens"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("at(cube, goal)?"));
+
+    // A domain this binary has never seen.
+    let domain = "(define (domain lamp) (:requirements :strips)
+        (:predicates (lit ?l) (has-power ?l))
+        (:action switch-on :parameters (?l) :precondition (has-power ?l) :effect (lit ?l)))";
+    let problem = "(define (problem hall) (:domain lamp) (:objects ceiling)
+        (:init (has-power ceiling)) (:goal (lit ceiling)))";
+    let image = planned_image(dir.path(), domain, problem);
+    let text = inspect(&image);
+    assert!(text.contains("PDDL problem `hall` of domain `lamp`"), "{text}");
+    assert!(text.contains("--> switch-on(ceiling)"), "{text}");
+
+    // The same image without its names section: shown by ids, and said so.
+    let bytes = std::fs::read(&image).unwrap();
+    let mut nodes = vec![bt_core::Node::EMPTY; 64];
+    let d = bt_core::image::decode(&bytes, &mut nodes, &mut []).unwrap();
+    let mut buf = vec![0u8; max_image_len(d.nodes)];
+    let len = encode(&nodes[..d.nodes], d.header.fingerprint, &mut buf).unwrap();
+    let bare = dir.path().join("bare.bt");
+    std::fs::write(&bare, &buf[..len]).unwrap();
+    let text = inspect(&bare);
+    assert!(text.contains("not built in and the image carries no names"), "{text}");
+    assert!(text.contains("--> #2(0)"), "{text}");
+}

@@ -34,7 +34,7 @@ fn image_round_trips_through_inspect_and_export() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let out = sim_host(&["inspect", img.to_str().unwrap()]);
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.contains("PDDL domain `cube-sphere`"), "{text}");
+    assert!(text.contains("PDDL problem `cube-to-goal` of domain `cube-sphere` (names from the image)"), "{text}");
     assert!(text.contains("--> place(cube, goal)"), "{text}");
     let out = sim_host(&["export", img.to_str().unwrap(), "--format", "xml"]);
     let xml = String::from_utf8(out.stdout).unwrap();

@@ -42,8 +42,8 @@ fn the_catalog_follows_the_pddl_contract() {
     assert_eq!(have, want);
 }
 
-fn ctx(node: u16, starting: bool) -> Context {
-    Context { node, now: 0, starting }
+fn ctx(node: u16, starting: bool) -> Context<'static> {
+    Context { node, now: 0, starting, values: &[] }
 }
 
 /// Runs one action leaf until it is done.

@@ -47,10 +47,12 @@ impl PyTrees<'_> {
 
     fn tick(&mut self, i: usize, w: &mut SymbolicBrickWorld) -> Status {
         let r = match *self.nodes[i].kind() {
-            NodeKind::Condition(leaf) => w.condition(&leaf, Context { node: i as u16, now: 0, starting: true }),
+            NodeKind::Condition(leaf) => {
+                w.condition(&leaf, Context { node: i as u16, now: 0, starting: true, values: &[] })
+            }
             NodeKind::Action(leaf) => {
                 let starting = self.status[i] != Py::Done(Status::Running);
-                w.action(&leaf, Context { node: i as u16, now: 0, starting })
+                w.action(&leaf, Context { node: i as u16, now: 0, starting, values: &[] })
             }
             kind @ (NodeKind::Sequence | NodeKind::Fallback) => {
                 let fallback = kind == NodeKind::Fallback;

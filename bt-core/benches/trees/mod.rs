@@ -24,11 +24,11 @@ impl World {
 
 impl BehaviorSet for World {
     #[inline(always)]
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         if self.read(leaf) > 0 { Status::Success } else { Status::Failure }
     }
     #[inline(always)]
-    fn action(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         match self.read(leaf) {
             v if v > 0 => Status::Success,
             0 => Status::Failure,

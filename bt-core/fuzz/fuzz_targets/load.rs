@@ -5,11 +5,12 @@
 use bt_core::{BehaviorInfo, BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Status, Tree, fingerprint, image};
 use libfuzzer_sys::fuzz_target;
 
-const SET: [BehaviorInfo<'static>; 4] = [
+const SET: [BehaviorInfo<'static>; 5] = [
     BehaviorInfo::condition("c0?", 0),
     BehaviorInfo::condition("c1?", 1),
     BehaviorInfo::action("a0!", 0),
     BehaviorInfo::action("a1!", 2),
+    BehaviorInfo::action("a4!", 4), // extended leaves: values in the image's value table
 ];
 
 /// Leaf outcomes drawn from the input's own bytes, so ticking explores the tree.
@@ -24,10 +25,12 @@ impl Bytes<'_> {
 }
 
 impl BehaviorSet for Bytes<'_> {
-    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         if self.next() % 2 == 0 { Status::Success } else { Status::Failure }
     }
-    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
+        // Read every value, as a behavior would.
+        self.1 += ctx.args(leaf).iter().map(|&v| usize::from(v) & 1).sum::<usize>();
         [Status::Success, Status::Failure, Status::Running][usize::from(self.next() % 3)]
     }
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
@@ -51,7 +54,8 @@ fuzz_target!(|data: &[u8]| {
         data
     };
     let mut storage = [Node::EMPTY; 48];
-    let Ok(tree): Result<Tree<'_, 12>, _> = bt_core::load(bytes, &SET, &mut storage) else {
+    let mut values = [0u16; 64];
+    let Ok(tree): Result<Tree<'_, 12>, _> = bt_core::load_with(bytes, &SET, &mut storage, &mut values) else {
         return;
     };
     let mut state = [NodeState::IDLE; 48];

@@ -83,11 +83,11 @@ impl Scripted {
 }
 
 impl BehaviorSet for Scripted {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         self.run(leaf, true)
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         self.run(leaf, ctx.starting)
     }
 

@@ -8,7 +8,10 @@ mod xml;
 pub use dot::to_dot;
 pub use xml::{XmlError, to_xml};
 
+use bt_core::image::ImageParts;
 use bt_core::{Catalog, Node, Tree};
+
+use crate::names::NameTable;
 
 use crate::PlanError;
 use crate::tree::DEPTH;
@@ -18,8 +21,26 @@ use crate::tree::DEPTH;
 /// # Errors
 /// [`PlanError::TreeTooLarge`] when the tree has more nodes than an image holds.
 pub fn to_image<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Vec<u8>, PlanError> {
-    let mut buf = vec![0u8; bt_core::image::max_image_len(nodes.len())];
-    let len = bt_core::encode(nodes, catalog.fingerprint(), &mut buf)
+    to_image_with(&ImageParts::new(nodes), catalog)
+}
+
+/// The image bytes of `nodes`, with a names section that lets host tools print the
+/// tree as it is even without knowing its domain (see [`crate::names`]).
+///
+/// # Errors
+/// As [`to_image`].
+pub fn to_image_named<C: Catalog + ?Sized>(
+    nodes: &[Node],
+    catalog: &C,
+    names: &NameTable,
+) -> Result<Vec<u8>, PlanError> {
+    let names = names.to_bytes();
+    to_image_with(&ImageParts::new(nodes).names(&names), catalog)
+}
+
+fn to_image_with<C: Catalog + ?Sized>(parts: &ImageParts<'_>, catalog: &C) -> Result<Vec<u8>, PlanError> {
+    let mut buf = vec![0u8; parts.max_len()];
+    let len = bt_core::encode_with(parts, catalog.fingerprint(), &mut buf)
         .map_err(|_| PlanError::TreeTooLarge { limit: usize::from(u16::MAX), depth: DEPTH })?;
     buf.truncate(len);
     Ok(buf)
@@ -36,13 +57,7 @@ pub fn to_ascii<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Stri
 
 /// A leaf as the catalog renders it, e.g. `holding(cube)`.
 pub(crate) fn leaf_text<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf) -> String {
-    struct L<'a, C: ?Sized>(&'a C, &'a bt_core::Leaf);
-    impl<C: Catalog + ?Sized> std::fmt::Display for L<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_leaf(f, self.1)
-        }
-    }
-    L(catalog, leaf).to_string()
+    bt_core::render::display_leaf(catalog, leaf, &[]).to_string()
 }
 
 /// An argument as the catalog renders it, e.g. `cube`.

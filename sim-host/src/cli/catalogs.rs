@@ -1,7 +1,8 @@
 //! The behavior sets this binary knows, found by an image's fingerprint.
 
-use bt_core::Catalog;
+use bt_core::{Catalog, LeafKind, Node};
 use planner::duplo::Task;
+use planner::names::NameTable;
 use planner::{PddlCatalog, Ports, domains, pddl};
 
 /// A behavior set the binary knows by name.
@@ -12,6 +13,8 @@ pub struct Known {
     pub catalog: Box<dyn Catalog>,
     /// Port names of its leaves' arguments, for BehaviorTree.CPP XML (PDDL domains).
     pub ports: Option<Box<dyn Ports>>,
+    /// Something the reader should know about these names (printed by `inspect`).
+    pub note: Option<String>,
 }
 
 /// The built-in PDDL domains, each with the objects of its shipped problem (blocks:
@@ -28,7 +31,7 @@ fn pddl_catalogs() -> Vec<Known> {
             let d = pddl::parse_domain("built-in", d).ok()?;
             let p = pddl::parse_problem("built-in", p, &d).ok()?;
             let c = PddlCatalog::new(&p);
-            Some(Known { name: name.to_string(), catalog: Box::new(c.clone()), ports: Some(Box::new(c)) })
+            Some(Known { name: name.to_string(), catalog: Box::new(c.clone()), ports: Some(Box::new(c)), note: None })
         })
         .collect()
 }
@@ -41,6 +44,7 @@ pub fn all() -> Vec<Known> {
             name: format!("brick task `{}` (seed 003)", t.name()),
             catalog: Box::new(t.spec()) as Box<dyn Catalog>,
             ports: None,
+            note: None,
         })
         .chain(pddl_catalogs())
         .collect()
@@ -51,18 +55,94 @@ pub fn by_fingerprint(fingerprint: u64) -> Option<Known> {
     all().into_iter().find(|k| k.catalog.fingerprint() == fingerprint)
 }
 
-/// Reads an image's envelope and finds its behavior set among the built-in ones.
+/// Reads an image's envelope and finds the names to show it with: the image's own
+/// names section when it matches the image's behavior set (the truth, whatever the
+/// problem), else the built-in set with that fingerprint, else ids only (`#3(#0, #1)`),
+/// with a note saying so.
 ///
 /// # Errors
-/// A bad envelope (as its `LoadError`) or an unknown fingerprint, naming the file.
+/// A bad envelope, node or section (as its `LoadError`), naming the file.
 pub fn for_image(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<(Known, bt_core::image::Header)> {
-    let header = bt_core::image::read_header(bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let known = by_fingerprint(header.fingerprint).ok_or_else(|| {
-        anyhow::anyhow!(
-            "{}: built for behavior set {:#018x}, which this binary does not know",
-            path.display(),
+    let fail = |e: bt_core::LoadError| anyhow::anyhow!("{}: {e}", path.display());
+    let header = bt_core::image::read_header(bytes).map_err(fail)?;
+    let mut note = None;
+    if let Some(body) = bt_core::image::section(bytes, bt_core::image::SECTION_NAMES).map_err(fail)? {
+        match NameTable::from_bytes(body) {
+            Ok(t) if t.fingerprint() == header.fingerprint => {
+                let known = Known {
+                    name: format!("{} (names from the image)", t.title),
+                    catalog: Box::new(t.clone()),
+                    ports: Some(Box::new(t)),
+                    note: None,
+                };
+                return Ok((known, header));
+            }
+            Ok(_) => {
+                note = Some("the image's names section does not match its behavior set; names ignored".to_string())
+            }
+            Err(e) => note = Some(format!("{e}; names ignored")),
+        }
+    }
+    if let Some(mut known) = by_fingerprint(header.fingerprint) {
+        known.note = note;
+        return Ok((known, header));
+    }
+    let ids = IdCatalog::of_image(bytes, header.fingerprint).map_err(fail)?;
+    let why = note.map_or(String::new(), |n| format!("{n}; "));
+    let known = Known {
+        name: "unknown to this binary".to_string(),
+        catalog: Box::new(ids),
+        ports: None,
+        note: Some(format!(
+            "{why}behavior set {:#018x} is not built in and the image carries no names: \
+             behaviors and values are shown as ids",
             header.fingerprint
-        )
-    })?;
+        )),
+    };
     Ok((known, header))
+}
+
+/// Names for an image whose behavior set is unknown: each behavior is `#id`, with the
+/// kind and arity its leaves use, and the image's own fingerprint, so the tree can
+/// still be loaded, validated and shown.
+struct IdCatalog {
+    behaviors: Vec<Option<(String, LeafKind, u8)>>,
+    fingerprint: u64,
+}
+
+impl IdCatalog {
+    fn of_image(bytes: &[u8], fingerprint: u64) -> Result<Self, bt_core::LoadError> {
+        let header = bt_core::image::read_header(bytes)?;
+        let mut nodes = vec![Node::EMPTY; usize::from(header.node_count)];
+        let mut values = vec![0u16; usize::from(u16::MAX)];
+        let d = bt_core::image::decode(bytes, &mut nodes, &mut values)?;
+        let mut behaviors: Vec<Option<(String, LeafKind, u8)>> = Vec::new();
+        for node in &nodes[..d.nodes] {
+            if let Some((kind, leaf)) = node.kind().leaf() {
+                let id = usize::from(leaf.behavior());
+                if behaviors.len() <= id {
+                    behaviors.resize(id + 1, None);
+                }
+                // The first use decides; validation reports any leaf that disagrees.
+                let arity = u8::try_from(leaf.argc()).unwrap_or(u8::MAX);
+                behaviors[id].get_or_insert_with(|| (format!("#{id}"), kind, arity));
+            }
+        }
+        Ok(Self { behaviors, fingerprint })
+    }
+}
+
+impl Catalog for IdCatalog {
+    fn len(&self) -> usize {
+        self.behaviors.len()
+    }
+
+    fn info(&self, id: bt_core::BehaviorId) -> Option<bt_core::BehaviorInfo<'_>> {
+        let (name, kind, arity) = self.behaviors.get(usize::from(id))?.as_ref()?;
+        Some(bt_core::BehaviorInfo { name, kind: *kind, arity: *arity })
+    }
+
+    fn fingerprint(&self) -> u64 {
+        self.fingerprint
+    }
 }

@@ -42,7 +42,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     let (known, header) = catalogs::for_image(path, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+    let mut values = vec![0u16; usize::from(u16::MAX)];
+    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let text = match args.format {
         Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),

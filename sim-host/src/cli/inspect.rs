@@ -24,13 +24,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     let (known, header) = catalogs::for_image(path, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+    let mut values = vec![0u16; usize::from(u16::MAX)];
+    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     println!("image      {}", path.display());
     println!("format     version {}", header.version);
     println!("behaviors  {:#018x} ({})", header.fingerprint, known.name);
     println!("nodes      {} (depth {})", tree.len(), tree.depth());
     println!("bytes      {}", header.len);
+    if let Some(note) = &known.note {
+        println!("note       {note}");
+    }
     println!();
     print!("{}", tree.display(known.catalog.as_ref()));
     Ok(())

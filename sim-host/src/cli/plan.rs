@@ -7,6 +7,7 @@ use std::sync::Arc;
 use anyhow::{Context as _, bail};
 use bt_core::{Catalog, Node};
 use planner::duplo::Task;
+use planner::names::NameTable;
 use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement, output};
 
 use super::output::write_whole;
@@ -81,6 +82,7 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
     nodes: &[Node],
     catalog: &C,
     ports: &P,
+    names: Option<&NameTable>,
 ) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
         Format::Ascii => output::to_ascii(nodes, catalog)?.into_bytes(),
@@ -91,7 +93,10 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
             t.push('\n');
             t.into_bytes()
         }
-        Format::Image => output::to_image(nodes, catalog)?,
+        Format::Image => match names {
+            Some(names) => output::to_image_named(nodes, catalog, names)?,
+            None => output::to_image(nodes, catalog)?,
+        },
     })
 }
 
@@ -131,7 +136,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             "symbolic world: not run here; `sim-host run` checks the tree in the brick world \
              (which has the physics the planner does not know); {model}"
         );
-        let bytes = render(args.format, &plan.nodes, plan.catalog.as_ref(), &NoPorts)?;
+        // A brick task's behavior set and names are fixed by its fingerprint: no names
+        // section needed.
+        let bytes = render(args.format, &plan.nodes, plan.catalog.as_ref(), &NoPorts, None)?;
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     } else {
         let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
@@ -151,7 +158,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                      (planning reached it along another path)"
                 .to_string(),
         };
-        let bytes = render(args.format, &plan.nodes, catalog.as_ref(), catalog.as_ref())?;
+        // The problem's own names travel with the image: another problem of the same
+        // domain has the same fingerprint but other objects.
+        let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
+        let names = NameTable::of_pddl(&title, &catalog);
+        let bytes = render(args.format, &plan.nodes, catalog.as_ref(), catalog.as_ref(), Some(&names))?;
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     };
     match &args.out {

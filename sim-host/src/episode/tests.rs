@@ -27,10 +27,10 @@ impl Scripted {
 }
 
 impl BehaviorSet for Scripted {
-    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         Failure
     }
-    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+    fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         self.script.get(self.tick).copied().unwrap_or(Running)
     }
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
@@ -207,10 +207,10 @@ fn an_invalid_tree_is_an_error_not_an_episode() {
 fn a_condition_returning_running_is_a_tick_error() {
     struct Broken(Scripted);
     impl BehaviorSet for Broken {
-        fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+        fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
             Running
         }
-        fn action(&mut self, _: &Leaf, _: Context) -> Status {
+        fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
             Running
         }
         fn halt(&mut self, _: &Leaf, _: NodeId) {}

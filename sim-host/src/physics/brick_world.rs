@@ -1068,11 +1068,11 @@ impl BrickWorld for PhysicsBrickWorld {
 }
 
 impl BehaviorSet for PhysicsBrickWorld {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         self.spec.behavior(leaf.behavior()).map_or(Status::Failure, |b| self.condition_of(b))
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let Some(behavior) = self.spec.behavior(leaf.behavior()) else { return Status::Failure };
         let mut resumed = false;
         if ctx.starting

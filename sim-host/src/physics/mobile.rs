@@ -585,11 +585,11 @@ fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
 }
 
 impl BehaviorSet for MobileWorld {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         if self.condition_of(leaf.behavior(), leaf.args()) { Status::Success } else { Status::Failure }
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let ours = self.running.as_ref().is_some_and(|r| r.node == ctx.node);
         if ctx.starting || !ours {
             self.running = None;

@@ -37,7 +37,7 @@ pub trait Live: bt_core::BehaviorSet {
         for atom in 0..g.atom_count() {
             let Ok(atom) = u32::try_from(atom) else { break };
             if let Some(leaf) = g.condition_leaf(atom) {
-                let ctx = bt_core::Context { node: 0, now: 0, starting: true };
+                let ctx = bt_core::Context { node: 0, now: 0, starting: true, values: &[] };
                 state.set(atom, self.condition(&leaf, ctx) == Status::Success);
             }
         }
@@ -316,13 +316,7 @@ fn show_tree<C: Catalog + ?Sized>(
 
 /// The name of a leaf as the catalog renders it.
 pub fn leaf_name<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf) -> String {
-    struct L<'a, C: ?Sized>(&'a C, &'a bt_core::Leaf);
-    impl<C: Catalog + ?Sized> std::fmt::Display for L<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_leaf(f, self.1)
-        }
-    }
-    L(catalog, leaf).to_string()
+    bt_core::render::display_leaf(catalog, leaf, &[]).to_string()
 }
 
 /// The action left Running after a tick, by name.

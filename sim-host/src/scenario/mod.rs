@@ -15,10 +15,10 @@
 macro_rules! forward_behaviors {
     ($t:ty $(where $g:ident: $bound:path)?) => {
         impl$(<$g: $bound>)? bt_core::BehaviorSet for $t {
-            fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> bt_core::Status {
+            fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
                 bt_core::BehaviorSet::condition(&mut self.world, leaf, ctx)
             }
-            fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> bt_core::Status {
+            fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
                 bt_core::BehaviorSet::action(&mut self.world, leaf, ctx)
             }
             fn halt(&mut self, leaf: &bt_core::Leaf, node: bt_core::NodeId) {

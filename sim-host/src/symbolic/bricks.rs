@@ -413,7 +413,7 @@ fn distance(a: [f32; 3], b: [f32; 3]) -> f32 {
 
 impl BehaviorSet for SymbolicBrickWorld {
     #[inline]
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         let holds = match self.ops.get(usize::from(leaf.behavior())) {
             Some(&Op::Picked(b)) => self.held == Some(b),
             Some(&Op::AtPos(b, p)) => self.at_pos(b, p),
@@ -424,7 +424,7 @@ impl BehaviorSet for SymbolicBrickWorld {
     }
 
     #[inline]
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let Some(&op) = self.ops.get(usize::from(leaf.behavior())) else { return Status::Failure };
         if !ctx.starting || (self.halted_len > 0 && self.take_halted(ctx.node)) {
             self.finish(op)

@@ -16,8 +16,8 @@ fn leaf(w: &SymbolicBrickWorld, name: &str) -> Leaf {
 }
 
 /// As if each behavior were ticked by its own node, numbered as the behavior.
-fn ctx(l: &Leaf, starting: bool) -> Context {
-    Context { node: l.behavior(), now: 0, starting }
+fn ctx(l: &Leaf, starting: bool) -> Context<'static> {
+    Context { node: l.behavior(), now: 0, starting, values: &[] }
 }
 
 /// The action's first tick.
