@@ -1,7 +1,9 @@
-//! What a behavior set declares about its behaviors: names, kinds and arities, and the
-//! 64-bit fingerprint that lets host and controller agree on them without sharing code.
+//! What a behavior set declares about its behaviors: names, kinds, arities and ports,
+//! and the 64-bit fingerprint that lets host and controller agree on them without
+//! sharing code.
 
 use crate::node::{BehaviorId, LeafKind};
+use crate::port::{PortDirection, PortInfo};
 
 /// The declaration of one behavior.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -44,6 +46,14 @@ pub trait Catalog {
     /// The declaration of behavior `id`.
     fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>>;
 
+    /// Port `position` of behavior `id`, for behaviors that declare ports (one per
+    /// value, in order; see [`port`](crate::port)). `None` by default: the behavior's
+    /// values are grounded arguments.
+    fn port(&self, id: BehaviorId, position: usize) -> Option<PortInfo<'_>> {
+        let _ = (id, position);
+        None
+    }
+
     /// The fingerprint of this set: see [`fingerprint`].
     fn fingerprint(&self) -> u64 {
         let mut h = Fnv1a::new().u64(self.len() as u64);
@@ -51,6 +61,11 @@ pub trait Catalog {
         while usize::from(id) < self.len() {
             if let Some(info) = self.info(id) {
                 h = h.behavior(&info);
+                for position in 0..usize::from(info.arity) {
+                    if let Some(port) = self.port(id, position) {
+                        h = h.port(&port);
+                    }
+                }
             }
             id = match id.checked_add(1) {
                 Some(n) => n,
@@ -130,12 +145,95 @@ impl<const N: usize> Catalog for [BehaviorInfo<'_>; N] {
     }
 }
 
+/// A behavior and its ports: the entries of a behavior set whose behaviors declare ports
+/// (as `sim-host catalog --rust` writes it from BehaviorTree.CPP models).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Behavior<'a> {
+    /// Name, kind and arity (the number of ports).
+    pub info: BehaviorInfo<'a>,
+    /// The ports, one per value a leaf carries.
+    pub ports: &'a [PortInfo<'a>],
+}
+
+impl<'a> Behavior<'a> {
+    /// A behavior with its ports; its arity is taken from `ports` when `info` has none.
+    #[must_use]
+    pub const fn new(info: BehaviorInfo<'a>, ports: &'a [PortInfo<'a>]) -> Self {
+        Self { info, ports }
+    }
+}
+
+impl Catalog for [Behavior<'_>] {
+    fn len(&self) -> usize {
+        <[Behavior<'_>]>::len(self)
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.get(usize::from(id)).map(|b| b.info)
+    }
+
+    fn port(&self, id: BehaviorId, position: usize) -> Option<PortInfo<'_>> {
+        self.get(usize::from(id))?.ports.get(position).copied()
+    }
+
+    fn fingerprint(&self) -> u64 {
+        fingerprint_with_ports(self)
+    }
+}
+
+impl<const N: usize> Catalog for [Behavior<'_>; N] {
+    fn len(&self) -> usize {
+        N
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.get(usize::from(id)).map(|b| b.info)
+    }
+
+    fn port(&self, id: BehaviorId, position: usize) -> Option<PortInfo<'_>> {
+        self.get(usize::from(id))?.ports.get(position).copied()
+    }
+
+    fn fingerprint(&self) -> u64 {
+        fingerprint_with_ports(self)
+    }
+}
+
+/// [`fingerprint`] of a set whose behaviors declare ports: after each behavior's
+/// fields, each of its ports (as many as its arity) in order: its direction (`0` input,
+/// `1` output, `2` in/out), its type class ([`PortType`](crate::port::PortType) as a
+/// byte), then its name, its declared type name and its default, each as a
+/// little-endian `u64` length followed by the UTF-8 bytes (a missing default hashes as
+/// the length `u64::MAX`). A behavior without ports hashes as in [`fingerprint`], so
+/// the two agree on sets without ports.
+#[must_use]
+pub const fn fingerprint_with_ports(behaviors: &[Behavior<'_>]) -> u64 {
+    let mut h = Fnv1a::new().u64(behaviors.len() as u64);
+    let mut rest = behaviors;
+    while let Some((first, tail)) = rest.split_first() {
+        h = h.behavior(&first.info);
+        let mut ports = first.ports;
+        let mut left = first.info.arity;
+        while let Some((port, more)) = ports.split_first() {
+            if left == 0 {
+                break;
+            }
+            h = h.port(port);
+            ports = more;
+            left -= 1;
+        }
+        rest = tail;
+    }
+    h.finish()
+}
+
 /// The stable 64-bit fingerprint of a behavior set.
 ///
 /// FNV-1a (64-bit) over: the number of behaviors as a little-endian `u64`, then for each
 /// behavior in id order its kind (`0` condition, `1` action), its arity, its name's
-/// length in bytes as a little-endian `u64`, and the name's UTF-8 bytes. Anyone can
-/// compute it from the names alone; a `const fn`, so firmware can bake it in.
+/// length in bytes as a little-endian `u64`, and the name's UTF-8 bytes (and its ports,
+/// for behaviors that declare them: [`fingerprint_with_ports`]). Anyone can compute it
+/// from the names alone; a `const fn`, so firmware can bake it in.
 ///
 /// ```
 /// use bt_core::{fingerprint, BehaviorInfo};
@@ -191,6 +289,23 @@ impl Fnv1a {
             LeafKind::Action => 1,
         };
         self.byte(kind).byte(info.arity).u64(info.name.len() as u64).bytes(info.name.as_bytes())
+    }
+
+    const fn str(self, s: &str) -> Self {
+        self.u64(s.len() as u64).bytes(s.as_bytes())
+    }
+
+    const fn port(self, port: &PortInfo<'_>) -> Self {
+        let direction = match port.direction {
+            PortDirection::Input => 0,
+            PortDirection::Output => 1,
+            PortDirection::InOut => 2,
+        };
+        let h = self.byte(direction).byte(port.ty as u8).str(port.name).str(port.type_name);
+        match port.default {
+            Some(d) => h.str(d),
+            None => h.u64(u64::MAX),
+        }
     }
 
     const fn finish(self) -> u64 {
