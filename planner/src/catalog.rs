@@ -95,24 +95,10 @@ impl Catalog for PddlCatalog {
     }
 }
 
-/// Port names for the BehaviorTree.CPP XML of a catalog's leaves.
-pub trait Ports {
-    /// The name of argument `position` of `behavior`; `None` falls back to `arg{position}`.
-    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str>;
-}
+pub use btcpp::xml::{NoPorts, Ports};
 
 impl Ports for PddlCatalog {
     fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
         self.param(behavior, position)
-    }
-}
-
-/// No port names: every argument is `arg{position}`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoPorts;
-
-impl Ports for NoPorts {
-    fn port(&self, _: BehaviorId, _: usize) -> Option<&str> {
-        None
     }
 }

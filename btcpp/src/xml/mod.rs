@@ -1,0 +1,63 @@
+//! BehaviorTree.CPP v4 XML, read and written.
+//!
+//! Reading goes through a model of the document first ([`document`]: files,
+//! includes, trees, models, with locations), then flattens the main tree
+//! ([`flatten`]: SubTrees per instance, blackboard scopes, BehaviorTree.CPP's node
+//! ids), then lowers it to bt-core ([`lower`]: kinds, leaf values, constants, slots)
+//! against the behavior set of its models ([`catalog`]). Writing ([`to_xml`]) is the
+//! way back, for trees made here and for imported ones.
+
+pub mod builtin;
+pub mod catalog;
+pub mod document;
+pub mod flatten;
+pub mod lower;
+pub mod model;
+mod write;
+
+use std::path::{Path, PathBuf};
+
+pub use catalog::{Models, XmlCatalog};
+pub use lower::Imported;
+pub use write::{NoPorts, Ports, XmlError, XmlOptions, to_xml, to_xml_with};
+
+use crate::error::Result;
+
+/// What to import besides the tree file.
+#[derive(Clone, Debug, Default)]
+pub struct ImportOptions {
+    /// Files whose `<TreeNodesModel>` declare the node types (Nav2's
+    /// `nav2_tree_nodes.xml`, a Groot2 project); read before the tree file.
+    pub models: Vec<PathBuf>,
+    /// The tree to import, instead of `main_tree_to_execute`.
+    pub main: Option<String>,
+}
+
+/// Imports the main tree of a BehaviorTree.CPP XML file.
+///
+/// # Errors
+/// The first [`ImportError`](crate::ImportError), with its file, line and column.
+pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported> {
+    let doc = document::read(path, &options.models)?;
+    import_document(&doc, options)
+}
+
+/// Imports XML text; `path` names it in errors and anchors its `<include>`s.
+///
+/// # Errors
+/// As [`import`].
+pub fn import_text(path: &Path, text: &str, options: &ImportOptions) -> Result<Imported> {
+    let doc = document::read_text(path, text, &options.models)?;
+    import_document(&doc, options)
+}
+
+/// Imports the main tree of a document already read.
+///
+/// # Errors
+/// As [`import`].
+pub fn import_document(doc: &document::Document, options: &ImportOptions) -> Result<Imported> {
+    let models = Models::new(&doc.models)?;
+    let main = flatten::main_tree(doc, options.main.as_deref())?;
+    let flat = flatten::flatten(doc, main, &models.subtree_models())?;
+    lower::lower(&flat, &models)
+}
