@@ -102,3 +102,18 @@ impl Ports for PddlCatalog {
         self.param(behavior, position)
     }
 }
+
+/// XML written for a PDDL problem's trees reads back into the same behavior set: ports
+/// are the parameters, values the object names.
+impl btcpp::xml::Grounded for PddlCatalog {
+    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        self.param(behavior, position)
+    }
+
+    fn parse_arg(&self, _behavior: BehaviorId, _position: usize, text: &str) -> Option<u16> {
+        match text.strip_prefix('#') {
+            Some(n) if self.objects.is_empty() => n.parse().ok(),
+            _ => self.object(text),
+        }
+    }
+}

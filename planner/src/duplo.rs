@@ -343,6 +343,9 @@ impl bt_core::Catalog for Spec {
     }
 }
 
+/// Brick behaviors take no arguments: XML written for a task reads back by name.
+impl btcpp::xml::Grounded for Spec {}
+
 #[cfg(test)]
 mod tests {
     use super::*;

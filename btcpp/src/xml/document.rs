@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Fault, ImportError, Location, Result, Source};
-use crate::xml::model::{NodeModel, read_models};
+use crate::xml::model::{self, NodeModel};
 
 /// An XML element: a node of a tree, or a model.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -91,6 +91,19 @@ pub fn read(tree_file: &Path, model_files: &[PathBuf]) -> Result<Document> {
     }
     let mut stack = Vec::new();
     read_file(tree_file, &mut doc, &mut stack, true)?;
+    Ok(doc)
+}
+
+/// Reads the models (and trees) of several files, none of them the main one.
+///
+/// # Errors
+/// As [`read`].
+pub fn read_models(files: &[PathBuf]) -> Result<Document> {
+    let mut doc = Document::default();
+    for m in files {
+        let mut stack = Vec::new();
+        read_file(m, &mut doc, &mut stack, false)?;
+    }
     Ok(doc)
 }
 
@@ -211,7 +224,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone() });
     }
     for models in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
-        doc.models.extend(read_models(models)?);
+        doc.models.extend(model::read_models(models)?);
     }
     Ok(())
 }

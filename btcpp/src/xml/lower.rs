@@ -20,7 +20,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use bt_core::port::{SlotInfo, UNSET};
-use bt_core::{Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue};
+use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue};
 
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::xml::builtin::{Shape, builtin};
@@ -70,12 +70,51 @@ pub struct SubtreeMeta {
     pub attrs: Vec<(String, String)>,
 }
 
+/// A behavior set whose leaves carry grounded arguments (PDDL objects, ...), to import
+/// XML that [`to_xml`](crate::xml::to_xml) wrote for it back into the same set: a leaf
+/// names its behavior by its element (or its `name` attribute, which the writer adds
+/// when the behavior's name is not an XML name) and its arguments by port.
+pub trait Grounded: Catalog {
+    /// The port name of argument `position` (`arg{position}` when `None`).
+    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        let _ = (behavior, position);
+        None
+    }
+
+    /// The value of argument `position` written as `text`: the inverse of
+    /// [`Catalog::write_arg`]. By default the number itself.
+    fn parse_arg(&self, behavior: BehaviorId, position: usize, text: &str) -> Option<u16> {
+        let _ = (behavior, position);
+        text.parse().ok()
+    }
+}
+
+/// Which behavior set leaves resolve against.
+#[derive(Clone, Copy)]
+pub enum Target<'k> {
+    /// The set of the document's models ([`XmlCatalog`]).
+    Models,
+    /// A set the caller knows (a PDDL domain, a brick task).
+    Known(&'k dyn Grounded),
+}
+
+impl std::fmt::Debug for Target<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Models => f.write_str("Models"),
+            Self::Known(c) => write!(f, "Known({:#018x})", c.fingerprint()),
+        }
+    }
+}
+
 /// A document imported: the tree, its behavior set and everything the image holds.
 #[derive(Clone, Debug)]
 pub struct Imported {
     /// The main tree's ID.
     pub main: String,
-    /// The behavior set.
+    /// The fingerprint of the behavior set the leaves refer to.
+    pub fingerprint: u64,
+    /// The behavior set, when it is the models' (empty for a known set).
     pub catalog: XmlCatalog,
     /// The nodes, pre-order.
     pub nodes: Vec<Node>,
@@ -112,15 +151,28 @@ fn leaf_range(_leaf: &Leaf) -> Option<(usize, usize)> {
 /// # Errors
 /// The first [`ImportError`]: unknown node types and ports, constructs without a
 /// bt-core equivalent, bad literals, type conflicts on a key, trees too large.
-pub fn lower(flat: &Flat, models: &Models) -> Result<Imported> {
-    let catalog = models.catalog();
+pub fn lower(flat: &Flat, models: &Models, target: Target<'_>) -> Result<Imported> {
+    let catalog = match target {
+        Target::Models => models.catalog(),
+        Target::Known(_) => XmlCatalog::default(),
+    };
+    let fingerprint = match target {
+        Target::Models => catalog.fingerprint(),
+        Target::Known(k) => k.fingerprint(),
+    };
+    let known = match target {
+        Target::Models => None,
+        Target::Known(k) => Some((k, known_names(k))),
+    };
     let mut l = Lowerer {
         flat,
         models,
         catalog,
+        known,
         written: BTreeSet::new(),
         out: Imported {
             main: flat.main.clone(),
+            fingerprint,
             catalog: XmlCatalog::default(),
             nodes: Vec::new(),
             values: Vec::new(),
@@ -141,10 +193,23 @@ pub fn lower(flat: &Flat, models: &Models) -> Result<Imported> {
     Ok(out)
 }
 
+/// A known set's behaviors by name.
+fn known_names(k: &dyn Grounded) -> BTreeMap<String, BehaviorId> {
+    let mut names = BTreeMap::new();
+    for id in 0..k.len() {
+        let Ok(id) = BehaviorId::try_from(id) else { break };
+        if let Some(info) = k.info(id) {
+            names.entry(info.name.to_string()).or_insert(id);
+        }
+    }
+    names
+}
+
 struct Lowerer<'a> {
     flat: &'a Flat,
     models: &'a Models,
     catalog: XmlCatalog,
+    known: Option<(&'a dyn Grounded, BTreeMap<String, BehaviorId>)>,
     /// Keys some output or in/out port writes.
     written: BTreeSet<Key>,
     out: Imported,
@@ -277,6 +342,21 @@ impl Lowerer<'_> {
                 }
             };
             return Ok((kind, b.shape));
+        }
+        if let Some((k, names)) = &self.known {
+            let found = n.name.as_deref().and_then(|name| names.get(name)).or_else(|| names.get(&n.id));
+            let Some(&behavior) = found else {
+                return Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())));
+            };
+            let k = *k;
+            let values = grounded_values(k, behavior, n)?;
+            let leaf = Leaf::with_args(behavior, &values)
+                .map_err(|e| ImportError::new(&n.at, Fault::TooLarge(format!("<{}>: {e}", n.id))))?;
+            let kind = match k.info(behavior).map(|i| i.kind) {
+                Some(LeafKind::Condition) => NodeKind::Condition(leaf),
+                _ => NodeKind::Action(leaf),
+            };
+            return Ok((kind, Shape::Leaf));
         }
         if let Some((behavior, b)) = self.catalog.lookup(&n.id) {
             let kind = b.kind;
@@ -511,6 +591,47 @@ impl Lowerer<'_> {
         self.slot_ids.insert(key.clone(), id);
         Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET))
     }
+}
+
+/// The grounded arguments of a leaf of a known set, by port name.
+fn grounded_values(k: &dyn Grounded, behavior: BehaviorId, n: &Inst) -> Result<Vec<u16>> {
+    let arity = k.info(behavior).map_or(0, |i| usize::from(i.arity));
+    let names: Vec<String> = (0..arity)
+        .map(|pos| match k.port_name(behavior, pos) {
+            Some(p) if crate::xml::write::is_port_name(p) => p.replace('-', "_"),
+            _ => format!("arg{pos}"),
+        })
+        .collect();
+    for b in &n.ports {
+        if !names.contains(&b.port) {
+            return Err(ImportError::new(
+                &b.at,
+                Fault::UnknownPort { node: n.id.clone(), port: b.port.clone(), declared: names.clone() },
+            ));
+        }
+    }
+    let mut values = Vec::with_capacity(arity);
+    for (pos, name) in names.iter().enumerate() {
+        let Some(b) = n.ports.iter().find(|b| &b.port == name) else {
+            return Err(ImportError::new(
+                &n.at,
+                Fault::UnknownPort { node: n.id.clone(), port: format!("{name} (missing)"), declared: names.clone() },
+            ));
+        };
+        let Some(v) = k.parse_arg(behavior, pos, &b.raw) else {
+            return Err(ImportError::new(
+                &b.at,
+                Fault::BadLiteral {
+                    node: n.id.clone(),
+                    port: name.clone(),
+                    value: b.raw.clone(),
+                    ty: "argument of this behavior set".into(),
+                },
+            ));
+        };
+        values.push(v);
+    }
+    Ok(values)
 }
 
 fn unsupported(at: &Location, id: &str, reason: &str) -> ImportError {

@@ -13,31 +13,42 @@ pub mod document;
 pub mod flatten;
 pub mod lower;
 pub mod model;
+mod view;
 mod write;
 
 use std::path::{Path, PathBuf};
 
 pub use catalog::{Models, XmlCatalog};
-pub use lower::Imported;
+pub use lower::{Grounded, Imported, Target};
+pub use view::ImageError;
 pub use write::{NoPorts, Ports, XmlError, XmlOptions, to_xml, to_xml_with};
 
 use crate::error::Result;
 
 /// What to import besides the tree file.
 #[derive(Clone, Debug, Default)]
-pub struct ImportOptions {
+pub struct ImportOptions<'k> {
     /// Files whose `<TreeNodesModel>` declare the node types (Nav2's
     /// `nav2_tree_nodes.xml`, a Groot2 project); read before the tree file.
     pub models: Vec<PathBuf>,
     /// The tree to import, instead of `main_tree_to_execute`.
     pub main: Option<String>,
+    /// A known behavior set to resolve leaves against instead of the models' (to read
+    /// back XML written for a PDDL domain or a brick task).
+    pub known: Option<&'k dyn Grounded>,
+}
+
+impl std::fmt::Debug for dyn Grounded + '_ {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "behavior set {:#018x}", self.fingerprint())
+    }
 }
 
 /// Imports the main tree of a BehaviorTree.CPP XML file.
 ///
 /// # Errors
 /// The first [`ImportError`](crate::ImportError), with its file, line and column.
-pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported> {
+pub fn import(path: &Path, options: &ImportOptions<'_>) -> Result<Imported> {
     let doc = document::read(path, &options.models)?;
     import_document(&doc, options)
 }
@@ -46,7 +57,7 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported> {
 ///
 /// # Errors
 /// As [`import`].
-pub fn import_text(path: &Path, text: &str, options: &ImportOptions) -> Result<Imported> {
+pub fn import_text(path: &Path, text: &str, options: &ImportOptions<'_>) -> Result<Imported> {
     let doc = document::read_text(path, text, &options.models)?;
     import_document(&doc, options)
 }
@@ -55,9 +66,10 @@ pub fn import_text(path: &Path, text: &str, options: &ImportOptions) -> Result<I
 ///
 /// # Errors
 /// As [`import`].
-pub fn import_document(doc: &document::Document, options: &ImportOptions) -> Result<Imported> {
+pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) -> Result<Imported> {
     let models = Models::new(&doc.models)?;
     let main = flatten::main_tree(doc, options.main.as_deref())?;
     let flat = flatten::flatten(doc, main, &models.subtree_models())?;
-    lower::lower(&flat, &models)
+    let target = options.known.map_or(Target::Models, Target::Known);
+    lower::lower(&flat, &models, target)
 }

@@ -86,6 +86,14 @@ fn escape(s: &str) -> String {
     o
 }
 
+/// Whether the writer uses `p` as a port name as it is (after `-` becomes `_`).
+pub(crate) fn is_port_name(p: &str) -> bool {
+    p.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+        && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        && p != "name"
+        && p != "ID"
+}
+
 /// A port name BehaviorTree.CPP accepts: starts with a letter, no `name`/`ID`.
 fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
     catalog: &C,
@@ -98,14 +106,7 @@ fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
     }
     let fallback = || format!("arg{position}");
     match ports.port(behavior, position) {
-        Some(p)
-            if p.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-                && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-                && p != "name"
-                && p != "ID" =>
-        {
-            p.replace('-', "_")
-        }
+        Some(p) if is_port_name(p) => p.replace('-', "_"),
         _ => fallback(),
     }
 }

@@ -1,6 +1,7 @@
 //! The behavior sets this binary knows, found by an image's fingerprint.
 
 use bt_core::{Catalog, LeafKind, Node};
+use btcpp::xml::Grounded;
 use planner::duplo::Task;
 use planner::names::NameTable;
 use planner::{PddlCatalog, Ports, domains, pddl};
@@ -9,8 +10,13 @@ use planner::{PddlCatalog, Ports, domains, pddl};
 pub struct Known {
     /// What it is, for people.
     pub name: String,
+    /// Its short name (`tower`, `cube-sphere`) for `--behaviors`; empty for sets read
+    /// from an image.
+    pub short: &'static str,
     /// The set.
     pub catalog: Box<dyn Catalog>,
+    /// The same set, for built-in sets: XML written for it reads back into it.
+    pub grounded: Option<Box<dyn Grounded>>,
     /// Port names of its leaves' arguments, for BehaviorTree.CPP XML (PDDL domains).
     pub ports: Option<Box<dyn Ports>>,
     /// Something the reader should know about these names (printed by `inspect`).
@@ -22,16 +28,28 @@ pub struct Known {
 fn pddl_catalogs() -> Vec<Known> {
     let blocks = domains::blocks_world_pddl(64);
     let sets = [
-        ("PDDL domain `cube-sphere` (seed 000)", domains::CUBE_SPHERE_DOMAIN, domains::CUBE_SPHERE_PROBLEM),
-        ("PDDL domain `cellphone` (seed 000)", domains::CELLPHONE_DOMAIN, domains::CELLPHONE_PROBLEM),
-        ("PDDL domain `blocks`", domains::BLOCKS_DOMAIN, blocks.as_str()),
+        (
+            "cube-sphere",
+            "PDDL domain `cube-sphere` (seed 000)",
+            domains::CUBE_SPHERE_DOMAIN,
+            domains::CUBE_SPHERE_PROBLEM,
+        ),
+        ("cellphone", "PDDL domain `cellphone` (seed 000)", domains::CELLPHONE_DOMAIN, domains::CELLPHONE_PROBLEM),
+        ("blocks", "PDDL domain `blocks`", domains::BLOCKS_DOMAIN, blocks.as_str()),
     ];
     sets.into_iter()
-        .filter_map(|(name, d, p)| {
+        .filter_map(|(short, name, d, p)| {
             let d = pddl::parse_domain("built-in", d).ok()?;
             let p = pddl::parse_problem("built-in", p, &d).ok()?;
             let c = PddlCatalog::new(&p);
-            Some(Known { name: name.to_string(), catalog: Box::new(c.clone()), ports: Some(Box::new(c)), note: None })
+            Some(Known {
+                name: name.to_string(),
+                short,
+                catalog: Box::new(c.clone()),
+                grounded: Some(Box::new(c.clone())),
+                ports: Some(Box::new(c)),
+                note: None,
+            })
         })
         .collect()
 }
@@ -42,12 +60,24 @@ pub fn all() -> Vec<Known> {
         .into_iter()
         .map(|t| Known {
             name: format!("brick task `{}` (seed 003)", t.name()),
+            short: t.name(),
             catalog: Box::new(t.spec()) as Box<dyn Catalog>,
+            grounded: Some(Box::new(t.spec()) as Box<dyn Grounded>),
             ports: None,
             note: None,
         })
         .chain(pddl_catalogs())
         .collect()
+}
+
+/// The built-in behavior set with this short name (`tower`, `cube-sphere`).
+pub fn by_name(name: &str) -> Option<Known> {
+    all().into_iter().find(|k| k.short == name)
+}
+
+/// The short names of the built-in behavior sets.
+pub fn names() -> Vec<&'static str> {
+    all().into_iter().map(|k| k.short).collect()
 }
 
 /// The built-in behavior set with this fingerprint.
@@ -71,7 +101,9 @@ pub fn for_image(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<(Known,
             Ok(t) if t.fingerprint() == header.fingerprint => {
                 let known = Known {
                     name: format!("{} (names from the image)", t.title),
+                    short: "",
                     catalog: Box::new(t.clone()),
+                    grounded: None,
                     ports: Some(Box::new(t)),
                     note: None,
                 };
@@ -91,7 +123,9 @@ pub fn for_image(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<(Known,
     let why = note.map_or(String::new(), |n| format!("{n}; "));
     let known = Known {
         name: "unknown to this binary".to_string(),
+        short: "",
         catalog: Box::new(ids),
+        grounded: None,
         ports: None,
         note: Some(format!(
             "{why}behavior set {:#018x} is not built in and the image carries no names: \

@@ -8,8 +8,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod catalog;
 mod catalogs;
 mod export;
+mod import;
 mod inspect;
 mod learn;
 pub mod output;
@@ -39,6 +41,12 @@ enum Command {
     Inspect(inspect::Args),
     /// Write a tree image as ASCII, tokens, Graphviz DOT or BehaviorTree.CPP XML.
     Export(export::Args),
+    /// Import a BehaviorTree.CPP XML tree (Groot2, Nav2) as an image or another notation.
+    #[command(long_about = import::LONG_ABOUT)]
+    Import(import::Args),
+    /// Print the behavior set of BehaviorTree.CPP models, or the Rust table a controller compiles in.
+    #[command(long_about = catalog::LONG_ABOUT)]
+    Catalog(catalog::Args),
     /// Plan a tree by backchaining (seed 000) from PDDL or for a brick task.
     Plan(plan::Args),
     /// Run one episode of a tree on a brick task; print the outcome and the fitness.
@@ -69,6 +77,8 @@ pub fn main() -> ExitCode {
         None => scenario::demo(),
         Some(Command::Inspect(args)) => inspect::run(&args),
         Some(Command::Export(args)) => export::run(&args),
+        Some(Command::Import(args)) => import::run(&args),
+        Some(Command::Catalog(args)) => catalog::run(&args),
         Some(Command::Plan(args)) => plan::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Scenario(args)) => scenario::run(&args),

@@ -1,0 +1,150 @@
+//! `sim-host import TREE.xml`: a BehaviorTree.CPP document to an image (or another
+//! notation).
+
+use std::io::IsTerminal as _;
+use std::path::PathBuf;
+
+use anyhow::bail;
+use btcpp::xml::{ImportOptions, Imported, import};
+
+use super::{catalogs, output};
+
+/// What to write.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// The deployable image (binary; give --out or redirect stdout).
+    Image,
+    /// The indented view, leaves with their ports.
+    Ascii,
+    /// Graphviz DOT.
+    Dot,
+    /// BehaviorTree.CPP XML again: one tree, SubTrees expanded, every model declared.
+    Xml,
+    /// The token notation of seed 003 (reactive Sequence, Fallback and leaves only).
+    Tokens,
+}
+
+pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with BTCPP_format=\"4\", or \
+    v3-style as Nav2 humble ships) and writes the image a controller loads, or the tree in another \
+    notation.\n\n\
+    The main tree is --main, else the document's main_tree_to_execute, else its only tree. \
+    <include path> is read relative to the including file; <SubTree> nodes are expanded per \
+    instance with their port remapping ({parent_key}, literals, _autoremap, {=}, {@root_key}).\n\n\
+    Leaf types and their ports come from <TreeNodesModel> in the document and in the --nodes \
+    files (Nav2's nav2_tree_nodes.xml, a Groot2 project): the behavior set is every Action and \
+    Condition model, sorted by ID, and its fingerprint covers every port. `sim-host catalog` \
+    prints the same set as the Rust table a controller compiles in. Port values become image \
+    data: literals are constants typed as the model declares the port, {key}s are blackboard \
+    slot numbers, ports left out are unset (the behavior's default).\n\n\
+    What a controller cannot run is refused with file:line:column and the construct named, \
+    and nothing is written: scripts (Script, ScriptCondition, Precondition, _skipIf, _while, \
+    _on...), Switch, Loop, blackboard writers, node types no model declares, ports a model \
+    does not declare, literals on output ports.\n\n\
+    --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
+    behavior set (a brick task or PDDL domain) back into that set, giving the same image.";
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Examples:\n  \
+    sim-host import navigate_to_pose.xml --nodes nav2_tree_nodes.xml --out nav.bt\n  \
+    sim-host import tree.xml --format ascii\n  \
+    sim-host import tower.xml --behaviors tower --out tower.bt")]
+pub struct Args {
+    /// The BehaviorTree.CPP XML file.
+    pub tree: PathBuf,
+    /// Files with <TreeNodesModel> declaring the node types (repeatable).
+    #[arg(long = "nodes", value_name = "MODELS.xml")]
+    pub nodes: Vec<PathBuf>,
+    /// The tree to import instead of main_tree_to_execute.
+    #[arg(long, value_name = "ID")]
+    pub main: Option<String>,
+    /// What to write.
+    #[arg(long, value_enum, default_value_t = Format::Image)]
+    pub format: Format,
+    /// Write here instead of stdout (written whole or not at all).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Read leaves against this built-in behavior set instead of the document's models.
+    #[arg(long, value_name = "NAME")]
+    pub behaviors: Option<String>,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    if args.format == Format::Image && args.out.is_none() && std::io::stdout().is_terminal() {
+        bail!("--format image writes binary: give --out FILE (or redirect stdout)");
+    }
+    let known = match &args.behaviors {
+        Some(name) => Some(catalogs::by_name(name).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--behaviors {name}: no such built-in behavior set (known: {})",
+                catalogs::names().join(", ")
+            )
+        })?),
+        None => None,
+    };
+    let options = ImportOptions {
+        models: args.nodes.clone(),
+        main: args.main.clone(),
+        known: known.as_ref().and_then(|k| k.grounded.as_deref()),
+    };
+    let imported = import(&args.tree, &options)?;
+    let bytes = match &known {
+        Some(k) => render_known(args.format, &imported, k)?,
+        None => render(args.format, &imported)?,
+    };
+    let summary = format!(
+        "imported `{}` from {}: {} nodes, {} constants, {} blackboard slots; behavior set {:#018x} ({} behaviors)",
+        imported.main,
+        args.tree.display(),
+        imported.nodes.len(),
+        imported.constants.len(),
+        imported.slots.len(),
+        imported.fingerprint,
+        known.as_ref().map_or(imported.catalog.behaviors().len(), |k| k.catalog.len()),
+    );
+    match &args.out {
+        Some(out) => {
+            output::write_whole(out, &bytes)?;
+            eprintln!("{summary}\nwrote {} ({} bytes)", out.display(), bytes.len());
+            Ok(())
+        }
+        None => {
+            use std::io::Write as _;
+            std::io::stdout().lock().write_all(&bytes)?;
+            eprintln!("{summary}");
+            Ok(())
+        }
+    }
+}
+
+fn render(format: Format, imported: &Imported) -> anyhow::Result<Vec<u8>> {
+    Ok(match format {
+        Format::Image => imported.image()?,
+        Format::Ascii => planner::output::to_ascii(&imported.nodes, imported)?.into_bytes(),
+        Format::Dot => planner::output::to_dot(&imported.nodes, imported).into_bytes(),
+        Format::Xml => imported.to_xml()?.into_bytes(),
+        Format::Tokens => {
+            let mut t = planner::tokens::to_string(&imported.nodes, imported)?;
+            t.push('\n');
+            t.into_bytes()
+        }
+    })
+}
+
+fn render_known(format: Format, imported: &Imported, known: &catalogs::Known) -> anyhow::Result<Vec<u8>> {
+    let catalog = known.catalog.as_ref();
+    let ports: &dyn btcpp::xml::Ports = match &known.ports {
+        Some(p) => p.as_ref(),
+        None => &btcpp::xml::NoPorts,
+    };
+    Ok(match format {
+        Format::Image => planner::output::to_image(&imported.nodes, catalog)?,
+        Format::Ascii => planner::output::to_ascii(&imported.nodes, catalog)?.into_bytes(),
+        Format::Dot => planner::output::to_dot(&imported.nodes, catalog).into_bytes(),
+        Format::Xml => planner::output::to_xml(&imported.nodes, catalog, ports)?.into_bytes(),
+        Format::Tokens => {
+            let mut t = planner::tokens::to_string(&imported.nodes, catalog)?;
+            t.push('\n');
+            t.into_bytes()
+        }
+    })
+}
