@@ -14,7 +14,7 @@ pub mod flatten;
 pub mod lower;
 pub mod model;
 mod view;
-mod write;
+pub(crate) mod write;
 
 use std::path::{Path, PathBuf};
 

@@ -95,7 +95,7 @@ pub(crate) fn is_port_name(p: &str) -> bool {
 }
 
 /// A port name BehaviorTree.CPP accepts: starts with a letter, no `name`/`ID`.
-fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
+pub(crate) fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
     catalog: &C,
     ports: &P,
     behavior: BehaviorId,
@@ -123,7 +123,7 @@ fn leaf_values<'a>(leaf: &'a bt_core::Leaf, _values: &'a [u16]) -> &'a [u16] {
 /// A node type ID usable as an XML element name: letters, digits, `_` and `-`,
 /// starting with a letter; other characters become `_` (one per run, none at the ends).
 /// A name that already is one is kept as it is.
-fn type_id(name: &str) -> String {
+pub(crate) fn type_id(name: &str) -> String {
     if name.starts_with(|c: char| c.is_ascii_alphabetic())
         && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
     {

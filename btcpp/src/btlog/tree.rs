@@ -1,0 +1,362 @@
+//! A tree as BehaviorTree.CPP instantiates it: its nodes with their uids, registration
+//! IDs, instance names and port attributes, SubTree nodes included. Made from bt-core
+//! nodes (and, for imported trees, what the import kept of the document).
+
+use bt_core::{Catalog, Node, NodeKind, PortValue};
+
+use crate::btlog::stdmap;
+use crate::xml::Imported;
+use crate::xml::write::type_id;
+
+/// What a node does, in BehaviorTree.CPP's terms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `Sequence`.
+    Sequence,
+    /// `SequenceWithMemory`.
+    SequenceWithMemory,
+    /// `Fallback`.
+    Fallback,
+    /// `ReactiveSequence`.
+    ReactiveSequence,
+    /// `ReactiveFallback`.
+    ReactiveFallback,
+    /// `Parallel`.
+    Parallel {
+        /// `success_count`.
+        success: i32,
+        /// `failure_count`.
+        failure: i32,
+    },
+    /// `ParallelAll`.
+    ParallelAll {
+        /// `max_failures`.
+        max_failures: i32,
+    },
+    /// `IfThenElse`.
+    IfThenElse,
+    /// `WhileDoElse`.
+    WhileDoElse,
+    /// `Inverter`.
+    Inverter,
+    /// `ForceSuccess`.
+    ForceSuccess,
+    /// `ForceFailure`.
+    ForceFailure,
+    /// `Repeat`.
+    Repeat(i32),
+    /// `RetryUntilSuccessful`.
+    Retry(i32),
+    /// `KeepRunningUntilFailure`.
+    KeepRunningUntilFailure,
+    /// `RunOnce`.
+    RunOnce {
+        /// `then_skip`.
+        then_skip: bool,
+    },
+    /// `AlwaysSuccess`.
+    AlwaysSuccess,
+    /// `AlwaysFailure`.
+    AlwaysFailure,
+    /// A `<SubTree>` node.
+    SubTree,
+    /// A condition leaf.
+    Condition,
+    /// An action leaf.
+    Action,
+}
+
+impl Kind {
+    /// Whether it has exactly one child.
+    #[must_use]
+    pub const fn is_decorator(self) -> bool {
+        matches!(
+            self,
+            Self::Inverter
+                | Self::ForceSuccess
+                | Self::ForceFailure
+                | Self::Repeat(_)
+                | Self::Retry(_)
+                | Self::KeepRunningUntilFailure
+                | Self::RunOnce { .. }
+                | Self::SubTree
+        )
+    }
+}
+
+/// One node as BehaviorTree.CPP has it.
+#[derive(Clone, Debug)]
+pub struct LogNode {
+    /// Its uid (creation order from 1).
+    pub uid: u16,
+    /// The element name BehaviorTree.CPP writes: the registration ID, `SubTree` for a
+    /// SubTree node.
+    pub element: String,
+    /// The instance name (`name` attribute, else the registration ID); for a SubTree
+    /// node, the subtree's ID.
+    pub name: String,
+    /// Its semantics.
+    pub kind: Kind,
+    /// Children, as indices into [`LogTree::nodes`].
+    pub children: Vec<usize>,
+    /// Port attributes in the order BehaviorTree.CPP writes them.
+    pub attrs: Vec<(String, String)>,
+    /// The bt-core node it is (none for a SubTree node).
+    pub core: Option<usize>,
+    /// For a SubTree node: the node's `_fullpath` and the instance's path.
+    pub subtree: Option<(String, String)>,
+}
+
+/// A leaf type's model, as registered in the factory.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LeafModel {
+    /// `Action` or `Condition`.
+    pub tag: &'static str,
+    /// Registration ID.
+    pub id: String,
+    /// Ports in the order the model declares them: tag (`input_port`, ...), name,
+    /// type, default.
+    pub ports: Vec<(&'static str, String, String, Option<String>)>,
+}
+
+/// The whole tree, pre-order, the root first.
+#[derive(Clone, Debug)]
+pub struct LogTree {
+    /// The main tree's ID.
+    pub main: String,
+    /// The nodes, in uid order.
+    pub nodes: Vec<LogNode>,
+    /// The leaf types registered (all of the behavior set).
+    pub models: Vec<LeafModel>,
+}
+
+/// Why a tree has no BehaviorTree.CPP form.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("node {node} is a {kind}, which BehaviorTree.CPP has no exact equivalent for")]
+pub struct NotExpressible {
+    /// The bt-core node.
+    pub node: usize,
+    /// Its kind.
+    pub kind: &'static str,
+}
+
+/// How a bt-core kind is named and parameterized in BehaviorTree.CPP.
+fn builtin(kind: &NodeKind) -> Option<(Kind, &'static str, Vec<(&'static str, String)>)> {
+    Some(match *kind {
+        NodeKind::Sequence => (Kind::ReactiveSequence, "ReactiveSequence", vec![]),
+        NodeKind::Fallback => (Kind::ReactiveFallback, "ReactiveFallback", vec![]),
+        NodeKind::SequenceWithMemory => (Kind::Sequence, "Sequence", vec![]),
+        NodeKind::FallbackWithMemory => (Kind::Fallback, "Fallback", vec![]),
+        NodeKind::Parallel { success_threshold, failure_threshold } => (
+            Kind::Parallel { success: i32::from(success_threshold), failure: i32::from(failure_threshold) },
+            "Parallel",
+            vec![("success_count", success_threshold.to_string()), ("failure_count", failure_threshold.to_string())],
+        ),
+        NodeKind::Inverter => (Kind::Inverter, "Inverter", vec![]),
+        NodeKind::ForceSuccess => (Kind::ForceSuccess, "ForceSuccess", vec![]),
+        NodeKind::ForceFailure => (Kind::ForceFailure, "ForceFailure", vec![]),
+        NodeKind::Repeat(n) => (Kind::Repeat(i32::from(n)), "Repeat", vec![("num_cycles", n.to_string())]),
+        NodeKind::Retry(n) => {
+            (Kind::Retry(i32::from(n)), "RetryUntilSuccessful", vec![("num_attempts", n.to_string())])
+        }
+        _ => return None,
+    })
+}
+
+/// Defaults of built-in ports that BehaviorTree.CPP adds when absent, in the order of
+/// its models' ports.
+fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
+    match element {
+        "Parallel" => &[("failure_count", "1"), ("success_count", "-1")],
+        "ParallelAll" => &[("max_failures", "1")],
+        "RunOnce" => &[("then_skip", "true")],
+        _ => &[],
+    }
+}
+
+/// The attribute order BehaviorTree.CPP prints for ports given in `given` order (all
+/// inputs), after adding the defaults.
+fn attr_order(given: Vec<(String, String)>, defaults: &[(&str, &str)]) -> Vec<(String, String)> {
+    // The attributes go into one map in document order, which is then walked to fill
+    // the node's input map, after which absent defaults are added.
+    let remap = stdmap::order(given.iter().map(|(k, _)| k.as_str()));
+    let mut inputs: Vec<&str> = remap.iter().map(String::as_str).collect();
+    for (k, _) in defaults {
+        if !inputs.contains(k) {
+            inputs.push(k);
+        }
+    }
+    let order = stdmap::order(inputs.iter().copied());
+    order
+        .into_iter()
+        .map(|k| {
+            let v = given
+                .iter()
+                .find(|(g, _)| *g == k)
+                .map(|(_, v)| v.clone())
+                .or_else(|| defaults.iter().find(|(d, _)| *d == k).map(|(_, v)| (*v).to_string()))
+                .unwrap_or_default();
+            (k, v)
+        })
+        .collect()
+}
+
+impl LogTree {
+    /// The tree of bt-core `nodes` whose leaves `catalog` names, numbered as
+    /// BehaviorTree.CPP numbers the XML [`to_xml`](crate::xml::to_xml) writes for it.
+    /// `values` is the value table; `ports` the port names of grounded arguments.
+    ///
+    /// # Errors
+    /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
+    pub fn new<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
+        nodes: &[Node],
+        catalog: &C,
+        ports: &P,
+    ) -> Result<Self, NotExpressible> {
+        let uids: Vec<u16> = (1..=nodes.len()).map(|u| u16::try_from(u).unwrap_or(u16::MAX)).collect();
+        let names: Vec<Option<String>> = vec![None; nodes.len()];
+        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], |leaf| leaf.args().to_vec())
+    }
+
+    /// The tree of an imported document, SubTree nodes and names included.
+    ///
+    /// # Errors
+    /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
+    pub fn of_imported(imported: &Imported) -> Result<Self, NotExpressible> {
+        let uids: Vec<u16> = imported.meta.iter().map(|m| m.uid).collect();
+        let names: Vec<Option<String>> = imported.meta.iter().map(|m| m.name.clone()).collect();
+        Self::build(
+            &imported.nodes,
+            imported,
+            &crate::xml::NoPorts,
+            &imported.main,
+            &uids,
+            &names,
+            &imported.subtrees,
+            |leaf| imported.leaf_values(leaf).to_vec(),
+        )
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
+        nodes: &[Node],
+        catalog: &C,
+        ports: &P,
+        main: &str,
+        uids: &[u16],
+        names: &[Option<String>],
+        subtrees: &[crate::xml::lower::SubtreeMeta],
+        values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
+    ) -> Result<Self, NotExpressible> {
+        let mut out: Vec<LogNode> = Vec::with_capacity(nodes.len() + subtrees.len());
+        // Open nodes: (index in out, end of its bt-core subtree).
+        let mut open: Vec<(usize, usize)> = Vec::new();
+        for (i, n) in nodes.iter().enumerate() {
+            while open.last().is_some_and(|&(_, end)| end <= i) {
+                open.pop();
+            }
+            // SubTree nodes whose subtree's root is node i, outermost first.
+            for s in subtrees.iter().filter(|s| s.node == i) {
+                let idx = out.len();
+                if let Some(&(p, _)) = open.last() {
+                    out[p].children.push(idx);
+                }
+                let attrs = stdmap::order(s.attrs.iter().map(|(k, _)| k.as_str()))
+                    .into_iter()
+                    .map(|k| {
+                        let v = s.attrs.iter().find(|(a, _)| *a == k).map(|(_, v)| v.clone()).unwrap_or_default();
+                        (k, v)
+                    })
+                    .collect();
+                out.push(LogNode {
+                    uid: s.uid,
+                    element: "SubTree".into(),
+                    name: s.id.clone(),
+                    kind: Kind::SubTree,
+                    children: Vec::new(),
+                    attrs,
+                    core: None,
+                    subtree: Some((s.path.clone(), s.instance.clone())),
+                });
+                open.push((idx, i + usize::from(n.size())));
+            }
+            let idx = out.len();
+            if let Some(&(p, _)) = open.last() {
+                out[p].children.push(idx);
+            }
+            let (kind, element, attrs, default_name) = match n.kind() {
+                NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+                    let b = leaf.behavior();
+                    let name = catalog.info(b).map_or_else(|| format!("behavior{b}"), |i| i.name.to_string());
+                    let element = type_id(&name);
+                    let vals = values(leaf);
+                    let given: Vec<(String, String)> = vals
+                        .iter()
+                        .enumerate()
+                        .filter(|&(pos, &v)| {
+                            catalog.port(b, pos).is_none() || PortValue::from_u16(v) != PortValue::Unset
+                        })
+                        .map(|(pos, &v)| {
+                            (crate::xml::write::port_name(catalog, ports, b, pos), arg_text(catalog, b, pos, v))
+                        })
+                        .collect();
+                    let kind = if matches!(n.kind(), NodeKind::Condition(_)) { Kind::Condition } else { Kind::Action };
+                    let default_name = if element == name { None } else { Some(name) };
+                    (kind, element, attr_order(given, &[]), default_name)
+                }
+                other => {
+                    let Some((kind, element, params)) = builtin(other) else {
+                        return Err(NotExpressible { node: i, kind: other.name() });
+                    };
+                    let given = params.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+                    (kind, element.to_string(), attr_order(given, builtin_defaults(element)), None)
+                }
+            };
+            let name = names.get(i).cloned().flatten().or(default_name).unwrap_or_else(|| element.clone());
+            out.push(LogNode {
+                uid: uids.get(i).copied().unwrap_or(0),
+                element,
+                name,
+                kind,
+                children: Vec::new(),
+                attrs,
+                core: Some(i),
+                subtree: None,
+            });
+            if n.size() > 1 {
+                open.push((idx, i + usize::from(n.size())));
+            }
+        }
+        let mut models = Vec::new();
+        for b in 0..catalog.len() {
+            let Ok(b) = u16::try_from(b) else { break };
+            let Some(info) = catalog.info(b) else { continue };
+            let tag = if info.kind == bt_core::LeafKind::Condition { "Condition" } else { "Action" };
+            let ports = (0..usize::from(info.arity))
+                .map(|pos| match catalog.port(b, pos) {
+                    Some(p) => (
+                        p.direction.tag(),
+                        p.name.to_string(),
+                        if p.type_name.is_empty() { "BT::AnyTypeAllowed".to_string() } else { p.type_name.to_string() },
+                        p.default.map(str::to_string),
+                    ),
+                    None => {
+                        ("input_port", crate::xml::write::port_name(catalog, ports, b, pos), "std::string".into(), None)
+                    }
+                })
+                .collect();
+            models.push(LeafModel { tag, id: type_id(info.name), ports });
+        }
+        Ok(Self { main: main.to_string(), nodes: out, models })
+    }
+}
+
+fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
+    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
+    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            self.0.write_arg(f, self.1, self.2, self.3)
+        }
+    }
+    A(catalog, behavior, position, value).to_string()
+}

@@ -1,0 +1,119 @@
+//! Our `.btlog` against BehaviorTree.CPP's own, byte for byte but the timestamps.
+//!
+//! `fixtures/btlog/cases.txt` are runs in the differential harness's input form (see
+//! `fixtures/btlog/README.md`); each `.btlog` is what BehaviorTree.CPP 4.10.0's
+//! FileLogger2 wrote for it. The test imports each case's XML, replays it with the
+//! same scripted leaves through [`Replay`], writes our log, and compares.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use btcpp::btlog::replay::status;
+use btcpp::btlog::{Leaves, Log, LogTree, LogWriter, Replay};
+use btcpp::xml::{ImportOptions, import_text};
+
+/// One harness case.
+struct Case {
+    name: String,
+    ticks: usize,
+    /// Leaf type (`C2`, `A3`) -> script.
+    scripts: BTreeMap<String, String>,
+    xml: String,
+    btlog: Option<String>,
+}
+
+fn cases(text: &str) -> Vec<Case> {
+    let mut out = Vec::new();
+    let mut c: Option<Case> = None;
+    for line in text.lines() {
+        let (key, rest) = line.split_once(' ').unwrap_or((line, ""));
+        match key {
+            "case" => {
+                c = Some(Case {
+                    name: rest.to_string(),
+                    ticks: 0,
+                    scripts: BTreeMap::new(),
+                    xml: String::new(),
+                    btlog: None,
+                })
+            }
+            "ticks" => c.as_mut().unwrap().ticks = rest.parse().unwrap(),
+            "leaf" => {
+                let w: Vec<&str> = rest.split(' ').collect();
+                c.as_mut().unwrap().scripts.insert(format!("{}{}", w[1], w[0]), w[2].to_string());
+            }
+            "xml" => c.as_mut().unwrap().xml = rest.to_string(),
+            "btlog" => c.as_mut().unwrap().btlog = Some(rest.to_string()),
+            "end" => out.push(c.take().unwrap()),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Leaves answering from their scripts, cyclically, as the harness's do.
+struct Scripted<'a> {
+    /// bt-core node -> (script, calls so far).
+    by_node: BTreeMap<usize, (&'a str, usize)>,
+}
+
+impl Leaves for Scripted<'_> {
+    fn tick(&mut self, core: usize) -> u8 {
+        let (script, calls) = self.by_node.get_mut(&core).unwrap();
+        let c = script.as_bytes()[*calls % script.len()];
+        *calls += 1;
+        match c {
+            b'S' => status::SUCCESS,
+            b'F' => status::FAILURE,
+            _ => status::RUNNING,
+        }
+    }
+
+    fn halt(&mut self, _: usize) {}
+}
+
+/// The case's XML with models for its scripted leaves (the harness registers them).
+fn with_models(case: &Case) -> String {
+    let models: String = case
+        .scripts
+        .keys()
+        .map(|id| {
+            let tag = if id.starts_with('C') { "Condition" } else { "Action" };
+            format!("<{tag} ID=\"{id}\"/>")
+        })
+        .collect();
+    case.xml.replace("</root>", &format!("<TreeNodesModel>{models}</TreeNodesModel></root>"))
+}
+
+#[test]
+fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btlog");
+    let all = cases(&std::fs::read_to_string(dir.join("cases.txt")).unwrap());
+    let mut compared = 0;
+    for case in all.iter().filter(|c| c.btlog.is_some()) {
+        let theirs = Log::parse(&std::fs::read(dir.join(case.btlog.as_ref().unwrap())).unwrap()).unwrap();
+        let imported = import_text(Path::new(&case.name), &with_models(case), &ImportOptions::default()).unwrap();
+        let tree = LogTree::of_imported(&imported).unwrap();
+        assert_eq!(tree.xml(), theirs.xml, "{}: the log's XML", case.name);
+        let mut leaves = Scripted { by_node: BTreeMap::new() };
+        for (i, m) in imported.meta.iter().enumerate() {
+            if let Some(s) = case.scripts.get(&m.id) {
+                leaves.by_node.insert(i, (s.as_str(), 0));
+            }
+        }
+        let mut replay = Replay::new(&tree);
+        let mut ours = LogWriter::new(&tree, theirs.first_usec);
+        for tick in 0..case.ticks {
+            let (_, transitions) = replay.tick(&mut leaves);
+            for (uid, s) in transitions {
+                ours.transition(theirs.first_usec + tick as i64 * 1000, uid, s);
+            }
+        }
+        let ours = Log::parse(ours.bytes()).unwrap();
+        let strip = |l: &Log| l.transitions.iter().map(|&(_, uid, s)| (uid, s)).collect::<Vec<_>>();
+        assert_eq!(strip(&ours), strip(&theirs), "{}: transitions", case.name);
+        compared += 1;
+    }
+    assert_eq!(compared, 3);
+}
