@@ -28,7 +28,7 @@
 //! episodes: an episode allocates nothing. A [`Recorder`] sees every tick; the default
 //! `()` records nothing and compiles to nothing.
 
-use bt_core::{Executor, LoadError, Node, NodeState, NodeStatus, Status, TickError, Tree};
+use bt_core::{Executor, LoadError, Node, NodeId, NodeState, NodeStatus, Status, TickError, Tree};
 use planner::duplo::Task;
 
 use crate::world::{BrickWorld, MAX_BRICKS};
@@ -173,6 +173,37 @@ pub trait Recorder {
     /// Tick `tick` (0-based) returned `root`; `states` are the nodes' statuses after it
     /// and `world` is stepped past it.
     fn tick<W: BrickWorld + ?Sized>(&mut self, tick: u32, root: Status, states: &[NodeState], world: &W);
+
+    /// During a tick, leaf `node` was ticked and returned `status` (in tick order; for
+    /// replay logs). Ignored by default.
+    fn leaf(&mut self, node: NodeId, status: Status) {
+        let _ = (node, status);
+    }
+}
+
+/// The world as the executor sees it during a recorded tick: every leaf call is also
+/// shown to the recorder.
+struct Spy<'a, W, R> {
+    world: &'a mut W,
+    recorder: &'a mut R,
+}
+
+impl<W: BrickWorld, R: Recorder> bt_core::BehaviorSet for Spy<'_, W, R> {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+        let s = self.world.condition(leaf, ctx);
+        self.recorder.leaf(ctx.node, s);
+        s
+    }
+
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+        let s = self.world.action(leaf, ctx);
+        self.recorder.leaf(ctx.node, s);
+        s
+    }
+
+    fn halt(&mut self, leaf: &bt_core::Leaf, node: NodeId) {
+        self.world.halt(leaf, node);
+    }
 }
 
 impl Recorder for () {
@@ -396,7 +427,11 @@ impl<W: BrickWorld> Runner<W> {
         let mut ticks = 0;
         let mut succeeded = false;
         while ticks < limit {
-            let root = exec.tick(&mut *world, ticks)?;
+            let root = if R::ENABLED {
+                exec.tick(&mut Spy { world: &mut *world, recorder: &mut *recorder }, ticks)?
+            } else {
+                exec.tick(&mut *world, ticks)?
+            };
             world.step();
             if R::ENABLED {
                 recorder.tick(ticks, root, exec.states(), &*world);

@@ -18,12 +18,14 @@
 //! gives the same bytes; the first timestamp is the clock's start.
 
 pub mod replay;
+pub mod run;
 pub mod stdmap;
 pub mod tree;
 
 use std::fmt::Write as _;
 
 pub use replay::{Leaves, Replay};
+pub use run::{Mismatch, RunLog, status_of};
 pub use tree::{LogTree, NotExpressible};
 
 /// The first bytes of every log.

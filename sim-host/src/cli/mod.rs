@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod btlog;
 mod catalog;
 mod catalogs;
 mod export;
@@ -44,6 +45,9 @@ enum Command {
     /// Import a BehaviorTree.CPP XML tree (Groot2, Nav2) as an image or another notation.
     #[command(long_about = import::LONG_ABOUT)]
     Import(import::Args),
+    /// Turn a controller's trace into a Groot2 replay log (.btlog).
+    #[command(long_about = btlog::LONG_ABOUT)]
+    Btlog(btlog::Args),
     /// Print the behavior set of BehaviorTree.CPP models, or the Rust table a controller compiles in.
     #[command(long_about = catalog::LONG_ABOUT)]
     Catalog(catalog::Args),
@@ -79,6 +83,7 @@ pub fn main() -> ExitCode {
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Import(args)) => import::run(&args),
         Some(Command::Catalog(args)) => catalog::run(&args),
+        Some(Command::Btlog(args)) => btlog::run(&args),
         Some(Command::Plan(args)) => plan::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Scenario(args)) => scenario::run(&args),

@@ -76,7 +76,44 @@ pub struct Args {
     /// ticks, the tree's statuses tick by tick (written whole or not at all).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
+    /// Write the run as a Groot2 replay log (BehaviorTree.CPP's FileLogger2 format;
+    /// tick k at k x 100 ms of simulated time).
+    #[arg(long, value_name = "FILE.btlog")]
+    pub btlog: Option<PathBuf>,
 }
+
+/// The trace for pictures, and the leaf calls of every tick for the replay log.
+#[derive(Default)]
+struct Recording {
+    trace: Trace,
+    calls: Vec<Vec<(usize, u8)>>,
+    current: Vec<(usize, u8)>,
+}
+
+impl sim_host::episode::Recorder for Recording {
+    fn start<W: BrickWorld + ?Sized>(&mut self, world: &W, nodes: usize) {
+        self.trace.start(world, nodes);
+        self.calls.clear();
+    }
+
+    fn tick<W: BrickWorld + ?Sized>(
+        &mut self,
+        tick: u32,
+        root: bt_core::Status,
+        states: &[bt_core::NodeState],
+        world: &W,
+    ) {
+        self.trace.tick(tick, root, states, world);
+        self.calls.push(std::mem::take(&mut self.current));
+    }
+
+    fn leaf(&mut self, node: bt_core::NodeId, status: bt_core::Status) {
+        self.current.push((usize::from(node), btcpp::btlog::status_of(status)));
+    }
+}
+
+/// Microseconds of simulated time per tick (10 Hz) in replay logs.
+const TICK_USEC: i64 = 100_000;
 
 fn parse_task(s: &str) -> Result<Task, String> {
     Task::from_name(s).ok_or_else(|| {
@@ -127,8 +164,22 @@ fn read_tree(path: &Path, spec: &Spec) -> anyhow::Result<Vec<Node>> {
 fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &Args) -> anyhow::Result<()> {
     let spec = world.spec().clone();
     let mut runner = Runner::new(world)?;
-    let mut trace = Trace::default();
-    let e = runner.run_recorded(tree, &mut trace).map_err(|err| anyhow!("{source}: {err}"))?;
+    let mut rec = Recording::default();
+    let e = runner.run_recorded(tree, &mut rec).map_err(|err| anyhow!("{source}: {err}"))?;
+    let trace = rec.trace;
+    let log = match &args.btlog {
+        Some(_) => {
+            let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec, &btcpp::xml::NoPorts)
+                .map_err(|err| anyhow!("{source}: no replay log: {err}"))?;
+            let mut log = btcpp::btlog::RunLog::new(&log_tree, 0);
+            for (k, calls) in rec.calls.iter().enumerate() {
+                let k = u32::try_from(k).unwrap_or(u32::MAX);
+                log.tick(k, i64::from(k) * TICK_USEC, calls).map_err(|err| anyhow!("{source}: replay log: {err}"))?;
+            }
+            Some(log.into_bytes())
+        }
+        None => None,
+    };
     let mut out = String::new();
     let mode = match spec.mode {
         Mode::Default => "default",
@@ -153,6 +204,10 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
         });
         output::write_whole(path, doc.as_bytes())?;
         let _ = writeln!(out, "picture  {}", path.display());
+    }
+    if let (Some(path), Some(bytes)) = (&args.btlog, &log) {
+        output::write_whole(path, bytes)?;
+        let _ = writeln!(out, "btlog    {} ({} bytes; open it in Groot2)", path.display(), bytes.len());
     }
     print!("{out}");
     Ok(())

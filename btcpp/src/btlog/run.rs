@@ -1,0 +1,108 @@
+//! A `.btlog` of one of our runs: the leaf results of each tick, replayed through
+//! BehaviorTree.CPP's transition model ([`Replay`]) into a [`LogWriter`].
+
+use std::collections::VecDeque;
+
+use crate::btlog::LogWriter;
+use crate::btlog::replay::{Leaves, Replay, status};
+use crate::btlog::tree::LogTree;
+
+/// BehaviorTree.CPP would tick another leaf than our executor did: the log would not
+/// describe our run.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("tick {tick}: {what}")]
+pub struct Mismatch {
+    /// The tick.
+    pub tick: u32,
+    /// What differed.
+    pub what: String,
+}
+
+/// A log being made from a run.
+#[derive(Debug)]
+pub struct RunLog<'t> {
+    tree: &'t LogTree,
+    replay: Replay<'t>,
+    writer: LogWriter,
+}
+
+struct Queue<'a> {
+    calls: VecDeque<(usize, u8)>,
+    wrong: Option<String>,
+    tree: &'a LogTree,
+}
+
+impl Leaves for Queue<'_> {
+    fn tick(&mut self, core: usize) -> u8 {
+        match self.calls.pop_front() {
+            Some((c, s)) if c == core => s,
+            other => {
+                if self.wrong.is_none() {
+                    let name = |c: usize| {
+                        self.tree
+                            .nodes
+                            .iter()
+                            .find(|n| n.core == Some(c))
+                            .map_or_else(|| format!("node {c}"), |n| format!("node {c} ({})", n.name))
+                    };
+                    self.wrong = Some(match other {
+                        Some((c, _)) => {
+                            format!("BehaviorTree.CPP ticks {} where the run ticked {}", name(core), name(c))
+                        }
+                        None => format!("BehaviorTree.CPP ticks {} after the run's last leaf of the tick", name(core)),
+                    });
+                }
+                status::FAILURE
+            }
+        }
+    }
+
+    fn halt(&mut self, _: usize) {}
+}
+
+impl<'t> RunLog<'t> {
+    /// A log of `tree` whose clock starts at `first_usec`.
+    #[must_use]
+    pub fn new(tree: &'t LogTree, first_usec: i64) -> Self {
+        Self { tree, replay: Replay::new(tree), writer: LogWriter::new(tree, first_usec) }
+    }
+
+    /// Tick `tick` at `usec`: the leaves the run ticked, in order, with what each
+    /// returned (bt-core node, [`status`] number).
+    ///
+    /// # Errors
+    /// [`Mismatch`] when BehaviorTree.CPP's model ticks other leaves.
+    pub fn tick(&mut self, tick: u32, usec: i64, calls: &[(usize, u8)]) -> Result<u8, Mismatch> {
+        let mut q = Queue { calls: calls.iter().copied().collect(), wrong: None, tree: self.tree };
+        let (root, transitions) = self.replay.tick(&mut q);
+        if let Some(what) = q.wrong {
+            return Err(Mismatch { tick, what });
+        }
+        if let Some(&(c, _)) = q.calls.front() {
+            return Err(Mismatch {
+                tick,
+                what: format!("the run ticked node {c}, which BehaviorTree.CPP does not tick"),
+            });
+        }
+        for (uid, s) in transitions {
+            self.writer.transition(usec, uid, s);
+        }
+        Ok(root)
+    }
+
+    /// The log's bytes.
+    #[must_use]
+    pub fn into_bytes(self) -> Vec<u8> {
+        self.writer.into_bytes()
+    }
+}
+
+/// The [`status`] number of a bt-core status.
+#[must_use]
+pub const fn status_of(s: bt_core::Status) -> u8 {
+    match s {
+        bt_core::Status::Running => status::RUNNING,
+        bt_core::Status::Success => status::SUCCESS,
+        bt_core::Status::Failure => status::FAILURE,
+    }
+}

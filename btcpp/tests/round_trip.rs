@@ -1,0 +1,220 @@
+//! Exported XML imported again gives the same tree and the same image: random trees of
+//! every kind that has a BehaviorTree.CPP equivalent (all but `Timeout`, which counts
+//! ticks where BehaviorTree.CPP counts milliseconds).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::fmt;
+use std::path::Path;
+
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, LeafKind, Node, NodeKind};
+use btcpp::xml::{Grounded, ImportOptions, Ports, import_text, to_xml};
+use proptest::prelude::*;
+
+/// A behavior set like the planner's: conditions and actions with grounded object
+/// arguments, names that are and are not XML names.
+struct Objects;
+
+const BEHAVIORS: [(&str, LeafKind, u8); 6] = [
+    ("at", LeafKind::Condition, 2),
+    ("hand empty?", LeafKind::Condition, 0),
+    ("holding", LeafKind::Condition, 1),
+    ("move-to", LeafKind::Action, 1),
+    ("pick up!", LeafKind::Action, 1),
+    ("place", LeafKind::Action, 3),
+];
+const OBJECTS: [&str; 4] = ["cube", "sphere", "goal", "table"];
+
+impl Catalog for Objects {
+    fn len(&self) -> usize {
+        BEHAVIORS.len()
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        BEHAVIORS.get(usize::from(id)).map(|&(name, kind, arity)| BehaviorInfo { name, kind, arity })
+    }
+
+    fn write_arg(&self, f: &mut fmt::Formatter<'_>, _: BehaviorId, _: usize, value: u16) -> fmt::Result {
+        f.write_str(OBJECTS[usize::from(value)])
+    }
+}
+
+impl Ports for Objects {
+    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        (behavior == 5).then(|| ["what", "where", "on-top"][position])
+    }
+}
+
+impl Grounded for Objects {
+    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        Ports::port(self, behavior, position)
+    }
+
+    fn parse_arg(&self, _: BehaviorId, _: usize, text: &str) -> Option<u16> {
+        OBJECTS.iter().position(|o| *o == text).map(|i| i as u16)
+    }
+}
+
+/// A random tree from a seed: pre-order nodes, every kind but Timeout.
+fn tree(seed: u64) -> Vec<Node> {
+    let mut s = seed | 1;
+    let mut next = move |n: u64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s % n
+    };
+    let mut out: Vec<Node> = Vec::new();
+    // (index, children left to make, depth)
+    fn make(out: &mut Vec<Node>, depth: u32, next: &mut dyn FnMut(u64) -> u64) {
+        let at = out.len();
+        out.push(Node::EMPTY);
+        let pick = if depth >= 5 { 10 + next(2) } else { next(12) };
+        let children = match pick {
+            0..=4 => 1 + next(4) as usize,
+            5..=9 => 1,
+            _ => 0,
+        };
+        for _ in 0..children {
+            make(out, depth + 1, next);
+        }
+        let kind = match pick {
+            0 => NodeKind::Sequence,
+            1 => NodeKind::Fallback,
+            2 => NodeKind::SequenceWithMemory,
+            3 => NodeKind::FallbackWithMemory,
+            4 => {
+                let c = children as u64;
+                NodeKind::Parallel { success_threshold: 1 + next(c) as u16, failure_threshold: 1 + next(c) as u16 }
+            }
+            5 => NodeKind::Inverter,
+            6 => NodeKind::ForceSuccess,
+            7 => NodeKind::ForceFailure,
+            8 => NodeKind::Repeat(1 + next(500) as u16),
+            9 => NodeKind::Retry(1 + next(500) as u16),
+            _ => {
+                let b = next(BEHAVIORS.len() as u64) as u16;
+                let (_, kind, arity) = BEHAVIORS[usize::from(b)];
+                let args: Vec<u16> = (0..arity).map(|_| next(OBJECTS.len() as u64) as u16).collect();
+                let leaf = Leaf::with_args(b, &args).unwrap();
+                if kind == LeafKind::Condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) }
+            }
+        };
+        out[at] = Node::new(kind, (out.len() - at) as u16);
+    }
+    make(&mut out, 0, &mut next);
+    out
+}
+
+fn image<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Vec<u8> {
+    let mut buf = vec![0u8; bt_core::image::max_image_len(nodes.len())];
+    let n = bt_core::encode(nodes, catalog.fingerprint(), &mut buf).unwrap();
+    buf.truncate(n);
+    buf
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// A tree we make, written as XML and read back into its behavior set.
+    #[test]
+    fn exported_trees_import_to_the_same_image(seed in any::<u64>()) {
+        let nodes = tree(seed);
+        let tree: bt_core::Tree<'_, 16> = bt_core::Tree::validate(&nodes, &Objects).unwrap();
+        let xml = to_xml(tree.nodes(), &Objects, &Objects).unwrap();
+        let options = ImportOptions { known: Some(&Objects), ..ImportOptions::default() };
+        let back = import_text(Path::new("exported.xml"), &xml, &options).unwrap_or_else(|e| panic!("{e}\n{xml}"));
+        prop_assert_eq!(&back.nodes, &nodes);
+        prop_assert_eq!(back.fingerprint, Objects.fingerprint());
+        prop_assert_eq!(image(&back.nodes, &Objects), image(&nodes, &Objects));
+    }
+
+    /// An imported tree (ports, constants, blackboard slots, names), written as XML and
+    /// imported again.
+    #[test]
+    fn imported_trees_export_and_import_unchanged(seed in any::<u64>()) {
+        let doc = document(seed);
+        let first = import_text(Path::new("t.xml"), &doc, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}\n{doc}"));
+        let xml = first.to_xml().unwrap();
+        let second = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}\n{xml}"));
+        prop_assert_eq!(&second.nodes, &first.nodes);
+        prop_assert_eq!(&second.values, &first.values);
+        prop_assert_eq!(&second.constants, &first.constants);
+        prop_assert_eq!(&second.slots, &first.slots);
+        prop_assert_eq!(&second.meta, &first.meta);
+        prop_assert_eq!(second.fingerprint, first.fingerprint);
+    }
+}
+
+/// A random document over a catalog with typed ports: the tree of [`tree`] with its
+/// leaves replaced by ported ones.
+fn document(seed: u64) -> String {
+    let nodes = tree(seed);
+    let mut s = seed.rotate_left(17) | 1;
+    let mut next = move |n: u64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s % n
+    };
+    let mut xml = String::from("<root BTCPP_format=\"4\"><BehaviorTree ID=\"T\">");
+    let mut open: Vec<(usize, &str)> = Vec::new();
+    for (i, n) in nodes.iter().enumerate() {
+        while open.last().is_some_and(|&(end, _)| end <= i) {
+            xml.push_str(&format!("</{}>", open.pop().unwrap().1));
+        }
+        let name = if next(4) == 0 { format!(" name=\"n{i}\"") } else { String::new() };
+        let (tag, attrs) = match *n.kind() {
+            NodeKind::Sequence => ("ReactiveSequence", String::new()),
+            NodeKind::Fallback => ("ReactiveFallback", String::new()),
+            NodeKind::SequenceWithMemory => ("Sequence", String::new()),
+            NodeKind::FallbackWithMemory => ("Fallback", String::new()),
+            NodeKind::Parallel { success_threshold, failure_threshold } => {
+                ("Parallel", format!(" success_count=\"{success_threshold}\" failure_count=\"{failure_threshold}\""))
+            }
+            NodeKind::Inverter => ("Inverter", String::new()),
+            NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
+            NodeKind::ForceFailure => ("ForceFailure", String::new()),
+            NodeKind::Repeat(k) => ("Repeat", format!(" num_cycles=\"{k}\"")),
+            NodeKind::Retry(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{k}\"")),
+            _ => {
+                let leaf = match next(3) {
+                    0 => {
+                        format!("<Near target=\"{{t{}}}\" within=\"{}\"/>", next(3), [0.5, 1.0, 2.25][next(3) as usize])
+                    }
+                    1 => String::from("<Idle/>"),
+                    _ => {
+                        let mut a = format!("<Go goal=\"{{g{}}}\"", next(2));
+                        if next(2) == 0 {
+                            a.push_str(&format!(" speed=\"{}\"", next(4)));
+                        }
+                        if next(2) == 0 {
+                            a.push_str(" done=\"{done}\"");
+                        }
+                        a.push_str("/>");
+                        if next(2) == 0 {
+                            a = format!("<Say label=\"{}\"/>", ["a", "b&amp;c", "x y"][next(3) as usize]);
+                        }
+                        a
+                    }
+                };
+                xml.push_str(&leaf.replacen("/>", &format!("{name}/>"), 1));
+                continue;
+            }
+        };
+        xml.push_str(&format!("<{tag}{name}{attrs}>"));
+        open.push((i + usize::from(n.size()), tag));
+    }
+    while let Some((_, tag)) = open.pop() {
+        xml.push_str(&format!("</{tag}>"));
+    }
+    xml.push_str(
+        "</BehaviorTree><TreeNodesModel>\
+         <Condition ID=\"Near\"><input_port name=\"target\" type=\"Pose\"/><input_port name=\"within\" type=\"double\" default=\"1.0\"/></Condition>\
+         <Condition ID=\"Idle\"/>\
+         <Action ID=\"Go\"><input_port name=\"goal\" type=\"Pose\"/><input_port name=\"speed\" type=\"unsigned int\" default=\"2\"/>\
+         <output_port name=\"done\" type=\"bool\"/></Action>\
+         <Action ID=\"Say\"><input_port name=\"label\" type=\"std::string\"/></Action>\
+         </TreeNodesModel></root>",
+    );
+    xml
+}

@@ -1,0 +1,105 @@
+//! `sim-host btlog --from-trace TRACE --image IMAGE`: a controller's trace as a Groot2
+//! replay log.
+
+use std::path::PathBuf;
+
+use anyhow::{Context as _, anyhow, bail};
+use bt_core::{Node, Tree};
+use btcpp::btlog::{LogTree, RunLog, replay::status};
+
+use super::{catalogs, output};
+
+pub const LONG_ABOUT: &str = "Turns the trace a controller printed (firmware-example's `tick N \
+    STATUS ran=...` lines, on QEMU or the board) into a Groot2 replay log: the format \
+    BehaviorTree.CPP's FileLogger2 writes, with the tree of the image the controller ran, \
+    numbered as `sim-host export --format xml` numbers it (_uid), and every status \
+    transition BehaviorTree.CPP's nodes would make for the leaf results in the trace. \
+    Timestamps are the controller's ticks at the rate its `boot` line gives (hz=), so \
+    the same trace gives the same log.";
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Example:\n  cargo run -p firmware-example --target x86_64-unknown-linux-gnu > run.txt\n  \
+    sim-host btlog --from-trace run.txt --image tree.bt --out run.btlog")]
+pub struct Args {
+    /// The controller's trace.
+    #[arg(long, value_name = "TRACE")]
+    pub from_trace: PathBuf,
+    /// The image the controller ran.
+    #[arg(long, value_name = "IMAGE")]
+    pub image: PathBuf,
+    /// The log to write (give it the .btlog extension Groot2 expects).
+    #[arg(long, value_name = "FILE.btlog")]
+    pub out: PathBuf,
+}
+
+/// The leaf calls of a `ran=` list: `2F,4S,9R` or `-`.
+fn ran(list: &str) -> Option<Vec<(usize, u8)>> {
+    if list == "-" {
+        return Some(Vec::new());
+    }
+    list.split(',')
+        .map(|item| {
+            let (id, s) = item.split_at_checked(item.len().checked_sub(1)?)?;
+            let s = match s {
+                "S" => status::SUCCESS,
+                "F" => status::FAILURE,
+                "R" => status::RUNNING,
+                _ => return None,
+            };
+            Some((id.parse().ok()?, s))
+        })
+        .collect()
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let bytes = std::fs::read(&args.image).with_context(|| format!("cannot read {}", args.image.display()))?;
+    let (known, header) = catalogs::for_image(&args.image, &bytes)?;
+    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
+    let tree: Tree<'_, 64> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+        .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
+    let ports: &dyn btcpp::xml::Ports = match &known.ports {
+        Some(p) => p.as_ref(),
+        None => &btcpp::xml::NoPorts,
+    };
+    let log_tree = LogTree::new(tree.nodes(), known.catalog.as_ref(), ports)
+        .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
+    let text = std::fs::read_to_string(&args.from_trace)
+        .with_context(|| format!("cannot read {}", args.from_trace.display()))?;
+    let mut period_usec: i64 = 100_000;
+    let mut log = RunLog::new(&log_tree, 0);
+    let mut ticks = 0u32;
+    for (n, line) in text.lines().enumerate() {
+        let at = || format!("{}:{}", args.from_trace.display(), n + 1);
+        let words: Vec<&str> = line.split(' ').collect();
+        match words.first() {
+            Some(&"boot") => {
+                if let Some(hz) = words.iter().find_map(|w| w.strip_prefix("hz=")) {
+                    let hz: i64 = hz.parse().ok().filter(|&h| h > 0).ok_or_else(|| anyhow!("{}: bad hz={hz}", at()))?;
+                    period_usec = 1_000_000 / hz;
+                }
+            }
+            Some(&"tick") => {
+                let k: u32 =
+                    words.get(1).and_then(|w| w.parse().ok()).ok_or_else(|| anyhow!("{}: bad tick line", at()))?;
+                if words.get(2) == Some(&"ERROR") {
+                    bail!("{}: the controller stopped with an error at tick {k}", at());
+                }
+                let list = words
+                    .iter()
+                    .find_map(|w| w.strip_prefix("ran="))
+                    .ok_or_else(|| anyhow!("{}: tick line without ran=", at()))?;
+                let calls = ran(list).ok_or_else(|| anyhow!("{}: cannot read ran={list} (cut line?)", at()))?;
+                log.tick(k, i64::from(k) * period_usec, &calls).map_err(|e| anyhow!("{}: {e}", at()))?;
+                ticks += 1;
+            }
+            _ => {}
+        }
+    }
+    if ticks == 0 {
+        bail!("{}: no `tick` lines", args.from_trace.display());
+    }
+    let bytes = log.into_bytes();
+    output::write_whole(&args.out, &bytes)?;
+    eprintln!("wrote {} ({ticks} ticks, {} bytes)", args.out.display(), bytes.len());
+    Ok(())
+}
