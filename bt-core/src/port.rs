@@ -144,6 +144,12 @@ impl<'a> PortInfo<'a> {
         Self { name, direction: PortDirection::Output, ty, type_name, default: None }
     }
 
+    /// An input-output port.
+    #[must_use]
+    pub const fn inout(name: &'a str, ty: PortType, type_name: &'a str) -> Self {
+        Self { name, direction: PortDirection::InOut, ty, type_name, default: None }
+    }
+
     /// The same port with a default value.
     #[must_use]
     pub const fn with_default(mut self, default: &'a str) -> Self {
@@ -565,40 +571,53 @@ impl<'a> Port<'a> {
 /// [`PortFault::Malformed`] with the offset reached when `out` is too small, or more
 /// slots or constants than a section holds.
 pub fn encode_table(slots: &[SlotInfo], constants: &[Constant<'_>], out: &mut [u8]) -> Result<usize, PortFault> {
-    let full = |at: usize| PortFault::Malformed { offset: at };
     if slots.len() > usize::from(MAX_SLOTS) || constants.len() > usize::from(MAX_CONSTANTS) {
-        return Err(full(0));
+        return Err(PortFault::Malformed { offset: 0 });
     }
-    let mut used = 0usize;
-    let mut put = |bytes: &[u8], used: &mut usize| -> Result<(), PortFault> {
-        let dst = out.get_mut(*used..*used + bytes.len()).ok_or(full(*used))?;
-        dst.copy_from_slice(bytes);
-        *used += bytes.len();
-        Ok(())
-    };
-    let mut buf = [0u8; 3];
-    let mut varint = |v: u16, used: &mut usize, put: &mut dyn FnMut(&[u8], &mut usize) -> Result<(), PortFault>| {
-        let b = postcard::to_slice(&v, &mut buf).map_err(|_| full(*used))?;
-        put(b, used)
-    };
-    varint(slots.len() as u16, &mut used, &mut put)?;
-    for s in slots {
-        put(&[s.ty as u8], &mut used)?;
-        varint(s.initial.map_or(0, |c| c.saturating_add(1)), &mut used, &mut put)?;
+    let mut w = Writer { out, used: 0 };
+    w.varint(slots.len() as u16)?;
+    for slot in slots {
+        w.bytes(&[slot.ty as u8])?;
+        w.varint(slot.initial.map_or(0, |c| c.saturating_add(1)))?;
     }
-    varint(constants.len() as u16, &mut used, &mut put)?;
-    let offsets_at = used;
-    used += 2 * constants.len();
-    let data_at = used;
+    w.varint(constants.len() as u16)?;
+    let offsets_at = w.used;
+    w.used += 2 * constants.len();
+    let data_at = w.used;
     for (i, c) in constants.iter().enumerate() {
-        let offset = u16::try_from(used - data_at).map_err(|_| full(used))?;
-        let slot = out.get_mut(offsets_at + 2 * i..offsets_at + 2 * i + 2).ok_or(full(used))?;
-        slot.copy_from_slice(&offset.to_le_bytes());
-        let rest = out.get_mut(used..).ok_or(full(used))?;
-        let written = postcard::to_slice(c, rest).map_err(|_| full(used))?.len();
-        used += written;
+        let offset = u16::try_from(w.used - data_at).map_err(|_| PortFault::Malformed { offset: w.used })?;
+        let at = offsets_at + 2 * i;
+        w.out.get_mut(at..at + 2).ok_or(PortFault::Malformed { offset: at })?.copy_from_slice(&offset.to_le_bytes());
+        let rest = w.out.get_mut(w.used..).ok_or(PortFault::Malformed { offset: w.used })?;
+        let written = postcard::to_slice(c, rest).map_err(|_| PortFault::Malformed { offset: w.used })?.len();
+        w.used += written;
     }
-    Ok(used)
+    Ok(w.used)
+}
+
+/// Bytes written into a caller's buffer, failing with the offset reached.
+struct Writer<'o> {
+    out: &'o mut [u8],
+    used: usize,
+}
+
+impl Writer<'_> {
+    fn bytes(&mut self, b: &[u8]) -> Result<(), PortFault> {
+        let at = self.used;
+        self.out.get_mut(at..at + b.len()).ok_or(PortFault::Malformed { offset: at })?.copy_from_slice(b);
+        self.used += b.len();
+        Ok(())
+    }
+
+    fn varint(&mut self, v: u16) -> Result<(), PortFault> {
+        let mut buf = [0u8; 3];
+        let b = postcard::to_slice(&v, &mut buf).map_err(|_| PortFault::Malformed { offset: self.used })?;
+        let b: &[u8] = b;
+        let mut copy = [0u8; 3];
+        let n = b.len();
+        copy.get_mut(..n).ok_or(PortFault::Malformed { offset: self.used })?.copy_from_slice(b);
+        self.bytes(copy.get(..n).unwrap_or(&[]))
+    }
 }
 
 #[cfg(test)]

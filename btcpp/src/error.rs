@@ -53,8 +53,8 @@ impl Source {
 pub struct ImportError {
     /// Where, when the fault is in a file's text.
     pub at: Option<Location>,
-    /// What.
-    pub fault: Fault,
+    /// What (boxed: results stay small).
+    pub fault: Box<Fault>,
 }
 
 impl fmt::Display for ImportError {
@@ -68,11 +68,11 @@ impl fmt::Display for ImportError {
 
 impl ImportError {
     pub(crate) fn new(at: &Location, fault: Fault) -> Self {
-        Self { at: Some(at.clone()), fault }
+        Self { at: Some(at.clone()), fault: Box::new(fault) }
     }
 
     pub(crate) fn nowhere(fault: Fault) -> Self {
-        Self { at: None, fault }
+        Self { at: None, fault: Box::new(fault) }
     }
 }
 

@@ -140,8 +140,11 @@ pub struct NotExpressible {
     pub kind: &'static str,
 }
 
+/// A built-in's kind, registration ID and parameters.
+type Builtin = (Kind, &'static str, Vec<(&'static str, String)>);
+
 /// How a bt-core kind is named and parameterized in BehaviorTree.CPP.
-fn builtin(kind: &NodeKind) -> Option<(Kind, &'static str, Vec<(&'static str, String)>)> {
+fn builtin(kind: &NodeKind) -> Option<Builtin> {
     Some(match *kind {
         NodeKind::Sequence => (Kind::ReactiveSequence, "ReactiveSequence", vec![]),
         NodeKind::Fallback => (Kind::ReactiveFallback, "ReactiveFallback", vec![]),

@@ -127,7 +127,7 @@ impl XmlCatalog {
         let mut o = String::new();
         let _ = writeln!(o, "// Behavior set read from {source}: {} behaviors.", self.behaviors.len());
         let _ = writeln!(o, "// Written by `sim-host catalog --rust`; regenerate it rather than edit it.");
-        let _ = writeln!(o, "#![allow(dead_code)]\n");
+        let _ = writeln!(o);
         let _ = writeln!(o, "use bt_core::{{Behavior, BehaviorInfo, PortInfo, PortType}};\n");
         let _ = writeln!(o, "/// The behavior-set fingerprint images for this set carry.");
         let _ = writeln!(o, "pub const FINGERPRINT: u64 = {:#018x};\n", self.fingerprint());
@@ -138,7 +138,8 @@ impl XmlCatalog {
         }
         let _ = writeln!(o);
         for (b, c) in self.behaviors.iter().zip(&consts) {
-            let _ = writeln!(o, "const {c}_PORTS: [PortInfo<'static>; {}] = [", b.ports.len());
+            let _ = writeln!(o, "/// The ports of `{}`.", b.id);
+            let _ = writeln!(o, "pub const {c}_PORTS: [PortInfo<'static>; {}] = [", b.ports.len());
             for p in &b.ports {
                 let ctor = match p.direction {
                     bt_core::PortDirection::Input => "input",

@@ -155,7 +155,11 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
     let xml = roxmltree::Document::parse_with_options(&src.text, opts).map_err(|e| {
         let pos = e.pos();
         let at = Location { file: src.path.clone(), line: pos.row, column: pos.col };
-        ImportError::new(&at, Fault::Xml(strip_position(&e.to_string())))
+        let mut message = strip_position(&e.to_string());
+        if matches!(e, roxmltree::Error::MalformedEntityReference(_)) {
+            message.push_str(" (BehaviorTree.CPP's parser lets a bare & through; XML needs &amp;)");
+        }
+        ImportError::new(&at, Fault::Xml(message))
     })?;
     let root = element(src, xml.root_element());
     if root.tag != "root" {
@@ -187,7 +191,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         let target = base.join(rel);
         read_file(&target, doc, stack, false).map_err(|e| match e.at {
             // A file that cannot be read is reported at the <include> naming it.
-            None if matches!(e.fault, Fault::Read { .. }) => ImportError::new(&child.at, e.fault),
+            None if matches!(*e.fault, Fault::Read { .. }) => ImportError::new(&child.at, *e.fault),
             _ => e,
         })?;
     }

@@ -1,0 +1,130 @@
+//! `sim-host import`, `catalog`, `run --btlog` and `btlog --from-trace`, through the
+//! real binary.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+const TREE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveFallback>
+      <AtGoal/>
+      <Sequence><SubTree ID="Approach"/><Dock side="left"/></Sequence>
+    </ReactiveFallback>
+  </BehaviorTree>
+  <BehaviorTree ID="Approach"><Retry num_attempts="3"><MoveTo/></Retry></BehaviorTree>
+  <TreeNodesModel>
+    <Condition ID="AtGoal"/>
+    <Action ID="MoveTo"/>
+    <Action ID="Dock"><input_port name="side" type="std::string"/></Action>
+  </TreeNodesModel>
+</root>"#;
+
+#[test]
+fn import_writes_the_tree_or_a_located_error_and_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("tree.xml");
+    // A typo'd decorator: refused with its place, nothing written.
+    std::fs::write(&tree, TREE).unwrap();
+    let out_file = dir.path().join("tree.bt");
+    let out = sim_host(&["import", tree.to_str().unwrap(), "--out", out_file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("tree.xml:8:31: `Retry` is neither a BehaviorTree.CPP built-in node"), "{err}");
+    assert!(!out_file.exists());
+
+    std::fs::write(
+        &tree,
+        TREE.replace("<Retry ", "<RetryUntilSuccessful ").replace("</Retry>", "</RetryUntilSuccessful>"),
+    )
+    .unwrap();
+    let out = sim_host(&["import", tree.to_str().unwrap(), "--format", "ascii"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("Retry(3)") && text.contains("--> Dock(side=left)"), "{text}");
+    let summary = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        summary.contains("imported `Main`") && summary.contains("6 nodes, 1 constants, 0 blackboard slots"),
+        "{summary}"
+    );
+}
+
+#[test]
+fn catalog_prints_the_set_and_its_fingerprint() {
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/nav2/nav2_tree_nodes.xml");
+    let out = sim_host(&["catalog", models.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("behavior set 0x0176f7739cf1c528: 68 behaviors"), "{text}");
+    let rust = String::from_utf8(sim_host(&["catalog", models.to_str().unwrap(), "--rust"]).stdout).unwrap();
+    assert!(rust.contains("pub const FINGERPRINT: u64 = 0x0176f7739cf1c528;"));
+}
+
+fn transitions(bytes: &[u8]) -> usize {
+    assert_eq!(&bytes[..19], b"BTCPP4-FileLogger2\x01");
+    let n = i32::from_le_bytes(bytes[19..23].try_into().unwrap()) as usize;
+    assert!(std::str::from_utf8(&bytes[23..23 + n]).unwrap().starts_with("<root BTCPP_format=\"4\">"));
+    assert_eq!((bytes.len() - 31 - n) % 9, 0);
+    (bytes.len() - 31 - n) / 9
+}
+
+#[test]
+fn runs_and_controller_traces_become_replay_logs() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("tower.btlog");
+    let out = sim_host(&["run", "--task", "tower", "--btlog", log.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let first = std::fs::read(&log).unwrap();
+    assert!(transitions(&first) > 100);
+    // The simulated clock: the same run, the same bytes.
+    assert!(sim_host(&["run", "--task", "tower", "--btlog", log.to_str().unwrap()]).status.success());
+    assert_eq!(std::fs::read(&log).unwrap(), first);
+
+    // A controller's trace of `s( picked 0? pick 0! )` on the tower task's behaviors.
+    let image = dir.path().join("t.bt");
+    let xml = dir.path().join("t.xml");
+    std::fs::write(
+        &xml,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence><picked_0 name="picked 0?"/><pick_0 name="pick 0!"/></ReactiveSequence></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let out = sim_host(&["import", xml.to_str().unwrap(), "--behaviors", "tower", "--out", image.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let trace = dir.path().join("run.txt");
+    std::fs::write(
+        &trace,
+        "boot image=40B nodes=3 hz=20\ntick 0 RUNNING ran=1S,2R act=x halt=-\ntick 1 FAILURE ran=1F halt=2\n",
+    )
+    .unwrap();
+    let out_log = dir.path().join("run.btlog");
+    let out = sim_host(&[
+        "btlog",
+        "--from-trace",
+        trace.to_str().unwrap(),
+        "--image",
+        image.to_str().unwrap(),
+        "--out",
+        out_log.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Tick 0: Seq Running, C Success, A Running, C Idle (the reactive sequence resets the
+    // condition); tick 1: C Failure, C Idle, A Idle (halted), Seq Failure, Seq Idle.
+    assert_eq!(transitions(&std::fs::read(&out_log).unwrap()), 9);
+    // A trace the tree cannot have made.
+    std::fs::write(&trace, "tick 0 RUNNING ran=2R halt=-\n").unwrap();
+    let out = sim_host(&[
+        "btlog",
+        "--from-trace",
+        trace.to_str().unwrap(),
+        "--image",
+        image.to_str().unwrap(),
+        "--out",
+        out_log.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("run.txt:1: tick 0: BehaviorTree.CPP ticks node 1"));
+}
