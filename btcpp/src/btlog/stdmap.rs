@@ -161,7 +161,7 @@ mod tests {
         assert_eq!(order(["variable", "case_1", "case_2"]), ["case_2", "case_1", "variable"]);
         assert_eq!(
             order(["variable", "case_1", "case_2", "case_3", "case_4", "case_5", "case_6"]),
-            ["case_6", "case_5", "case_4", "case_3", "case_2", "case_1", "variable"]
+            ["case_5", "case_4", "case_6", "case_3", "case_2", "case_1", "variable"]
         );
         assert_eq!(order(["value", "output_key"]), ["output_key", "value"]);
         assert_eq!(order(["if", "else"]), ["else", "if"]);
