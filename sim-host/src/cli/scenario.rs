@@ -59,6 +59,11 @@ pub struct Args {
     /// Draw the run as an SVG picture.
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
+    /// Write the run as a Groot2 replay log (BehaviorTree.CPP's FileLogger2 format, tick
+    /// k at k x 100 ms). A log holds one tree: when the planner expanded the tree during
+    /// the run, it covers the ticks of the final tree, after the last expansion.
+    #[arg(long, value_name = "FILE.btlog")]
+    pub btlog: Option<PathBuf>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -81,7 +86,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         || if scenario.worlds().contains(&WorldKind::Physics) { WorldKind::Physics } else { WorldKind::Symbolic },
         WorldKind::from,
     );
-    show(scenario, world, args.seed, args.svg.as_ref())
+    show(scenario, world, args.seed, args.svg.as_ref(), args.btlog.as_ref())
 }
 
 /// `sim-host` without arguments: the blended demo in the physics world.
@@ -94,19 +99,54 @@ pub fn demo() -> anyhow::Result<()> {
          External agents then get in the way and help; watch the tree cope without replanning.\n\
          (Other scenarios: `sim-host scenario --list`; all commands: `sim-host --help`.)\n"
     );
-    show(Scenario::Cube, WorldKind::Physics, None, None)
+    show(Scenario::Cube, WorldKind::Physics, None, None, None)
 }
 
-fn show(scenario: Scenario, world: WorldKind, seed: Option<u64>, svg: Option<&PathBuf>) -> anyhow::Result<()> {
+/// The replay log of the run's final tree: its ticks after the last expansion.
+fn btlog(run: &scenario::Run) -> anyhow::Result<(Vec<u8>, u32, u32)> {
+    let record = &run.record;
+    let Some(last) = record.snapshots.last() else { anyhow::bail!("the run made no tree") };
+    let from = record.expansions.last().map_or(0, |(t, _)| *t);
+    let tree = btcpp::btlog::LogTree::new(&last.nodes, run.catalog.as_ref(), &btcpp::xml::NoPorts)
+        .map_err(|e| anyhow::anyhow!("no replay log: {e}"))?;
+    let mut log = btcpp::btlog::RunLog::new(&tree, i64::from(from + 1) * 100_000);
+    let mut ticks = 0;
+    for (tick, calls) in record.leaf_calls.iter().filter(|(t, _)| *t > from) {
+        let calls: Vec<(usize, u8)> =
+            calls.iter().map(|&(n, s)| (usize::from(n), btcpp::btlog::status_of(s))).collect();
+        log.tick(*tick, i64::from(*tick) * 100_000, &calls).map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
+        ticks += 1;
+    }
+    Ok((log.into_bytes(), from + 1, ticks))
+}
+
+fn show(
+    scenario: Scenario,
+    world: WorldKind,
+    seed: Option<u64>,
+    svg: Option<&PathBuf>,
+    btlog_path: Option<&PathBuf>,
+) -> anyhow::Result<()> {
     let run = scenario::run(scenario, world, seed)?;
-    // The picture first: if it cannot be written, nothing is printed as if all went well.
+    // The files first: if one cannot be written, nothing is printed as if all went well.
     if let Some(path) = svg {
         let title = format!("sim-host scenario {} ({} world)", scenario.name(), world.name());
         output::write_whole(path, scenario::svg::svg(&run, &title).as_bytes())?;
     }
+    let log = match btlog_path {
+        Some(path) => {
+            let (bytes, from, ticks) = btlog(&run)?;
+            output::write_whole(path, &bytes)?;
+            Some((path, from, ticks))
+        }
+        None => None,
+    };
     print!("{}", run.narration);
     if let Some(path) = svg {
         println!("picture: {}", path.display());
+    }
+    if let Some((path, from, ticks)) = log {
+        println!("btlog: {} ({ticks} ticks of the final tree, from tick {from})", path.display());
     }
     Ok(())
 }

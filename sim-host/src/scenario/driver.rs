@@ -77,6 +77,8 @@ pub struct Record {
     pub snapshots: Vec<Snapshot>,
     /// Actions halted by the tree (preemptions): tick and action.
     pub halts: Vec<(u32, String)>,
+    /// The leaves each tick called, in order, with what they returned (for replay logs).
+    pub leaf_calls: Vec<(u32, Vec<(NodeId, Status)>)>,
     /// How the run ended.
     pub status: Option<Status>,
     /// Ticks made.
@@ -98,6 +100,30 @@ pub enum Source<'a> {
     Planner(&'a mut Planner),
     /// A fixed tree (planned offline, learned, or loaded).
     Fixed(&'a [Node]),
+}
+
+/// The world as the executor sees it: every leaf call is also written down.
+struct Calls<'a, W> {
+    world: &'a mut W,
+    calls: Vec<(NodeId, Status)>,
+}
+
+impl<W: bt_core::BehaviorSet> bt_core::BehaviorSet for Calls<'_, W> {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+        let s = self.world.condition(leaf, ctx);
+        self.calls.push((ctx.node, s));
+        s
+    }
+
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+        let s = self.world.action(leaf, ctx);
+        self.calls.push((ctx.node, s));
+        s
+    }
+
+    fn halt(&mut self, leaf: &bt_core::Leaf, node: NodeId) {
+        self.world.halt(leaf, node);
+    }
 }
 
 /// Records action status changes during a tick.
@@ -145,8 +171,10 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
         loop {
             tick += 1;
             let mut changes = Changes::default();
+            let mut calls = Calls { world: &mut *world, calls: Vec::new() };
             let status =
-                exec.tick_observed(world, tick, &mut changes).map_err(|e| anyhow::anyhow!("tick {tick}: {e}"))?;
+                exec.tick_observed(&mut calls, tick, &mut changes).map_err(|e| anyhow::anyhow!("tick {tick}: {e}"))?;
+            record.leaf_calls.push((tick, calls.calls));
             narrate_actions(out, &mut record, &mut quiet, tick, &nodes, catalog, &changes.0);
             let running = running_action(&nodes, exec.states(), catalog);
             match status {
