@@ -141,13 +141,24 @@ fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: b
     r
 }
 
-fn element(src: &Source, node: roxmltree::Node<'_, '_>) -> Element {
+/// Deepest element nesting read (BehaviorTree.CPP refuses more than 256 levels too).
+const MAX_DEPTH: usize = crate::xml::flatten::MAX_NESTING + 8;
+
+fn element(src: &Source, node: roxmltree::Node<'_, '_>, depth: usize) -> Result<Element> {
+    let at = src.at(node.range().start);
+    if depth > MAX_DEPTH {
+        return Err(ImportError::new(&at, Fault::TooLarge(format!("elements nested deeper than {MAX_DEPTH} levels"))));
+    }
     let attrs = node
         .attributes()
         .map(|a| Attr { name: a.name().to_string(), value: a.value().to_string(), at: src.at(a.range().start) })
         .collect();
-    let children = node.children().filter(roxmltree::Node::is_element).map(|c| element(src, c)).collect();
-    Element { tag: node.tag_name().name().to_string(), attrs, children, at: src.at(node.range().start) }
+    let children = node
+        .children()
+        .filter(roxmltree::Node::is_element)
+        .map(|c| element(src, c, depth + 1))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Element { tag: node.tag_name().name().to_string(), attrs, children, at })
 }
 
 fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
@@ -161,7 +172,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         }
         ImportError::new(&at, Fault::Xml(message))
     })?;
-    let root = element(src, xml.root_element());
+    let root = element(src, xml.root_element(), 0)?;
     if root.tag != "root" {
         return Err(ImportError::new(&root.at, Fault::NotRoot(root.tag.clone())));
     }
