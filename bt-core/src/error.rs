@@ -165,6 +165,15 @@ pub enum LoadError {
         /// What is wrong.
         fault: ArgumentFault,
     },
+    /// A leaf's port value names a constant or slot the image's ports section does not
+    /// have, or one of another type, or gives an output port a constant.
+    #[error("node {node}: {fault}")]
+    BadPort {
+        /// The leaf.
+        node: NodeId,
+        /// What is wrong.
+        fault: crate::port::PortFault,
+    },
 }
 
 /// What is wrong with a node's arguments or parameters.
@@ -309,6 +318,7 @@ impl LoadError {
             Self::UnknownBehavior { .. } => "unknown-behavior",
             Self::WrongLeafKind { .. } => "wrong-leaf-kind",
             Self::BadArgument { .. } => "bad-argument",
+            Self::BadPort { .. } => "bad-port",
         }
     }
 
@@ -323,7 +333,8 @@ impl LoadError {
             | Self::DepthOverLimit { node, .. }
             | Self::UnknownBehavior { node, .. }
             | Self::WrongLeafKind { node, .. }
-            | Self::BadArgument { node, .. } => Some(node),
+            | Self::BadArgument { node, .. }
+            | Self::BadPort { node, .. } => Some(node),
             Self::BadMagic { .. }
             | Self::UnsupportedVersion { .. }
             | Self::CrcMismatch { .. }

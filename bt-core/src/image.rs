@@ -48,7 +48,7 @@
 //! |----:|---------|------|
 //! | 1 | values | the value table of extended leaves: a varint count, then that many varint `u16` |
 //! | 2 | names | for tools on the host (behavior and object names); never read by the loader |
-//! | 3 | reserved | |
+//! | 3 | ports | blackboard slots and constants of leaves' ports; the layout is in [`crate::port`] |
 //!
 //! A leaf's values (grounded arguments, port references) are kept inline when there are
 //! at most [`MAX_ARGS`](crate::MAX_ARGS); a leaf with more refers to a range of the
@@ -82,6 +82,7 @@ use serde::{Deserialize, Serialize};
 use crate::catalog::Catalog;
 use crate::error::{ArgumentFault, EncodeError, LoadError};
 use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind};
+use crate::port::PortTable;
 use crate::tree::Tree;
 
 /// The first four bytes of every image.
@@ -103,8 +104,10 @@ pub const MAX_SECTION_HEAD_LEN: usize = 1 + 5;
 pub const SECTION_VALUES: u8 = 1;
 /// Tag of the names section: host tools' names, never read by the loader.
 pub const SECTION_NAMES: u8 = 2;
+/// Tag of the ports section: blackboard slots and constants ([`crate::port`]).
+pub const SECTION_PORTS: u8 = 3;
 /// The highest section tag this build knows.
-const LAST_SECTION: u8 = SECTION_NAMES;
+const LAST_SECTION: u8 = SECTION_PORTS;
 
 /// An upper bound on the size of the image of a tree of `nodes` nodes, without sections.
 #[must_use]
@@ -160,13 +163,23 @@ pub struct ImageParts<'a> {
     pub values: &'a [u16],
     /// The names section's body (`None`: no names section).
     pub names: Option<&'a [u8]>,
+    /// The ports section's body (`None`: no ports section), as
+    /// [`port::encode_table`](crate::port::encode_table) writes it.
+    pub ports: Option<&'a [u8]>,
 }
 
 impl<'a> ImageParts<'a> {
     /// Just the nodes.
     #[must_use]
     pub const fn new(nodes: &'a [Node]) -> Self {
-        Self { nodes, values: &[], names: None }
+        Self { nodes, values: &[], names: None, ports: None }
+    }
+
+    /// With a ports section.
+    #[must_use]
+    pub const fn ports(mut self, ports: &'a [u8]) -> Self {
+        self.ports = Some(ports);
+        self
     }
 
     /// With a value table.
@@ -187,6 +200,7 @@ impl<'a> ImageParts<'a> {
     #[must_use]
     pub fn max_len(&self) -> usize {
         max_image_len_with(self.nodes.len(), self.values.len(), self.names.map_or(0, <[u8]>::len))
+            + self.ports.map_or(0, |p| MAX_SECTION_HEAD_LEN + p.len())
     }
 }
 
@@ -346,6 +360,11 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
         w.put(&SECTION_NAMES)?;
         w.put(&u32::try_from(names.len()).map_err(|_| too_small)?)?;
         w.bytes(names)?;
+    }
+    if let Some(ports) = parts.ports {
+        w.put(&SECTION_PORTS)?;
+        w.put(&u32::try_from(ports.len()).map_err(|_| too_small)?)?;
+        w.bytes(ports)?;
     }
     let payload_end = HEADER_LEN + w.used;
     let crc = crc32(out.get(..payload_end).ok_or(too_small)?);
@@ -599,7 +618,36 @@ pub fn load_with<'s, C: Catalog + ?Sized, const DEPTH: usize>(
     let (count, value_count) = decode_body(bytes, &header, storage, values)?;
     let nodes: &'s [Node] = storage;
     let values: &'s [u16] = values;
-    Tree::validate_with(nodes.get(..count).unwrap_or(&[]), values.get(..value_count).unwrap_or(&[]), catalog)
+    let tree =
+        Tree::validate_with(nodes.get(..count).unwrap_or(&[]), values.get(..value_count).unwrap_or(&[]), catalog)?;
+    let ports = PortTable::of_image(bytes)?;
+    for (id, node) in tree.nodes().iter().enumerate() {
+        if let Some((_, leaf)) = node.kind().leaf() {
+            ports
+                .check_leaf(catalog, leaf.behavior(), tree.args(&leaf))
+                .map_err(|fault| LoadError::BadPort { node: id as NodeId, fault })?;
+        }
+    }
+    Ok(tree)
+}
+
+impl<'b> PortTable<'b> {
+    /// The ports section of an image (empty when it has none), checked: what a
+    /// controller keeps beside the tree to read its leaves' ports. [`load_with`] checks
+    /// every leaf against it.
+    ///
+    /// # Errors
+    /// A bad envelope or section framing, or [`LoadError::MalformedSection`] for a
+    /// ports section that does not decode.
+    pub fn of_image(bytes: &'b [u8]) -> Result<Self, LoadError> {
+        match section(bytes, SECTION_PORTS)? {
+            None => Ok(PortTable::EMPTY),
+            Some(body) => PortTable::parse(body).map_err(|_| {
+                let offset = (body.as_ptr() as usize).saturating_sub(bytes.as_ptr() as usize);
+                LoadError::MalformedSection { tag: SECTION_PORTS, offset }
+            }),
+        }
+    }
 }
 
 /// What [`decode`] found in an image.

@@ -28,7 +28,7 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("t09_scripting.xml", None, Err("malformed entity reference")),
     ("t10_observer.xml", Some("MainTree"), Err("<AlwaysFailure> is not supported")),
     ("t11_groot_howto.xml", Some("MainTree"), Err("the attribute _onSuccess on <Fallback> is not supported")),
-    ("t12_default_ports.xml", None, Err("leaves with more than 3 need image format 2")),
+    ("t12_default_ports.xml", None, Ok(1)),
     ("t13_access_by_ref.xml", None, Ok(4)),
     ("t14_subtree_model.xml", None, Err("malformed entity reference")),
     ("t14_subtree_model_1.xml", None, Err("malformed entity reference")),

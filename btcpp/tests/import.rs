@@ -335,3 +335,31 @@ fn the_catalog_is_sorted_and_its_fingerprint_covers_ports() {
     assert_ne!(ok(&retyped).fingerprint, a.fingerprint);
     assert_eq!(a.fingerprint, a.catalog.fingerprint());
 }
+
+/// The image loads where the same models were compiled in, and a controller reads each
+/// port through bt-core: constants typed, keys as slots, the rest unset.
+#[test]
+fn the_image_loads_and_its_ports_read_on_the_controller_side() {
+    let i = ok(&doc(r#"
+  <BehaviorTree ID="Main">
+    <Sequence><MoveTo goal="{target}" speed="0.5" error="{err}"/><Say text="hello"/><Count n="7"/></Sequence>
+  </BehaviorTree>"#));
+    let image = i.image().unwrap();
+    let mut nodes = [bt_core::Node::EMPTY; 8];
+    let mut values = [0u16; 8];
+    let tree: bt_core::Tree<'_, 8> = bt_core::load_with(&image, &i.catalog, &mut nodes, &mut values).unwrap();
+    let ports = bt_core::PortTable::of_image(&image).unwrap();
+    assert_eq!((ports.slot_count(), ports.constant_count()), (2, 3));
+    let leaf = |n: u16| tree.node(n).unwrap().kind().leaf().unwrap().1;
+    let mv = leaf(1);
+    let args = tree.args(&mv);
+    assert_eq!(ports.port(args, 0), Some(bt_core::Port::Slot(0)));
+    assert_eq!(ports.port(args, 1).and_then(|p| p.double()), Some(0.5));
+    assert_eq!(ports.port(args, 2), Some(bt_core::Port::Slot(1)));
+    assert_eq!(ports.port(tree.args(&leaf(2)), 0).and_then(|p| p.str()), Some("hello"));
+    assert_eq!(ports.port(tree.args(&leaf(3)), 0).and_then(|p| p.int()), Some(7));
+    // Another set of models: refused by fingerprint.
+    let other = ok(&doc("<BehaviorTree ID=\"Main\"><BatteryOk/></BehaviorTree>").replace("default=\"0.3\"", ""));
+    let e = bt_core::load_with::<_, 8>(&image, &other.catalog, &mut nodes, &mut values).unwrap_err();
+    assert_eq!(e.code(), "foreign-behavior-set");
+}

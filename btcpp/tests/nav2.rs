@@ -3,8 +3,8 @@
 //!
 //! Importing them whole needs the node kinds for Nav2's control and decorator nodes
 //! (PipelineSequence, RecoveryNode, RoundRobin, RateController and the plugin
-//! decorators) and image format 2 for leaves with more than three ports; until both
-//! are in, the test checks the import stops at exactly such a construct.
+//! decorators); until they are in, the test checks the import stops at exactly such a
+//! node.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
@@ -68,14 +68,13 @@ fn every_default_tree_reads_and_resolves_against_nav2_models() {
                 assert!(m.port(&p.port).is_some(), "{}: <{}> {} is not a declared port", f.display(), n.id, p.port);
             }
         }
-        // The import stops at a Nav2 node kind or a leaf with more than three ports.
+        // The import stops only at a Nav2 node kind.
         let options = ImportOptions { models: vec![models_file.clone()], ..ImportOptions::default() };
         match import(f, &options) {
             Ok(_) => {}
             Err(e) => {
                 let text = e.to_string();
-                let pending = PENDING.iter().any(|k| text.contains(&format!("<{k}> is not supported")))
-                    || text.contains("need image format 2");
+                let pending = PENDING.iter().any(|k| text.contains(&format!("<{k}> is not supported")));
                 assert!(pending, "{}: {text}", f.display());
             }
         }

@@ -142,6 +142,7 @@ proptest! {
         prop_assert_eq!(&second.slots, &first.slots);
         prop_assert_eq!(&second.meta, &first.meta);
         prop_assert_eq!(second.fingerprint, first.fingerprint);
+        prop_assert_eq!(second.image().unwrap(), first.image().unwrap());
     }
 }
 
@@ -190,6 +191,13 @@ fn document(seed: u64) -> String {
                         if next(2) == 0 {
                             a.push_str(" done=\"{done}\"");
                         }
+                        if next(2) == 0 {
+                            a.push_str(&format!(
+                                " note=\"{}\" tries=\"{}\"",
+                                ["a", "b&amp;c", "x y"][next(3) as usize],
+                                next(3)
+                            ));
+                        }
                         a.push_str("/>");
                         if next(2) == 0 {
                             a = format!("<Say label=\"{}\"/>", ["a", "b&amp;c", "x y"][next(3) as usize]);
@@ -212,7 +220,8 @@ fn document(seed: u64) -> String {
          <Condition ID=\"Near\"><input_port name=\"target\" type=\"Pose\"/><input_port name=\"within\" type=\"double\" default=\"1.0\"/></Condition>\
          <Condition ID=\"Idle\"/>\
          <Action ID=\"Go\"><input_port name=\"goal\" type=\"Pose\"/><input_port name=\"speed\" type=\"unsigned int\" default=\"2\"/>\
-         <output_port name=\"done\" type=\"bool\"/></Action>\
+         <output_port name=\"done\" type=\"bool\"/><input_port name=\"note\" type=\"std::string\"/>\
+         <input_port name=\"tries\" type=\"unsigned int\" default=\"2\"/></Action>\
          <Action ID=\"Say\"><input_port name=\"label\" type=\"std::string\"/></Action>\
          </TreeNodesModel></root>",
     );

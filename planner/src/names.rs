@@ -166,7 +166,7 @@ mod tests {
         assert_eq!(t.fingerprint(), catalog.fingerprint());
         assert_eq!(t.values, catalog.objects());
         let at = t.behaviors.iter().position(|b| b.name == "at").unwrap() as u16;
-        assert_eq!(t.port(at, 1), catalog.param(at, 1));
+        assert_eq!(Ports::port(&t, at, 1), catalog.param(at, 1));
     }
 
     #[test]

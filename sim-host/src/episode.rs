@@ -189,13 +189,13 @@ struct Spy<'a, W, R> {
 }
 
 impl<W: BrickWorld, R: Recorder> bt_core::BehaviorSet for Spy<'_, W, R> {
-    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         let s = self.world.condition(leaf, ctx);
         self.recorder.leaf(ctx.node, s);
         s
     }
 
-    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         let s = self.world.action(leaf, ctx);
         self.recorder.leaf(ctx.node, s);
         s

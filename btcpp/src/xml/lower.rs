@@ -134,16 +134,8 @@ impl Imported {
     /// The values of leaf `leaf` (inline or extended).
     #[must_use]
     pub fn leaf_values<'a>(&'a self, leaf: &'a Leaf) -> &'a [u16] {
-        match leaf_range(leaf) {
-            Some((start, len)) => self.values.get(start..start + len).unwrap_or(&[]),
-            None => leaf.args(),
-        }
+        leaf.args_in(&self.values)
     }
-}
-
-/// The range of an extended leaf's values (none in image format 1).
-fn leaf_range(_leaf: &Leaf) -> Option<(usize, usize)> {
-    None
 }
 
 /// Lowers a flattened tree against `models`.
@@ -361,17 +353,13 @@ impl Lowerer<'_> {
         if let Some((behavior, b)) = self.catalog.lookup(&n.id) {
             let kind = b.kind;
             let values = self.leaf_values(n, behavior)?;
-            let leaf = Leaf::with_args(behavior, &values).map_err(|_| {
-                ImportError::new(
-                    &n.at,
-                    Fault::TooLarge(format!(
-                        "<{}> has {} ports; leaves with more than {} need image format 2",
-                        n.id,
-                        values.len(),
-                        bt_core::MAX_ARGS
-                    )),
-                )
+            let start = u16::try_from(self.out.values.len()).unwrap_or(u16::MAX);
+            let leaf = Leaf::with_values(behavior, &values, start).map_err(|e| {
+                ImportError::new(&n.at, Fault::TooLarge(format!("<{}>: {e} (the image's value table is full)", n.id)))
             })?;
+            if leaf.is_extended() {
+                self.out.values.extend_from_slice(&values);
+            }
             let kind = if kind == LeafKind::Condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) };
             return Ok((kind, Shape::Leaf));
         }

@@ -26,14 +26,14 @@ impl Catalog for Imported {
     }
 
     /// `ID(port=value, ...)`, unset ports left out.
-    fn write_leaf(&self, f: &mut fmt::Formatter<'_>, leaf: &Leaf) -> fmt::Result {
+    fn write_leaf(&self, f: &mut fmt::Formatter<'_>, leaf: &Leaf, args: &[u16]) -> fmt::Result {
         let b = leaf.behavior();
         match self.info(b) {
             Some(info) => f.write_str(info.name)?,
             None => write!(f, "#{b}")?,
         }
         let mut first = true;
-        for (pos, &v) in self.leaf_values(leaf).iter().enumerate() {
+        for (pos, &v) in args.iter().enumerate() {
             if PortValue::from_u16(v) == PortValue::Unset {
                 continue;
             }
@@ -86,15 +86,43 @@ impl Imported {
     /// # Errors
     /// [`ImageError`] when the tree does not fit an image.
     pub fn image(&self) -> Result<Vec<u8>, ImageError> {
-        if !self.constants.is_empty() || !self.slots.is_empty() || !self.values.is_empty() {
-            return Err(ImageError::Unsupported(
-                "port constants and blackboard slots need image format 2, which this build does not write yet".into(),
-            ));
+        let mut parts = bt_core::image::ImageParts::new(&self.nodes).values(&self.values);
+        let ports = self.ports_section()?;
+        if let Some(p) = &ports {
+            parts = parts.ports(p);
         }
-        let mut buf = vec![0u8; bt_core::image::max_image_len(self.nodes.len())];
-        let len = bt_core::encode(&self.nodes, self.fingerprint, &mut buf)?;
+        let mut buf = vec![0u8; parts.max_len()];
+        let len = bt_core::encode_with(&parts, self.fingerprint, &mut buf)?;
         buf.truncate(len);
         Ok(buf)
+    }
+
+    /// The ports section's body: `None` when the tree has no constants and no slots.
+    ///
+    /// # Errors
+    /// [`ImageError::Unsupported`] when it would exceed a section's limits.
+    pub fn ports_section(&self) -> Result<Option<Vec<u8>>, ImageError> {
+        if self.constants.is_empty() && self.slots.is_empty() {
+            return Ok(None);
+        }
+        let slots: Vec<bt_core::port::SlotInfo> = self.slots.iter().map(|s| s.info).collect();
+        let constants: Vec<bt_core::port::Constant<'_>> = self.constants.iter().map(|c| c.as_constant()).collect();
+        let bound = 8
+            + 8 * slots.len()
+            + constants
+                .iter()
+                .map(|c| {
+                    16 + match c {
+                        bt_core::port::Constant::Str(s) => s.len(),
+                        _ => 0,
+                    }
+                })
+                .sum::<usize>();
+        let mut out = vec![0u8; bound];
+        let n = bt_core::port::encode_table(&slots, &constants, &mut out)
+            .map_err(|e| ImageError::Unsupported(format!("the ports section: {e}")))?;
+        out.truncate(n);
+        Ok(Some(out))
     }
 
     /// The tree as BehaviorTree.CPP XML: one tree (SubTrees expanded), every behavior

@@ -116,8 +116,8 @@ fn behavior_name<C: Catalog + ?Sized>(catalog: &C, id: BehaviorId) -> String {
 }
 
 /// The values of a leaf, inline or from `values`.
-fn leaf_values<'a>(leaf: &'a bt_core::Leaf, _values: &'a [u16]) -> &'a [u16] {
-    leaf.args()
+fn leaf_values<'a>(leaf: &'a bt_core::Leaf, values: &'a [u16]) -> &'a [u16] {
+    leaf.args_in(values)
 }
 
 /// A node type ID usable as an XML element name: letters, digits, `_` and `-`,

@@ -109,13 +109,13 @@ struct Calls<'a, W> {
 }
 
 impl<W: bt_core::BehaviorSet> bt_core::BehaviorSet for Calls<'_, W> {
-    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         let s = self.world.condition(leaf, ctx);
         self.calls.push((ctx.node, s));
         s
     }
 
-    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         let s = self.world.action(leaf, ctx);
         self.calls.push((ctx.node, s));
         s
