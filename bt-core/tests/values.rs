@@ -171,8 +171,8 @@ fn every_section_fault_is_named() {
     assert_eq!(try_load(&b), Err(LoadError::MalformedSection { tag: SECTION_VALUES, offset: at }), "fewer than said");
     let (b, at) = with_sections(&[SECTION_VALUES, 4, 1, 0xff, 0xff, 0xff]);
     assert_eq!(try_load(&b), Err(LoadError::MalformedSection { tag: SECTION_VALUES, offset: at }), "not a u16");
-    let (b, at) = with_sections(&[3, 0]);
-    assert_eq!(try_load(&b), Err(LoadError::UnknownSection { tag: 3, offset: at }), "reserved");
+    let (b, at) = with_sections(&[4, 0]);
+    assert_eq!(try_load(&b), Err(LoadError::UnknownSection { tag: 4, offset: at }), "after the ports section");
     let (b, at) = with_sections(&[&values[..], &[200, 0]].concat());
     assert_eq!(try_load(&b), Err(LoadError::UnknownSection { tag: 200, offset: at + values.len() }));
 }
