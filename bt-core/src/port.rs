@@ -15,9 +15,15 @@
 //! image's *ports section* (tag 3), typed as the port that reads them declares; a
 //! blackboard key (`{goal}` in BehaviorTree.CPP XML) becomes a slot id that the behavior
 //! set owns, so nothing is allocated on the controller. [`PortTable`] reads that section
-//! in place, without copying it, and [`check_leaf`] is what the loader runs on every
-//! leaf: every constant and slot a leaf names exists, has its port's type, and no output
-//! port is given a constant.
+//! in place, without copying it, and [`PortTable::check_leaf`] is what the loader
+//! ([`load_with`](crate::load_with)) runs on every leaf: every constant and slot a leaf
+//! names exists, has its port's type, and no output port is given a constant.
+//!
+//! A controller keeps the table beside the tree, `PortTable::of_image(&image)`, and a
+//! behavior reads port `i` of a leaf as `table.port(ctx.args(leaf), i)`: a typed
+//! constant ([`Port::double`], [`Port::int`], [`Port::bool`], [`Port::str`]), a slot of
+//! its blackboard ([`Port::slot`]), or unset (the port's default, which the catalog's
+//! [`PortInfo::default`] states).
 //!
 //! # Ports section (tag 3) body
 //!
