@@ -618,8 +618,25 @@ pub fn load_with<'s, C: Catalog + ?Sized, const DEPTH: usize>(
     let (count, value_count) = decode_body(bytes, &header, storage, values)?;
     let nodes: &'s [Node] = storage;
     let values: &'s [u16] = values;
-    let tree =
-        Tree::validate_with(nodes.get(..count).unwrap_or(&[]), values.get(..value_count).unwrap_or(&[]), catalog)?;
+    Tree::validate_with(nodes.get(..count).unwrap_or(&[]), values.get(..value_count).unwrap_or(&[]), catalog)
+}
+
+/// [`load_with`] for behavior sets whose behaviors declare ports: also reads the image's
+/// ports section and checks every leaf against it ([`PortTable::check_leaf`]), and
+/// returns the table the behaviors read their ports from. (A separate function so that
+/// controllers without ports do not carry the code.)
+///
+/// # Errors
+/// As [`load_with`], and [`LoadError::BadPort`] naming the first leaf whose port values
+/// do not fit the section, or [`LoadError::MalformedSection`] for a ports section that
+/// does not decode.
+pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
+    bytes: &'s [u8],
+    catalog: &C,
+    storage: &'s mut [Node],
+    values: &'s mut [u16],
+) -> Result<(Tree<'s, DEPTH>, PortTable<'s>), LoadError> {
+    let tree: Tree<'s, DEPTH> = load_with(bytes, catalog, storage, values)?;
     let ports = PortTable::of_image(bytes)?;
     for (id, node) in tree.nodes().iter().enumerate() {
         if let Some((_, leaf)) = node.kind().leaf() {
@@ -628,7 +645,7 @@ pub fn load_with<'s, C: Catalog + ?Sized, const DEPTH: usize>(
                 .map_err(|fault| LoadError::BadPort { node: id as NodeId, fault })?;
         }
     }
-    Ok(tree)
+    Ok((tree, ports))
 }
 
 impl<'b> PortTable<'b> {

@@ -70,7 +70,7 @@ pub use builder::Builder;
 pub use catalog::{Behavior, BehaviorInfo, Catalog, fingerprint, fingerprint_with_ports};
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};
 pub use exec::{Executor, NodeState, StateTooSmall};
-pub use image::{encode, encode_with, load, load_with};
+pub use image::{encode, encode_with, load, load_with, load_with_ports};
 pub use node::{Arity, BehaviorId, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind};
 pub use port::{Port, PortDirection, PortInfo, PortTable, PortType, PortValue};
 pub use render::Render;

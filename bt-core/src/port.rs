@@ -16,10 +16,11 @@
 //! blackboard key (`{goal}` in BehaviorTree.CPP XML) becomes a slot id that the behavior
 //! set owns, so nothing is allocated on the controller. [`PortTable`] reads that section
 //! in place, without copying it, and [`PortTable::check_leaf`] is what the loader
-//! ([`load_with`](crate::load_with)) runs on every leaf: every constant and slot a leaf
+//! ([`load_with_ports`](crate::load_with_ports)) runs on every leaf: every constant and slot a leaf
 //! names exists, has its port's type, and no output port is given a constant.
 //!
-//! A controller keeps the table beside the tree, `PortTable::of_image(&image)`, and a
+//! A controller keeps the table [`load_with_ports`](crate::load_with_ports) returns beside
+//! the tree, and a
 //! behavior reads port `i` of a leaf as `table.port(ctx.args(leaf), i)`: a typed
 //! constant ([`Port::double`], [`Port::int`], [`Port::bool`], [`Port::str`]), a slot of
 //! its blackboard ([`Port::slot`]), or unset (the port's default, which the catalog's

@@ -32,19 +32,20 @@ fn table() -> Vec<u8> {
 
 fn load_err(bytes: &[u8]) -> LoadError {
     let mut nodes = [Node::EMPTY; 2];
-    load::<_, 4>(bytes, &SET, &mut nodes).unwrap_err()
+    load_with_ports::<_, 4>(bytes, &SET, &mut nodes, &mut []).map(|_| ()).unwrap_err()
 }
 
 #[test]
 fn a_tree_whose_ports_check_loads_and_reads() {
     let bytes = image([0, 0x8000], &table());
     let mut nodes = [Node::EMPTY; 2];
-    let tree: Tree<'_, 4> = load(&bytes, &SET, &mut nodes).unwrap();
-    let ports = PortTable::of_image(&bytes).unwrap();
+    let (tree, ports): (Tree<'_, 4>, _) = load_with_ports(&bytes, &SET, &mut nodes, &mut []).unwrap();
     let (_, leaf) = tree.nodes()[0].kind().leaf().unwrap();
     assert_eq!(ports.port(tree.args(&leaf), 0).and_then(|p| p.double()), Some(0.25));
     assert_eq!(ports.port(tree.args(&leaf), 1).and_then(|p| p.slot()), Some(0));
-    assert!(load::<_, 4>(&image([UNSET, UNSET], &table()), &SET, &mut nodes).is_ok());
+    let unset = image([UNSET, UNSET], &table());
+    let mut nodes = [Node::EMPTY; 2];
+    assert!(load_with_ports::<_, 4>(&unset, &SET, &mut nodes, &mut []).is_ok());
 }
 
 #[test]

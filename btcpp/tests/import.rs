@@ -347,8 +347,8 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
     let image = i.image().unwrap();
     let mut nodes = [bt_core::Node::EMPTY; 8];
     let mut values = [0u16; 8];
-    let tree: bt_core::Tree<'_, 8> = bt_core::load_with(&image, &i.catalog, &mut nodes, &mut values).unwrap();
-    let ports = bt_core::PortTable::of_image(&image).unwrap();
+    let (tree, ports): (bt_core::Tree<'_, 8>, _) =
+        bt_core::load_with_ports(&image, &i.catalog, &mut nodes, &mut values).unwrap();
     assert_eq!((ports.slot_count(), ports.constant_count()), (2, 3));
     let leaf = |n: u16| tree.node(n).unwrap().kind().leaf().unwrap().1;
     let mv = leaf(1);
@@ -360,6 +360,8 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
     assert_eq!(ports.port(tree.args(&leaf(3)), 0).and_then(|p| p.int()), Some(7));
     // Another set of models: refused by fingerprint.
     let other = ok(&doc("<BehaviorTree ID=\"Main\"><BatteryOk/></BehaviorTree>").replace("default=\"0.3\"", ""));
-    let e = bt_core::load_with::<_, 8>(&image, &other.catalog, &mut nodes, &mut values).unwrap_err();
+    let mut nodes = [bt_core::Node::EMPTY; 8];
+    let mut values = [0u16; 8];
+    let e = bt_core::load_with_ports::<_, 8>(&image, &other.catalog, &mut nodes, &mut values).map(|_| ()).unwrap_err();
     assert_eq!(e.code(), "foreign-behavior-set");
 }
