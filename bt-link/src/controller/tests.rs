@@ -1,0 +1,513 @@
+//! `serve` driven by a scripted board: every fault a transfer can have, and the swap.
+
+use std::collections::VecDeque;
+
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, Status, fingerprint, image::max_image_len,
+};
+
+use super::*;
+use crate::frame::{Decoder, Feed, MAX_ENCODED, encode, message};
+use crate::wire::FrameFault;
+
+const SET: [BehaviorInfo<'static>; 3] =
+    [BehaviorInfo::condition("ok?", 0), BehaviorInfo::condition("never?", 0), BehaviorInfo::action("work", 1)];
+const OK: u16 = 0;
+const NEVER: u16 = 1;
+const WORK: u16 = 2;
+const DEPTH: usize = 8;
+type Store = Storage<16, 256>;
+
+/// `Sequence[ok?, work(a)]`, or with `second`, `Fallback[never?, work(a), work(b)]`.
+fn image(a: u16, second: Option<u16>, fp: u64) -> Vec<u8> {
+    let mut nodes = [Node::EMPTY; 8];
+    let mut b = Builder::<4>::new(&mut nodes);
+    match second {
+        None => {
+            b.sequence().unwrap().condition(OK, &[]).unwrap().action(WORK, &[a]).unwrap().end().unwrap();
+        }
+        Some(x) => {
+            b.fallback().unwrap().condition(NEVER, &[]).unwrap();
+            b.action(WORK, &[a]).unwrap().action(WORK, &[x]).unwrap().end().unwrap();
+        }
+    }
+    let nodes = b.finish().unwrap();
+    let mut out = vec![0u8; max_image_len(nodes.len())];
+    let n = bt_core::encode(nodes, fp, &mut out).unwrap();
+    out.truncate(n);
+    out
+}
+
+fn tree_a() -> Vec<u8> {
+    image(1000, None, fingerprint(&SET))
+}
+
+fn tree_b() -> Vec<u8> {
+    image(1000, Some(7), fingerprint(&SET))
+}
+
+/// What the app saw, in order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Seen {
+    Start(NodeId),
+    Halt(NodeId),
+    Swap(u32, u32),
+    Stop(u32),
+}
+
+/// `work(n)` runs `n` ticks; every start and halt is logged.
+#[derive(Default)]
+struct Log {
+    seen: Vec<Seen>,
+    ticks: Vec<(u32, Result<Status, TickError>)>,
+}
+
+impl BehaviorSet for Log {
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        if leaf.behavior() == OK { Status::Success } else { Status::Failure }
+    }
+    fn action(&mut self, _leaf: &Leaf, ctx: Context) -> Status {
+        if ctx.starting {
+            self.seen.push(Seen::Start(ctx.node));
+        }
+        Status::Running
+    }
+    fn halt(&mut self, _: &Leaf, node: NodeId) {
+        self.seen.push(Seen::Halt(node));
+    }
+}
+
+impl App for Log {
+    fn after_tick(&mut self, tick: u32, result: Result<Status, TickError>, _: &[Node]) {
+        self.ticks.push((tick, result));
+    }
+    fn swapped(&mut self, tick: u32, image: ImageInfo, _: &[Node]) {
+        self.seen.push(Seen::Swap(tick, image.crc));
+    }
+    fn stopped(&mut self, tick: u32) {
+        self.seen.push(Seen::Stop(tick));
+    }
+}
+
+/// A step of the host's script.
+enum Step {
+    /// Bytes to send.
+    Bytes(Vec<u8>),
+    /// Send nothing until the controller reported tick `n - 1` done.
+    UntilTick(u32),
+}
+
+/// The host end, scripted: feeds the steps and decodes every reply.
+struct Host {
+    steps: VecDeque<Step>,
+    pending: VecDeque<u8>,
+    replies: Vec<Reply<'static>>,
+    decoder: Decoder<MAX_FRAME>,
+    clock: u32,
+    last_tick: Option<u32>,
+}
+
+impl Host {
+    fn new(steps: Vec<Step>) -> Self {
+        Self {
+            steps: steps.into(),
+            pending: VecDeque::new(),
+            replies: Vec::new(),
+            decoder: Decoder::new(),
+            clock: 0,
+            last_tick: None,
+        }
+    }
+
+    fn rejections(&self) -> Vec<&'static str> {
+        self.replies
+            .iter()
+            .filter_map(|r| match r {
+                Reply::Rejected { fault } => Some(fault.code()),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+impl Board for Host {
+    fn read(&mut self) -> Option<u8> {
+        loop {
+            if let Some(b) = self.pending.pop_front() {
+                return Some(b);
+            }
+            match self.steps.front() {
+                Some(Step::Bytes(_)) => {
+                    if let Some(Step::Bytes(b)) = self.steps.pop_front() {
+                        self.pending.extend(b);
+                    }
+                }
+                Some(&Step::UntilTick(n)) if n == 0 || self.last_tick.is_some_and(|t| t + 1 >= n) => {
+                    self.steps.pop_front();
+                }
+                Some(Step::UntilTick(_)) => return None,
+                None => return None,
+            }
+        }
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            if let Feed::Frame(f) = self.decoder.feed(b) {
+                let reply: Reply<'_> = message(f).expect("the controller sends valid replies");
+                let reply = match reply {
+                    Reply::Image { offset, total, bytes } => {
+                        Reply::Image { offset, total, bytes: Box::leak(bytes.to_vec().into_boxed_slice()) }
+                    }
+                    Reply::Hello { version, fingerprint, node_capacity, image_capacity, running } => {
+                        Reply::Hello { version, fingerprint, node_capacity, image_capacity, running }
+                    }
+                    Reply::ChunkAck { received } => Reply::ChunkAck { received },
+                    Reply::Accepted { crc, nodes, swap_at } => Reply::Accepted { crc, nodes, swap_at },
+                    Reply::Rejected { fault } => Reply::Rejected { fault },
+                    Reply::Swapped { tick, image, halted } => Reply::Swapped { tick, image, halted },
+                    Reply::Status { tick, node, status } => Reply::Status { tick, node, status },
+                    Reply::Tick { tick, status, changes, micros } => {
+                        self.last_tick = Some(tick);
+                        Reply::Tick { tick, status, changes, micros }
+                    }
+                    Reply::State { token, tick, ticking, until, running, halted, stack_used } => {
+                        Reply::State { token, tick, ticking, until, running, halted, stack_used }
+                    }
+                    Reply::Garbled { fault } => Reply::Garbled { fault },
+                };
+                self.replies.push(reply);
+            }
+        }
+    }
+
+    fn micros(&mut self) -> u32 {
+        self.clock = self.clock.wrapping_add(1);
+        self.clock
+    }
+
+    fn closed(&mut self) -> bool {
+        self.pending.is_empty() && self.steps.is_empty()
+    }
+}
+
+fn frame(req: &Request<'_>) -> Vec<u8> {
+    let mut buf = [0u8; MAX_ENCODED];
+    let mut out = vec![0];
+    out.extend_from_slice(encode(req, &mut buf).unwrap());
+    out
+}
+
+/// The frames of a whole deployment: `Deploy` with `len`/`crc` as announced, `sent`
+/// in chunks of 64 (or fewer), `Commit`.
+fn deploy(len: usize, crc: u32, sent: &[u8], swap_at: Option<u32>) -> Vec<Step> {
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: len as u32, crc, swap_at }))];
+    for (i, c) in sent.chunks(MAX_CHUNK).enumerate() {
+        steps.push(Step::Bytes(frame(&Request::Chunk { offset: (i * MAX_CHUNK) as u32, bytes: c })));
+    }
+    steps.push(Step::Bytes(frame(&Request::Commit)));
+    steps
+}
+
+fn deploy_image(img: &[u8], swap_at: Option<u32>) -> Vec<Step> {
+    deploy(img.len(), crc32(img), img, swap_at)
+}
+
+fn start(until: u32) -> Step {
+    Step::Bytes(frame(&Request::Start { until: Some(until), period_ms: 0 }))
+}
+
+fn ping() -> Step {
+    Step::Bytes(frame(&Request::Ping { token: 9 }))
+}
+
+/// Runs a controller booted with tree A through `steps`.
+fn run(steps: Vec<Step>) -> (Host, Log) {
+    let mut storage = Store::new();
+    let mut host = Host::new(steps);
+    let mut log = Log::default();
+    serve::<_, _, _, 16, 256, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
+    (host, log)
+}
+
+fn last_state(host: &Host) -> (u32, Option<ImageInfo>) {
+    host.replies
+        .iter()
+        .rev()
+        .find_map(|r| match *r {
+            Reply::State { tick, running, .. } => Some((tick, running)),
+            _ => None,
+        })
+        .expect("a State reply")
+}
+
+/// A fault case: tree A ticks 0..5, `steps` happen, then A ticks 5..10. A must have
+/// been ticked 10 times, never halted, never swapped, and still be the running image.
+fn refused(steps: Vec<Step>) -> Host {
+    let mut all = vec![start(5), Step::UntilTick(5)];
+    all.extend(steps);
+    all.extend([start(10), Step::UntilTick(10), ping()]);
+    let (host, log) = run(all);
+    assert_eq!(log.ticks.len(), 10, "the running tree kept ticking");
+    assert_eq!(log.seen, vec![Seen::Start(2)], "A's action started once and was never halted");
+    let a = tree_a();
+    let (tick, running) = last_state(&host);
+    assert_eq!(tick, 10);
+    assert_eq!(running.map(|i| i.crc), Some(crc32(&a)), "A is still the running image");
+    assert!(!host.replies.iter().any(|r| matches!(r, Reply::Swapped { .. })));
+    host
+}
+
+#[test]
+fn hello_names_the_protocol_the_behavior_set_and_the_running_image() {
+    let (host, _) = run(vec![Step::Bytes(frame(&Request::Hello { version: 1 }))]);
+    let a = tree_a();
+    assert_eq!(
+        host.replies,
+        vec![Reply::Hello {
+            version: PROTOCOL_VERSION,
+            fingerprint: fingerprint(&SET),
+            node_capacity: 16,
+            image_capacity: 256,
+            running: Some(ImageInfo { crc: crc32(&a), len: a.len() as u32, nodes: 3 }),
+        }]
+    );
+}
+
+#[test]
+fn a_valid_image_swaps_in_at_its_tick_after_the_old_actions_are_halted() {
+    let b = tree_b();
+    let mut steps = vec![start(3)];
+    steps.extend(deploy_image(&b, Some(6)));
+    steps.extend([start(9), Step::UntilTick(9)]);
+    let (host, log) = run(steps);
+    // A's action (node 2) started at tick 0, halted at the swap, then B's first
+    // action (node 2 of B) started: halt before start, across trees.
+    assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Swap(6, crc32(&b)), Seen::Start(2)]);
+    assert_eq!(log.ticks.len(), 9);
+    assert!(host.replies.contains(&Reply::Accepted { crc: crc32(&b), nodes: 4, swap_at: Some(6) }));
+    // On the wire: A's action goes Idle at the boundary before tick 6, then Swapped,
+    // then B's changes during tick 6.
+    let swapped = host.replies.iter().position(|r| matches!(r, Reply::Swapped { tick: 6, halted: 1, .. })).unwrap();
+    assert!(host.replies[..swapped].contains(&Reply::Status { tick: 6, node: 2, status: WireStatus::Idle }));
+    let b_first =
+        host.replies.iter().position(|r| matches!(r, Reply::Status { tick: 6, status: WireStatus::Running, .. }));
+    assert!(b_first.is_some_and(|i| i > swapped));
+    assert!(!host.replies[..swapped].iter().any(|r| matches!(r, Reply::Tick { tick: 6.., .. })));
+}
+
+#[test]
+fn without_a_swap_tick_the_image_swaps_at_the_next_boundary() {
+    let b = tree_b();
+    let mut steps = deploy_image(&b, None);
+    steps.extend([start(2), Step::UntilTick(2)]);
+    let (_, log) = run(steps);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b)), Seen::Start(2)]);
+}
+
+#[test]
+fn an_image_with_a_bad_crc_is_refused_by_the_loader() {
+    let mut bad = tree_b();
+    bad[bt_core::image::HEADER_LEN] ^= 1;
+    let host = refused(deploy_image(&bad, None));
+    assert_eq!(host.rejections(), ["crc-mismatch"]);
+}
+
+#[test]
+fn a_transfer_corrupted_in_transit_is_refused() {
+    let b = tree_b();
+    let mut sent = b.clone();
+    sent[5] ^= 0x40;
+    let host = refused(deploy(b.len(), crc32(&b), &sent, None));
+    assert_eq!(
+        host.replies.iter().find(|r| matches!(r, Reply::Rejected { .. })),
+        Some(&Reply::Rejected { fault: Fault::TransferCrc { expected: crc32(&b), computed: crc32(&sent) } })
+    );
+}
+
+#[test]
+fn a_truncated_transfer_is_refused() {
+    let b = tree_b();
+    let host = refused(deploy(b.len(), crc32(&b), &b[..b.len() - 3], None));
+    assert!(
+        host.replies.contains(&Reply::Rejected {
+            fault: Fault::Incomplete { received: b.len() as u32 - 3, len: b.len() as u32 }
+        })
+    );
+}
+
+#[test]
+fn a_truncated_image_is_refused_by_the_loader() {
+    let b = tree_b();
+    let host = refused(deploy_image(&b[..12], None));
+    assert_eq!(host.rejections(), ["truncated"]);
+}
+
+#[test]
+fn an_image_for_another_behavior_set_is_refused() {
+    let foreign = image(3, Some(4), 0xdead_beef);
+    let host = refused(deploy_image(&foreign, None));
+    assert_eq!(host.rejections(), ["foreign-behavior-set"]);
+}
+
+#[test]
+fn an_image_that_loads_but_breaks_the_behavior_set_is_refused_at_its_node() {
+    // work takes one argument; two make the leaf's arity wrong, at node 2.
+    let mut nodes = [Node::EMPTY; 3];
+    let mut b = Builder::<4>::new(&mut nodes);
+    b.sequence().unwrap().condition(OK, &[]).unwrap().action(WORK, &[1, 2]).unwrap().end().unwrap();
+    let nodes = b.finish().unwrap();
+    let mut img = vec![0u8; max_image_len(3)];
+    let n = bt_core::encode(nodes, fingerprint(&SET), &mut img).unwrap();
+    img.truncate(n);
+    let host = refused(deploy_image(&img, None));
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Load { code: 14, node: Some(2) } }));
+}
+
+#[test]
+fn an_image_larger_than_the_buffer_is_refused_before_any_byte() {
+    let host = refused(vec![Step::Bytes(frame(&Request::Deploy { len: 257, crc: 0, swap_at: None }))]);
+    assert_eq!(host.replies.iter().filter(|r| matches!(r, Reply::ChunkAck { .. })).count(), 0);
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::TooLarge { len: 257, capacity: 256 } }));
+}
+
+#[test]
+fn a_chunk_past_the_announced_length_is_refused() {
+    let host = refused(vec![
+        Step::Bytes(frame(&Request::Deploy { len: 10, crc: 0, swap_at: None })),
+        Step::Bytes(frame(&Request::Chunk { offset: 4, bytes: &[1; 8] })),
+    ]);
+    assert_eq!(host.rejections(), ["overrun"]);
+}
+
+#[test]
+fn chunks_and_commits_without_a_transfer_are_refused() {
+    let host = refused(vec![
+        Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &[1, 2] })),
+        Step::Bytes(frame(&Request::Commit)),
+    ]);
+    assert_eq!(host.rejections(), ["no-transfer", "no-transfer"]);
+}
+
+#[test]
+fn a_new_deploy_supersedes_an_unfinished_one() {
+    let b = tree_b();
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: 40, crc: 77, swap_at: None }))];
+    steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &[1; 20] })));
+    steps.extend(deploy_image(&b, Some(1000)));
+    steps.extend(deploy_image(&tree_a(), Some(1000)));
+    let host = refused(steps);
+    assert_eq!(host.rejections(), ["superseded", "superseded"]);
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Superseded { crc: 77 } }));
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Superseded { crc: crc32(&b) } }));
+}
+
+#[test]
+fn repeated_and_early_chunks_are_acked_with_where_to_go_on() {
+    let b = tree_b();
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: b.len() as u32, crc: crc32(&b), swap_at: None }))];
+    steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &b[..10] })));
+    steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &b[..10] })));
+    steps.push(Step::Bytes(frame(&Request::Chunk { offset: 15, bytes: &b[15..20] })));
+    steps.push(Step::Bytes(frame(&Request::Chunk { offset: 10, bytes: &b[10..] })));
+    steps.push(Step::Bytes(frame(&Request::Commit)));
+    let (host, log) = run(steps);
+    let acks: Vec<u32> = host
+        .replies
+        .iter()
+        .filter_map(|r| match *r {
+            Reply::ChunkAck { received } => Some(received),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(acks, [0, 10, 10, 10, b.len() as u32]);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b))]);
+}
+
+#[test]
+fn garbage_between_frames_is_skipped_and_reported() {
+    let b = tree_b();
+    let mut garbage = vec![0x00, 0x05, 0x41, 0x00, 0x03, 0x13, 0x37, 0x00];
+    garbage.extend(std::iter::repeat_n(0x5a, 200));
+    garbage.push(0);
+    let mut steps = vec![Step::Bytes(garbage)];
+    steps.extend(deploy(b.len(), crc32(&b), &b, Some(1000)));
+    steps.insert(3, Step::Bytes(vec![0x07, 1, 2, 3, 4, 5, 6, 0x00]));
+    steps.push(Step::Bytes(frame(&Request::Deploy { len: 4, crc: 0, swap_at: None })));
+    let host = refused(steps);
+    let garbled: Vec<FrameFault> = host
+        .replies
+        .iter()
+        .filter_map(|r| match *r {
+            Reply::Garbled { fault } => Some(fault),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(garbled, [FrameFault::Cobs, FrameFault::TooShort, FrameFault::TooLong, FrameFault::Crc]);
+    // The chunks around the garbage still arrived: B was accepted (then superseded).
+    assert!(host.replies.iter().any(|r| matches!(r, Reply::Accepted { .. })) || host.rejections() == ["superseded"]);
+}
+
+#[test]
+fn stop_halts_the_running_actions_and_start_goes_on() {
+    let steps = vec![start(3), Step::UntilTick(3), Step::Bytes(frame(&Request::Stop)), start(5), Step::UntilTick(5)];
+    let (host, log) = run(steps);
+    assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Stop(3), Seen::Start(2)]);
+    assert!(host.replies.iter().any(|r| matches!(r, Reply::State { halted: 1, ticking: false, tick: 3, .. })));
+    assert_eq!(log.ticks.len(), 5);
+}
+
+#[test]
+fn read_returns_the_running_image() {
+    let a = tree_a();
+    let (host, _) = run(vec![Step::Bytes(frame(&Request::Read { offset: 0 }))]);
+    assert_eq!(host.replies, vec![Reply::Image { offset: 0, total: a.len() as u32, bytes: Box::leak(a.into()) }]);
+}
+
+#[test]
+fn without_a_tree_start_and_read_are_refused_and_a_deploy_brings_one() {
+    let mut storage = Store::new();
+    let b = tree_b();
+    let mut steps = vec![Step::Bytes(frame(&Request::Start { until: None, period_ms: 0 }))];
+    steps.push(Step::Bytes(frame(&Request::Read { offset: 0 })));
+    steps.extend(deploy_image(&b, None));
+    steps.extend([start(2), Step::UntilTick(2)]);
+    let mut host = Host::new(steps);
+    let mut log = Log::default();
+    let mut broken = tree_a();
+    broken[0] = b'X';
+    serve::<_, _, _, 16, 256, DEPTH>(&mut storage, &SET, Some(&broken), &mut host, &mut log);
+    assert_eq!(host.rejections(), ["no-tree", "no-tree"]);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b)), Seen::Start(2)]);
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// Any bytes, spliced into a valid session, neither panic nor touch the running
+    /// tree unless the controller itself reported a swap.
+    #[test]
+    fn no_byte_sequence_changes_the_running_tree_without_a_swap(
+        noise in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..600),
+        cut in 0usize..600,
+    ) {
+        let cut = cut.min(noise.len());
+        let steps = vec![
+            start(3),
+            Step::UntilTick(3),
+            Step::Bytes(noise[..cut].to_vec()),
+            Step::Bytes(vec![0]),
+            start(6),
+            Step::Bytes(noise[cut..].to_vec()),
+            Step::Bytes(vec![0]),
+            ping(),
+        ];
+        let (host, log) = run(steps);
+        let swapped = host.replies.iter().any(|r| matches!(r, Reply::Swapped { .. }));
+        if !swapped {
+            let (_, running) = last_state(&host);
+            proptest::prop_assert_eq!(running.map(|i| i.crc), Some(crc32(&tree_a())));
+            proptest::prop_assert!(log.seen.iter().all(|s| matches!(s, Seen::Start(2) | Seen::Halt(2) | Seen::Stop(_))));
+        }
+    }
+}

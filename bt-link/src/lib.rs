@@ -1,0 +1,32 @@
+//! The link between a host and a controller running behavior trees: deploy a new tree
+//! while the old one ticks, swap it in only if it is valid and only between ticks, and
+//! watch every status change live.
+//!
+//! - [`wire`]: the messages both ways ([`Request`], [`Reply`]), postcard-encoded;
+//! - [`frame`]: COBS framing with a CRC-32 per frame, and a streaming [`Decoder`];
+//! - [`controller`]: `#![no_std]`, no allocation, no panics: [`serve`] runs a controller
+//!   over any [`Board`] (a byte link and a clock) from fixed [`Storage`];
+//! - `host` (feature `std`): a blocking [`Client`](host::Client) over any
+//!   `Read + Write` (a serial port, a TCP socket to QEMU).
+//!
+//! The bytes on the wire are specified in `spec/link-protocol.md`, next to this crate's
+//! `Cargo.toml`.
+//!
+//! A separate crate rather than a feature of `bt-core`: the link brings framing, a wire
+//! format and a session state machine that a controller without a link never needs,
+//! and a host build needs std for its client; `bt-core` stays the executor and the
+//! image, with nothing behind features.
+#![cfg_attr(not(any(test, feature = "std")), no_std)]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing))]
+
+pub mod controller;
+pub mod frame;
+#[cfg(feature = "std")]
+pub mod host;
+pub mod wire;
+
+pub use controller::{App, Board, Storage, serve};
+pub use frame::{Decoder, Feed};
+pub use wire::{Fault, FrameFault, ImageInfo, LOAD_CODES, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request, WireStatus};
