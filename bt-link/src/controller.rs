@@ -41,6 +41,8 @@ pub trait Board {
 
 /// The world the trees act on, with hooks for the controller's own log.
 pub trait App: BehaviorSet {
+    /// The boot image was loaded (`Ok` with the tree's nodes) or refused.
+    fn booted(&mut self, _result: Result<(ImageInfo, &[Node]), LoadError>) {}
     /// Before tick `tick` is ticked (scripted events, sensor reads).
     fn before_tick(&mut self, _tick: u32) {}
     /// After tick `tick`: what the root returned, and the tree's nodes.
@@ -75,7 +77,7 @@ impl<const NODES: usize, const BYTES: usize> Slot<NODES, BYTES> {
         self.image = None;
         let bytes = self.bytes.get(..len).ok_or(LoadError::TooManyNodes { count: len, capacity: BYTES })?;
         let tree: Tree<'_, DEPTH> = bt_core::load(bytes, catalog, &mut self.nodes)?;
-        let info = ImageInfo { crc: crc32(bytes), len: len as u32, nodes: tree.len() as u16 };
+        let info = ImageInfo { crc: crate::image_crc(bytes), len: len as u32, nodes: tree.len() as u16 };
         self.image = Some(info);
         Ok(info)
     }
@@ -223,7 +225,12 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const DEPTH: usize
             buf.copy_from_slice(image);
             // A boot image that does not load leaves the controller without a tree,
             // waiting for a deployment.
-            let _ = run.load::<C, DEPTH>(image.len(), catalog);
+            match run.load::<C, DEPTH>(image.len(), catalog) {
+                Ok(info) => app.booted(Ok((info, run.nodes.get(..usize::from(info.nodes)).unwrap_or(&[])))),
+                Err(e) => app.booted(Err(e)),
+            }
+        } else {
+            app.booted(Err(LoadError::TooManyNodes { count: image.len(), capacity: BYTES }));
         }
     }
     let mut session = Session {

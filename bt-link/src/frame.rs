@@ -42,7 +42,9 @@ pub fn encode<'b, T: Serialize + ?Sized>(msg: &T, out: &'b mut [u8]) -> Result<&
     let decoded = raw.get(..body + CRC_LEN).ok_or(FrameFault::TooLong)?;
     let n = cobs::try_encode(decoded, out).map_err(|_| FrameFault::TooLong)?;
     *out.get_mut(n).ok_or(FrameFault::TooLong)? = 0;
-    out.get_mut(..=n).ok_or(FrameFault::TooLong)
+    // `..n + 1`, not `..=n`: the inclusive range keeps an overflow check that links a
+    // panic into the firmware.
+    out.get_mut(..n + 1).ok_or(FrameFault::TooLong)
 }
 
 /// What one byte fed to a [`Decoder`] completed.

@@ -30,3 +30,15 @@ pub mod wire;
 pub use controller::{App, Board, Storage, serve};
 pub use frame::{Decoder, Feed};
 pub use wire::{Fault, FrameFault, ImageInfo, LOAD_CODES, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request, WireStatus};
+
+/// The CRC-32 an image stores in its last four bytes: what names an image on the link
+/// ([`ImageInfo::crc`]). (The CRC-32 over *all* of a valid image's bytes is the same
+/// for every image, 0x2144df1c, the CRC's residue: useless as a name.)
+#[must_use]
+pub fn image_crc(image: &[u8]) -> u32 {
+    let mut b = [0u8; 4];
+    if let Some(tail) = image.len().checked_sub(4).and_then(|at| image.get(at..)) {
+        b.copy_from_slice(tail);
+    }
+    u32::from_le_bytes(b)
+}

@@ -73,12 +73,16 @@ pub enum Reply<'a> {
     /// The controller's identity, in answer to [`Request::Hello`].
     Hello {
         /// The controller's protocol version.
+        #[serde(with = "postcard::fixint::le")]
         version: u16,
         /// Fingerprint of its behavior set: an image must carry the same.
+        #[serde(with = "postcard::fixint::le")]
         fingerprint: u64,
         /// Most nodes a tree may have.
+        #[serde(with = "postcard::fixint::le")]
         node_capacity: u16,
         /// Most bytes an image may have.
+        #[serde(with = "postcard::fixint::le")]
         image_capacity: u32,
         /// The running tree's image, if any.
         running: Option<ImageInfo>,
@@ -86,15 +90,19 @@ pub enum Reply<'a> {
     /// `received` bytes of the transfer are held (every byte before that offset).
     ChunkAck {
         /// Bytes held so far: the offset of the next chunk.
+        #[serde(with = "postcard::fixint::le")]
         received: u32,
     },
     /// The image passed every check and waits for its tick boundary.
     Accepted {
         /// Its CRC-32.
+        #[serde(with = "postcard::fixint::le")]
         crc: u32,
         /// Its node count.
+        #[serde(with = "postcard::fixint::le")]
         nodes: u16,
         /// The tick before which it will be swapped in; `None`: the next boundary.
+        #[serde(with = "fixed_option_u32")]
         swap_at: Option<u32>,
     },
     /// The transfer or request was refused; the running tree is untouched.
@@ -106,18 +114,22 @@ pub enum Reply<'a> {
     /// this) and the new tree runs from tick `tick` on.
     Swapped {
         /// The first tick of the new tree.
+        #[serde(with = "postcard::fixint::le")]
         tick: u32,
         /// The new image.
         image: ImageInfo,
         /// Actions of the old tree halted for the swap.
+        #[serde(with = "postcard::fixint::le")]
         halted: u16,
     },
     /// A node changed status (the executor's observer), during tick `tick` or, for
     /// halts at a swap or a stop, at the boundary before it.
     Status {
         /// The tick.
+        #[serde(with = "postcard::fixint::le")]
         tick: u32,
         /// Node id in the running tree.
+        #[serde(with = "postcard::fixint::le")]
         node: u16,
         /// Its new status.
         status: WireStatus,
@@ -125,36 +137,46 @@ pub enum Reply<'a> {
     /// Tick statistics, after every tick.
     Tick {
         /// The tick that finished.
+        #[serde(with = "postcard::fixint::le")]
         tick: u32,
         /// What the root returned (`Idle` stands for a tick error).
         status: WireStatus,
         /// Status changes reported during the tick.
+        #[serde(with = "postcard::fixint::le")]
         changes: u16,
         /// Microseconds the tick took on the controller's clock.
+        #[serde(with = "postcard::fixint::le")]
         micros: u32,
     },
     /// Where the controller stands, in answer to `Start`, `Stop` and `Ping`.
     State {
         /// The `Ping` token, 0 for `Start` and `Stop`.
+        #[serde(with = "postcard::fixint::le")]
         token: u32,
         /// The next tick to run.
+        #[serde(with = "postcard::fixint::le")]
         tick: u32,
         /// Whether it is ticking.
         ticking: bool,
         /// The tick it stops before, if any.
+        #[serde(with = "fixed_option_u32")]
         until: Option<u32>,
         /// The running tree's image, if any.
         running: Option<ImageInfo>,
         /// Actions halted by a `Stop`; 0 otherwise.
+        #[serde(with = "postcard::fixint::le")]
         halted: u16,
         /// Bytes of stack used since boot, when the controller can tell (0 if not).
+        #[serde(with = "postcard::fixint::le")]
         stack_used: u32,
     },
     /// Running image bytes, in answer to [`Request::Read`].
     Image {
         /// Where these bytes are.
+        #[serde(with = "postcard::fixint::le")]
         offset: u32,
         /// The whole image's length.
+        #[serde(with = "postcard::fixint::le")]
         total: u32,
         /// At most [`MAX_CHUNK`] bytes.
         #[serde(borrow)]
@@ -170,11 +192,14 @@ pub enum Reply<'a> {
 /// An image the controller holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ImageInfo {
-    /// CRC-32 of the image bytes.
+    /// The CRC-32 the image stores (see [`image_crc`](crate::image_crc)).
+    #[serde(with = "postcard::fixint::le")]
     pub crc: u32,
     /// Image length in bytes.
+    #[serde(with = "postcard::fixint::le")]
     pub len: u32,
     /// Node count.
+    #[serde(with = "postcard::fixint::le")]
     pub nodes: u16,
 }
 
@@ -227,34 +252,43 @@ pub enum Fault {
         /// Index into [`LOAD_CODES`].
         code: u8,
         /// The node the fault is at, if it has one.
+        #[serde(with = "fixed_option_u16")]
         node: Option<u16>,
     },
     /// The image is larger than the controller's image buffer.
     TooLarge {
         /// Announced length.
+        #[serde(with = "postcard::fixint::le")]
         len: u32,
         /// Bytes the buffer holds.
+        #[serde(with = "postcard::fixint::le")]
         capacity: u32,
     },
     /// `Commit` came before every byte had arrived.
     Incomplete {
         /// Bytes received.
+        #[serde(with = "postcard::fixint::le")]
         received: u32,
         /// Bytes announced.
+        #[serde(with = "postcard::fixint::le")]
         len: u32,
     },
     /// The bytes received do not have the CRC the `Deploy` announced.
     TransferCrc {
         /// Announced.
+        #[serde(with = "postcard::fixint::le")]
         expected: u32,
         /// Computed over what arrived.
+        #[serde(with = "postcard::fixint::le")]
         computed: u32,
     },
     /// A chunk would end past the announced length.
     Overrun {
         /// The chunk's offset.
+        #[serde(with = "postcard::fixint::le")]
         offset: u32,
         /// Its length.
+        #[serde(with = "postcard::fixint::le")]
         len: u32,
     },
     /// `Chunk` or `Commit` without a transfer under way.
@@ -263,11 +297,35 @@ pub enum Fault {
     /// `Deploy`.
     Superseded {
         /// CRC the dropped transfer announced.
+        #[serde(with = "postcard::fixint::le")]
         crc: u32,
     },
     /// `Start` or `Read` with no tree loaded.
     NoTree,
 }
+
+/// `Option<u16>`/`Option<u32>` in replies: postcard's option tag, then the value as a
+/// fixed-width little-endian integer.
+macro_rules! fixed_option {
+    ($name:ident, $t:ty) => {
+        mod $name {
+            use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+            #[derive(Serialize, Deserialize)]
+            struct Fixed(#[serde(with = "postcard::fixint::le")] $t);
+
+            pub fn serialize<S: Serializer>(v: &Option<$t>, s: S) -> Result<S::Ok, S::Error> {
+                v.map(Fixed).serialize(s)
+            }
+
+            pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<$t>, D::Error> {
+                Ok(Option::<Fixed>::deserialize(d)?.map(|f| f.0))
+            }
+        }
+    };
+}
+fixed_option!(fixed_option_u16, u16);
+fixed_option!(fixed_option_u32, u32);
 
 /// Why a frame was skipped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -235,13 +235,13 @@ impl Line {
     }
 
     /// A point as `x,y` in mm.
-    fn point(&mut self, p: Vec2) -> &mut Self {
+    pub(crate) fn point(&mut self, p: Vec2) -> &mut Self {
         self.int(mm(p.x)).text(",").int(mm(p.y))
     }
 
     /// A leaf as `name(arg, ...)` with object names, `?` after conditions, `!` after
     /// actions; `-` for none.
-    fn leaf(&mut self, node: Option<&Node>) -> &mut Self {
+    pub(crate) fn leaf(&mut self, node: Option<&Node>) -> &mut Self {
         let (leaf, mark) = match node.map(Node::kind) {
             Some(NodeKind::Condition(l)) => (l, "?"),
             Some(NodeKind::Action(l)) => (l, "!"),
@@ -259,7 +259,7 @@ impl Line {
     }
 
     /// The `ran=` list: node id and result letter per leaf ticked; `-` for none.
-    fn ran(&mut self, ran: &[Ran]) -> &mut Self {
+    pub(crate) fn ran(&mut self, ran: &[Ran]) -> &mut Self {
         if ran.is_empty() {
             return self.text("-");
         }
@@ -278,7 +278,7 @@ impl Line {
     }
 
     /// The `halt=` list; `-` for none.
-    fn ids(&mut self, ids: &[NodeId]) -> &mut Self {
+    pub(crate) fn ids(&mut self, ids: &[NodeId]) -> &mut Self {
         if ids.is_empty() {
             return self.text("-");
         }
@@ -299,7 +299,7 @@ impl Line {
 
     /// What went wrong loading an image: its code, the node, and for the faults a
     /// controller meets in the field (a corrupted or foreign image) the numbers.
-    fn load_error(&mut self, e: &LoadError) -> &mut Self {
+    pub(crate) fn load_error(&mut self, e: &LoadError) -> &mut Self {
         self.text(e.code());
         if let Some(node) = e.node() {
             self.text(" node=").num(u32::from(node));

@@ -18,8 +18,11 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing))]
 
+#[cfg(target_os = "none")]
+pub mod board;
 pub mod catalog;
 pub mod control;
+pub mod link;
 pub mod plant;
 pub mod script;
 #[cfg(target_os = "none")]

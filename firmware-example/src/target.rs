@@ -23,7 +23,14 @@ unsafe extern "C" {
 }
 
 /// Trace lines to the debugger's stdout (QEMU: the terminal).
-struct Semihosting(Option<HostStream>);
+pub(crate) struct Semihosting(Option<HostStream>);
+
+impl Semihosting {
+    /// The debugger's stdout, if there is one.
+    pub(crate) fn stdout() -> Self {
+        Self(hio::hstdout().ok())
+    }
+}
 
 impl Sink for Semihosting {
     fn line(&mut self, line: &[u8]) {
@@ -61,9 +68,9 @@ pub fn run_and_exit(image: &[u8]) -> ! {
 }
 
 /// How much of the stack the run used.
-struct StackUsage {
+pub(crate) struct StackUsage {
     /// Bytes below the initial stack pointer that were written since boot.
-    used: u32,
+    pub(crate) used: u32,
     /// Bytes between the end of the statics and the top of RAM.
     size: u32,
 }
@@ -72,7 +79,7 @@ struct StackUsage {
 /// (`paint-stack`), from its lowest address upwards for the first word the program
 /// wrote: everything above it has been used at some point.
 #[allow(unsafe_code)]
-fn stack_usage() -> StackUsage {
+pub(crate) fn stack_usage() -> StackUsage {
     unsafe extern "C" {
         static _stack_end: u32;
         static _stack_start: u32;

@@ -18,6 +18,7 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod link;
 mod qemu;
 
 #[derive(Parser)]

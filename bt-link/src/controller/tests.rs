@@ -253,7 +253,7 @@ fn refused(steps: Vec<Step>) -> Host {
     let a = tree_a();
     let (tick, running) = last_state(&host);
     assert_eq!(tick, 10);
-    assert_eq!(running.map(|i| i.crc), Some(crc32(&a)), "A is still the running image");
+    assert_eq!(running.map(|i| i.crc), Some(crate::image_crc(&a)), "A is still the running image");
     assert!(!host.replies.iter().any(|r| matches!(r, Reply::Swapped { .. })));
     host
 }
@@ -269,7 +269,7 @@ fn hello_names_the_protocol_the_behavior_set_and_the_running_image() {
             fingerprint: fingerprint(&SET),
             node_capacity: 16,
             image_capacity: 256,
-            running: Some(ImageInfo { crc: crc32(&a), len: a.len() as u32, nodes: 3 }),
+            running: Some(ImageInfo { crc: crate::image_crc(&a), len: a.len() as u32, nodes: 3 }),
         }]
     );
 }
@@ -283,9 +283,9 @@ fn a_valid_image_swaps_in_at_its_tick_after_the_old_actions_are_halted() {
     let (host, log) = run(steps);
     // A's action (node 2) started at tick 0, halted at the swap, then B's first
     // action (node 2 of B) started: halt before start, across trees.
-    assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Swap(6, crc32(&b)), Seen::Start(2)]);
+    assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Swap(6, crate::image_crc(&b)), Seen::Start(2)]);
     assert_eq!(log.ticks.len(), 9);
-    assert!(host.replies.contains(&Reply::Accepted { crc: crc32(&b), nodes: 4, swap_at: Some(6) }));
+    assert!(host.replies.contains(&Reply::Accepted { crc: crate::image_crc(&b), nodes: 4, swap_at: Some(6) }));
     // On the wire: A's action goes Idle at the boundary before tick 6, then Swapped,
     // then B's changes during tick 6.
     let swapped = host.replies.iter().position(|r| matches!(r, Reply::Swapped { tick: 6, halted: 1, .. })).unwrap();
@@ -302,7 +302,7 @@ fn without_a_swap_tick_the_image_swaps_at_the_next_boundary() {
     let mut steps = deploy_image(&b, None);
     steps.extend([start(2), Step::UntilTick(2)]);
     let (_, log) = run(steps);
-    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b)), Seen::Start(2)]);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&b)), Seen::Start(2)]);
 }
 
 #[test]
@@ -399,7 +399,7 @@ fn a_new_deploy_supersedes_an_unfinished_one() {
     let host = refused(steps);
     assert_eq!(host.rejections(), ["superseded", "superseded"]);
     assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Superseded { crc: 77 } }));
-    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Superseded { crc: crc32(&b) } }));
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Superseded { crc: crate::image_crc(&b) } }));
 }
 
 #[test]
@@ -421,7 +421,7 @@ fn repeated_and_early_chunks_are_acked_with_where_to_go_on() {
         })
         .collect();
     assert_eq!(acks, [0, 10, 10, 10, b.len() as u32]);
-    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b))]);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&b))]);
 }
 
 #[test]
@@ -478,7 +478,7 @@ fn without_a_tree_start_and_read_are_refused_and_a_deploy_brings_one() {
     broken[0] = b'X';
     serve::<_, _, _, 16, 256, DEPTH>(&mut storage, &SET, Some(&broken), &mut host, &mut log);
     assert_eq!(host.rejections(), ["no-tree", "no-tree"]);
-    assert_eq!(log.seen, vec![Seen::Swap(0, crc32(&b)), Seen::Start(2)]);
+    assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&b)), Seen::Start(2)]);
 }
 
 proptest::proptest! {
@@ -506,7 +506,7 @@ proptest::proptest! {
         let swapped = host.replies.iter().any(|r| matches!(r, Reply::Swapped { .. }));
         if !swapped {
             let (_, running) = last_state(&host);
-            proptest::prop_assert_eq!(running.map(|i| i.crc), Some(crc32(&tree_a())));
+            proptest::prop_assert_eq!(running.map(|i| i.crc), Some(crate::image_crc(&tree_a())));
             proptest::prop_assert!(log.seen.iter().all(|s| matches!(s, Seen::Start(2) | Seen::Halt(2) | Seen::Stop(_))));
         }
     }
