@@ -6,7 +6,8 @@
 //! - `cargo xtask cross`: bt-core built with `core` only for Cortex-M4F and Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
 //!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`).
-//! - `cargo xtask fuzz --seconds N`: the `load` fuzz target (nightly + cargo-fuzz).
+//! - `cargo xtask fuzz --seconds N [--target load|serve]`: the `load` fuzz target of
+//!   bt-core, or the `serve` target of bt-link (nightly + cargo-fuzz).
 //!
 //! Cross builds use rustup's targets where they are installed (`rustup target add
 //! thumbv7em-none-eabihf thumbv6m-none-eabi`), and otherwise Debian's packaged compiler
@@ -41,11 +42,14 @@ enum Cmd {
         #[arg(long, default_value_t = 60)]
         timeout: u64,
     },
-    /// Fuzz `bt_core::load` (needs the nightly toolchain and cargo-fuzz).
+    /// Fuzz `bt_core::load` or the link controller (needs nightly and cargo-fuzz).
     Fuzz {
         /// How long to fuzz.
         #[arg(long, default_value_t = 60)]
         seconds: u64,
+        /// `load` (bt-core's image loader) or `serve` (bt-link's controller loop).
+        #[arg(long, default_value = "load", value_parser = ["load", "serve"])]
+        target: String,
     },
 }
 
@@ -59,7 +63,7 @@ fn main() -> ExitCode {
         Cmd::Ci => ci(),
         Cmd::Cross => cross(),
         Cmd::Qemu { timeout } => qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(timeout) }),
-        Cmd::Fuzz { seconds } => fuzz(seconds),
+        Cmd::Fuzz { seconds, target } => fuzz(seconds, &target),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -222,13 +226,14 @@ fn no_std_leaks() -> Result {
     Ok(())
 }
 
-fn fuzz(seconds: u64) -> Result {
-    step(&format!("fuzzing bt_core::load for {seconds} s"));
+fn fuzz(seconds: u64, target: &str) -> Result {
+    let (dir, what) = if target == "serve" { ("bt-link", "bt_link::serve") } else { ("bt-core", "bt_core::load") };
+    step(&format!("fuzzing {what} for {seconds} s"));
     // The rustup proxy, not $CARGO: `+nightly` selects the toolchain.
     let mut c = Command::new("cargo");
-    c.current_dir(root().join("bt-core"));
-    c.args(["+nightly", "fuzz", "run", "load", "--", &format!("-max_total_time={seconds}"), "-print_final_stats=1"]);
+    c.current_dir(root().join(dir));
+    c.args(["+nightly", "fuzz", "run", target, "--", &format!("-max_total_time={seconds}"), "-print_final_stats=1"]);
     let shown = format!("{c:?}");
     let status = c.status().map_err(|e| format!("cannot start {shown}: {e} (cargo install cargo-fuzz)"))?;
-    if status.success() { Ok(()) } else { Err(format!("fuzzing failed ({status}): see bt-core/fuzz/artifacts")) }
+    if status.success() { Ok(()) } else { Err(format!("fuzzing failed ({status}): see {dir}/fuzz/artifacts")) }
 }

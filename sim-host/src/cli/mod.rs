@@ -11,10 +11,13 @@ use clap::{Parser, Subcommand};
 mod btlog;
 mod catalog;
 mod catalogs;
+mod deploy;
 mod export;
 mod import;
 mod inspect;
 mod learn;
+mod link;
+mod monitor;
 pub mod output;
 mod plan;
 mod plot;
@@ -65,6 +68,10 @@ enum Command {
     /// Draw learning curves (PNG) and a results table from `learn`'s run folders.
     #[command(long_about = plot::LONG_ABOUT)]
     Plot(plot::Args),
+    /// Send a tree image to a running controller; it swaps it in between two ticks.
+    Deploy(deploy::Args),
+    /// Watch a running controller's tree live, status by status.
+    Monitor(monitor::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
@@ -89,6 +96,8 @@ pub fn main() -> ExitCode {
         Some(Command::Scenario(args)) => scenario::run(&args),
         Some(Command::Learn(args)) => learn::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Deploy(args)) => deploy::run(&args),
+        Some(Command::Monitor(args)) => monitor::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,110 @@
+//! `sim-host deploy IMAGE --port PATH|--tcp HOST:PORT`.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, bail};
+use bt_link::Reply;
+use bt_link::host::Verdict;
+
+use super::link::{self, Line, Target};
+
+#[derive(clap::Args, Debug)]
+#[command(
+    long_about = "Sends a tree image to a running controller over its serial link and \
+    waits for the verdict. The controller receives it into its spare slot while the \
+    running tree goes on ticking, checks length, CRC and the whole image (as `inspect` \
+    does), and only then swaps it in, between two ticks, after halting the running \
+    tree's actions. A refused image leaves the running tree untouched; the reason is \
+    printed and the exit code is 2.",
+    after_help = "Examples:\n  sim-host deploy tree.bt --tcp 127.0.0.1:4321          # QEMU\n  \
+    sim-host deploy tree.bt --port /dev/ttyACM0 --at-tick 200\n  \
+    sim-host deploy tree.bt --tcp 127.0.0.1:4321 --start"
+)]
+pub struct Args {
+    /// The image file (`sim-host plan --format image`).
+    pub image: PathBuf,
+    #[command(flatten)]
+    pub target: Target,
+    #[command(flatten)]
+    pub line: Line,
+    /// Swap the new tree in before this tick (default: the next tick boundary).
+    #[arg(long, value_name = "TICK")]
+    pub at_tick: Option<u32>,
+    /// Then start ticking (every --period ms).
+    #[arg(long)]
+    pub start: bool,
+    /// Milliseconds between ticks with --start.
+    #[arg(long, default_value_t = 100)]
+    pub period: u16,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let path = &args.image;
+    let image = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let header = bt_core::image::read_header(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let (mut link, name) = link::open(&args.target, &args.line)?;
+    let (info, set) = link::hello(&mut link, &name)?;
+    if header.fingerprint != info.fingerprint {
+        bail!(
+            "{}: built for behavior set {:#018x}, the controller at {name} runs {set}",
+            path.display(),
+            header.fingerprint
+        );
+    }
+    if image.len() > info.image_capacity as usize {
+        bail!(
+            "{}: {} bytes, the controller at {name} holds images of at most {}",
+            path.display(),
+            image.len(),
+            info.image_capacity
+        );
+    }
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "controller {name}: link protocol {}, behavior set {set}", info.version)?;
+    let started = Instant::now();
+    let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let took = started.elapsed();
+    match verdict {
+        Verdict::Accepted { crc, nodes, swap_at } => {
+            let when = swap_at.map_or_else(|| "at the next tick".to_string(), |t| format!("before tick {t}"));
+            writeln!(
+                out,
+                "accepted: {} ({} bytes, {nodes} nodes, CRC {crc:08x}) in {} ms; swaps in {when}",
+                path.display(),
+                image.len(),
+                took.as_millis()
+            )?;
+        }
+        Verdict::Rejected(fault) => {
+            // bt-core's own sentence for it, when this binary knows the behavior set.
+            let local = super::catalogs::by_fingerprint(header.fingerprint)
+                .and_then(|k| {
+                    let mut nodes = vec![bt_core::Node::EMPTY; usize::from(header.node_count)];
+                    bt_core::load::<_, 64>(&image, k.catalog.as_ref(), &mut nodes).err()
+                })
+                .map(|e| format!(" ({e})"))
+                .unwrap_or_default();
+            bail!("the controller at {name} rejected {}: {}{local}", path.display(), link::describe(&fault));
+        }
+    }
+    if args.at_tick.is_none() {
+        // Swapped comes at the next boundary; wait a moment for it.
+        let deadline = Instant::now() + Duration::from_secs(2);
+        while let Ok(reply) = link.next(deadline, "Swapped") {
+            if let Reply::Swapped { tick, halted, .. } = reply {
+                writeln!(
+                    out,
+                    "swapped in before tick {tick}; {halted} running action(s) of the old tree halted first"
+                )?;
+                break;
+            }
+        }
+    }
+    if args.start {
+        let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        writeln!(out, "ticking from tick {tick} every {} ms", args.period)?;
+    }
+    Ok(())
+}
