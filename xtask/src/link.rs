@@ -301,6 +301,9 @@ fn detail(f: &Fault) -> String {
     }
 }
 
+trait ReadWrite: Read + std::io::Write {}
+impl<T: Read + std::io::Write> ReadWrite for T {}
+
 /// A free TCP port on the loopback interface.
 fn free_port() -> Result<u16> {
     let l = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
@@ -385,10 +388,10 @@ pub fn qemu(elf: &Path, img: &Images, timeout: Duration) -> Result<Outcome> {
     run(qemu_command(elf, port), port, img, timeout, false)
 }
 
-/// Deploys the cube tree to the controller under QEMU through a link paced at `baud`
-/// (10 bits per byte), as a serial line would carry it; returns image bytes, wire
-/// bytes both ways, and the time the deployment took.
-pub fn paced_deploy(elf: &Path, img: &Images, baud: u32, timeout: Duration) -> Result<(usize, u64, Duration)> {
+/// Deploys the cube tree to the controller under QEMU, through a link paced at `baud`
+/// (10 bits per byte) as a serial line would carry it, or unpaced; returns image
+/// bytes, wire bytes both ways, and the time the deployment took.
+pub fn paced_deploy(elf: &Path, img: &Images, baud: Option<u32>, timeout: Duration) -> Result<(usize, u64, Duration)> {
     let port = free_port()?;
     let mut cmd = qemu_command(elf, port);
     let mut child = cmd.stdin(Stdio::null()).stdout(Stdio::null()).spawn().map_err(|e| e.to_string())?;
@@ -396,7 +399,11 @@ pub fn paced_deploy(elf: &Path, img: &Images, baud: u32, timeout: Duration) -> R
         let stream = connect(port, &mut child, timeout)?;
         stream.set_read_timeout(Some(Duration::from_millis(20))).map_err(|e| e.to_string())?;
         let _ = stream.set_nodelay(true);
-        let mut link = Client::new(Paced::new(stream, baud));
+        let io: Box<dyn ReadWrite> = match baud {
+            Some(baud) => Box::new(Paced::new(stream, baud)),
+            None => Box::new(stream),
+        };
+        let mut link = Client::new(io);
         link.hello().map_err(|e| e.to_string())?;
         let (sent, received) = (link.sent, link.received);
         let started = Instant::now();

@@ -56,7 +56,7 @@ pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Client<Box<dyn Io>>
     }
     let Some(addr) = &target.tcp else { bail!("give --port PATH or --tcp HOST:PORT") };
     let stream = std::net::TcpStream::connect(addr).with_context(|| format!("cannot connect to {addr}"))?;
-    stream.set_read_timeout(Some(POLL)).with_context(|| format!("{addr}"))?;
+    stream.set_read_timeout(Some(POLL)).with_context(|| addr.clone())?;
     let _ = stream.set_nodelay(true);
     let io: Box<dyn Io> = Box::new(stream);
     Ok((Client::new(io), addr.clone()))

@@ -148,11 +148,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 let root = NodeStatus::from(status);
                 trace.push_str(&format!("tick {tick} {} changes={n} us={micros}\n", root.name()));
                 if tty {
-                    crossterm::queue!(
-                        out,
-                        cursor::MoveUp(drawn as u16),
-                        terminal::Clear(terminal::ClearType::FromCursorDown)
-                    )?;
+                    if drawn > 0 {
+                        // (`MoveUp(0)` would move one line: terminals read 0 as 1.)
+                        crossterm::queue!(out, cursor::MoveUp(drawn as u16))?;
+                    }
+                    crossterm::queue!(out, terminal::Clear(terminal::ClearType::FromCursorDown))?;
                     writeln!(out, "tick {tick}: {} ({n} changes, {micros} µs)", root.name())?;
                     let lines = live.lines();
                     for l in &lines {

@@ -1,0 +1,195 @@
+//! `sim-host deploy` and `monitor` through the real binary, against a controller running
+//! `bt_link::serve` in this test over a TCP socket on the loopback interface.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::io::{ErrorKind, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+use bt_core::{BehaviorSet, Catalog as _, Context, Leaf, NodeId, Status};
+use bt_link::{App, Board, Storage};
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+struct Tcp {
+    stream: TcpStream,
+    closed: bool,
+    started: Instant,
+}
+
+impl Board for Tcp {
+    fn read(&mut self) -> Option<u8> {
+        let mut b = [0u8; 1];
+        match self.stream.read(&mut b) {
+            Ok(1) => Some(b[0]),
+            Ok(_) => {
+                self.closed = true;
+                None
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock => None,
+            Err(_) => {
+                self.closed = true;
+                None
+            }
+        }
+    }
+    fn write(&mut self, mut bytes: &[u8]) {
+        while !bytes.is_empty() && !self.closed {
+            match self.stream.write(bytes) {
+                Ok(n) => bytes = &bytes[n..],
+                Err(e) if e.kind() == ErrorKind::WouldBlock => std::thread::yield_now(),
+                Err(_) => self.closed = true,
+            }
+        }
+    }
+    fn micros(&mut self) -> u32 {
+        self.started.elapsed().as_micros() as u32
+    }
+    fn closed(&mut self) -> bool {
+        std::thread::sleep(std::time::Duration::from_micros(100));
+        self.closed
+    }
+}
+
+/// Conditions fail, actions run: the tree always has something running.
+struct World;
+
+impl BehaviorSet for World {
+    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+        Status::Failure
+    }
+    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+        Status::Running
+    }
+    fn halt(&mut self, _: &Leaf, _: NodeId) {}
+}
+
+impl App for World {}
+
+fn catalog() -> planner::PddlCatalog {
+    let g = planner::domains::cube_sphere().unwrap();
+    planner::PddlCatalog::new(g.problem())
+}
+
+/// The planner's cube tree as an image file.
+fn cube_image(dir: &Path) -> (PathBuf, Vec<u8>) {
+    let g = Arc::new(planner::domains::cube_sphere().unwrap());
+    let c = Arc::new(planner::PddlCatalog::new(g.problem()));
+    let plan = planner::plan(g, c.clone(), planner::Options::default()).unwrap();
+    let image = planner::output::to_image(&plan.nodes, c.as_ref()).unwrap();
+    let path = dir.join("cube.bt");
+    std::fs::write(&path, &image).unwrap();
+    (path, image)
+}
+
+/// A controller holding at most `NODES` nodes, booted with `boot`, serving one
+/// connection on a free port.
+fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<()>) {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    let handle = std::thread::spawn(move || {
+        let (stream, _) = listener.accept().unwrap();
+        stream.set_nonblocking(true).unwrap();
+        let mut board = Tcp { stream, closed: false, started: Instant::now() };
+        let mut storage = Box::new(Storage::<NODES, 640>::new());
+        bt_link::serve::<_, _, _, NODES, 640, 16>(&mut storage, &catalog(), boot.as_deref(), &mut board, &mut World);
+    });
+    (addr, handle)
+}
+
+#[test]
+fn deploy_prints_the_verdict_and_the_swap() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, _) = cube_image(dir.path());
+    let (addr, handle) = controller::<64>(None);
+    let out = sim_host(&["deploy", path.to_str().unwrap(), "--tcp", &addr, "--start", "--period", "5"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("behavior set") && text.contains("cube-sphere"), "{text}");
+    assert!(text.contains("accepted: ") && text.contains("swaps in at the next tick"), "{text}");
+    assert!(text.contains("swapped in before tick 0"), "{text}");
+    assert!(text.contains("ticking from tick 0 every 5 ms"), "{text}");
+    handle.join().unwrap();
+}
+
+#[test]
+fn a_refusal_exits_2_with_the_controller_s_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, _) = cube_image(dir.path());
+    // A controller with room for 8 nodes: the planner's tree has more.
+    let (addr, handle) = controller::<8>(None);
+    let out = sim_host(&["deploy", path.to_str().unwrap(), "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: the controller at 127.0.0.1:"), "{err}");
+    assert!(err.contains("rejected") && err.contains("too-many-nodes"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    handle.join().unwrap();
+}
+
+#[test]
+fn an_image_for_another_behavior_set_is_refused_before_sending() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = planner::duplo::Task::Tower.spec();
+    let nodes = planner::tokens::parse("s( f( picked 0? pick 0! ) )", &spec).unwrap();
+    let mut buf = vec![0u8; bt_core::image::max_image_len(nodes.len())];
+    let n = bt_core::encode(&nodes, spec.fingerprint(), &mut buf).unwrap();
+    let path = dir.path().join("tower.bt");
+    std::fs::write(&path, &buf[..n]).unwrap();
+    let (addr, handle) = controller::<64>(None);
+    let out = sim_host(&["deploy", path.to_str().unwrap(), "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("tower.bt: built for behavior set") && err.contains("the controller at"), "{err}");
+    assert!(err.contains(&format!("{:#018x}", catalog().fingerprint())), "{err}");
+    handle.join().unwrap();
+}
+
+#[test]
+fn monitor_prints_a_line_per_tick_and_records_the_session() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, image) = cube_image(dir.path());
+    let (addr, handle) = controller::<64>(Some(image));
+    let trace = dir.path().join("run.txt");
+    let out = sim_host(&[
+        "monitor",
+        "--tcp",
+        &addr,
+        "--start",
+        "--period",
+        "1",
+        "--ticks",
+        "3",
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    let ticks: Vec<&str> = text.lines().filter(|l| l.starts_with("tick ")).collect();
+    assert_eq!(ticks.len(), 3, "{text}");
+    // Tick 0 starts the tree: the root goes Running.
+    assert!(ticks[0].starts_with("tick 0 RUNNING ") && ticks[0].contains(" 0:R"), "{text}");
+    let recorded = std::fs::read_to_string(&trace).unwrap();
+    assert!(recorded.starts_with("image "), "{recorded}");
+    assert_eq!(recorded.lines().filter(|l| l.starts_with("tick ")).count(), 3, "{recorded}");
+    handle.join().unwrap();
+}
+
+#[test]
+fn an_unreachable_controller_is_one_line_and_exit_2() {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    drop(listener);
+    let out = sim_host(&["monitor", "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with(&format!("error: cannot connect to {addr}")), "{err}");
+    let out = sim_host(&["deploy", "x.bt", "--port", "/dev/no-such-tty", "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(2), "--port and --tcp together");
+}
