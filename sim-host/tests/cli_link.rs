@@ -57,12 +57,14 @@ impl Board for Tcp {
     }
 }
 
-/// Conditions fail, actions run: the tree always has something running.
+/// The robot is far from everything with a free path and an empty hand, and every
+/// action runs on: the planner's tree keeps `move-to(cube)` running.
 struct World;
 
 impl BehaviorSet for World {
-    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
-        Status::Failure
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        // cube-sphere ids: 2 hand-empty, 4 path-free (see the domain's predicates).
+        if matches!(leaf.behavior(), 2 | 4) { Status::Success } else { Status::Failure }
     }
     fn action(&mut self, _: &Leaf, _: Context) -> Status {
         Status::Running

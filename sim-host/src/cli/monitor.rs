@@ -162,7 +162,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                     out.flush()?;
                 } else {
                     let list: Vec<String> = changes.iter().map(|(n, s)| format!("{n}:{}", letter(*s))).collect();
-                    writeln!(out, "tick {tick} {} {}", root.name(), list.join(" "))?;
+                    let list = if list.is_empty() { "-".to_string() } else { list.join(" ") };
+                    writeln!(out, "tick {tick} {} {list}", root.name())?;
                 }
                 changes.clear();
                 ticks += 1;
