@@ -3,7 +3,8 @@
 //! - `cargo xtask ci`: everything CI checks (what `.ci/run` calls): formatting, clippy,
 //!   the test suite, the doc tests, the core-only cross builds of bt-core, the firmware's
 //!   own checks (it is a Cargo project outside the workspace) and `qemu`.
-//! - `cargo xtask cross`: bt-core built with `core` only for Cortex-M4F and Cortex-M0+.
+//! - `cargo xtask cross`: bt-core and bt-link built with `core` only for Cortex-M4F and
+//!   Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
 //!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`).
 //! - `cargo xtask fuzz --seconds N [--target load|serve]`: the `load` fuzz target of
@@ -33,7 +34,7 @@ struct Cli {
 enum Cmd {
     /// Run every check CI runs: fmt, clippy, tests, doc tests, cross builds, firmware.
     Ci,
-    /// Build bt-core with `core` only for thumbv7em-none-eabihf and thumbv6m-none-eabi.
+    /// Build bt-core and bt-link with `core` only for thumbv7em-none-eabihf and thumbv6m-none-eabi.
     Cross,
     /// Build the firmware, run it under QEMU and compare its trace with the host's;
     /// check the corrupted image, panic freedom, flash and RAM.
@@ -198,9 +199,9 @@ fn cross_cargo(target: &str) -> Result<Command> {
 
 fn cross() -> Result {
     for target in CORE_TARGETS {
-        step(&format!("bt-core with core only for {target}"));
+        step(&format!("bt-core and bt-link with core only for {target}"));
         let target_dir = root().join("target").join("cross");
-        run(cross_cargo(target)?.args(["-p", "bt-core", "--target-dir"]).arg(&target_dir))?;
+        run(cross_cargo(target)?.args(["-p", "bt-core", "-p", "bt-link", "--target-dir"]).arg(&target_dir))?;
     }
     no_std_leaks()
 }

@@ -12,11 +12,17 @@ const SET: [BehaviorInfo<'static>; 3] =
 struct Fuzz<'a> {
     input: &'a [u8],
     at: usize,
+    reads: u32,
     clock: u32,
 }
 
 impl Board for Fuzz<'_> {
     fn read(&mut self) -> Option<u8> {
+        // Every 16th read finds nothing, so that the controller ticks between bytes.
+        self.reads += 1;
+        if self.reads % 16 == 0 {
+            return None;
+        }
         let b = self.input.get(self.at).copied();
         self.at += 1;
         b
@@ -83,6 +89,6 @@ fuzz_target!(|data: &[u8]| {
     };
     let input = if data.first().is_some_and(|b| b & 1 == 1) { framed(&data[1..]) } else { data.to_vec() };
     let mut storage = bt_link::Storage::<24, 256>::new();
-    let mut board = Fuzz { input: &input, at: 0, clock: 0 };
+    let mut board = Fuzz { input: &input, at: 0, reads: 0, clock: 0 };
     bt_link::serve::<_, _, _, 24, 256, 8>(&mut storage, &SET, Some(&boot), &mut board, &mut World(0));
 });
