@@ -54,18 +54,21 @@ pub trait App: BehaviorSet {
     fn stopped(&mut self, _tick: u32) {}
 }
 
-/// One image buffer and the nodes it decodes into.
+/// One image buffer and the nodes and value table it decodes into.
 #[derive(Debug)]
-pub struct Slot<const NODES: usize, const BYTES: usize> {
+pub struct Slot<const NODES: usize, const BYTES: usize, const VALUES: usize> {
     bytes: [u8; BYTES],
     nodes: [Node; NODES],
+    values: [u16; VALUES],
+    /// Entries of `values` the loaded tree uses.
+    value_count: usize,
     /// The image held, if one was loaded into `nodes`.
     image: Option<ImageInfo>,
 }
 
-impl<const NODES: usize, const BYTES: usize> Slot<NODES, BYTES> {
+impl<const NODES: usize, const BYTES: usize, const VALUES: usize> Slot<NODES, BYTES, VALUES> {
     const fn new() -> Self {
-        Self { bytes: [0; BYTES], nodes: [Node::EMPTY; NODES], image: None }
+        Self { bytes: [0; BYTES], nodes: [Node::EMPTY; NODES], values: [0; VALUES], value_count: 0, image: None }
     }
 
     /// Loads `len` bytes of the buffer into the nodes.
@@ -76,8 +79,9 @@ impl<const NODES: usize, const BYTES: usize> Slot<NODES, BYTES> {
     ) -> Result<ImageInfo, LoadError> {
         self.image = None;
         let bytes = self.bytes.get(..len).ok_or(LoadError::TooManyNodes { count: len, capacity: BYTES })?;
-        let tree: Tree<'_, DEPTH> = bt_core::load(bytes, catalog, &mut self.nodes)?;
+        let tree: Tree<'_, DEPTH> = bt_core::image::load_with(bytes, catalog, &mut self.nodes, &mut self.values)?;
         let info = ImageInfo { crc: crate::image_crc(bytes), len: len as u32, nodes: tree.len() as u16 };
+        self.value_count = tree.values().len();
         self.image = Some(info);
         Ok(info)
     }
@@ -86,7 +90,8 @@ impl<const NODES: usize, const BYTES: usize> Slot<NODES, BYTES> {
     /// outlive the load).
     fn tree<C: Catalog + ?Sized, const DEPTH: usize>(&self, catalog: &C) -> Option<Tree<'_, DEPTH>> {
         let nodes = self.nodes.get(..usize::from(self.image?.nodes))?;
-        Tree::validate(nodes, catalog).ok()
+        let values = self.values.get(..self.value_count)?;
+        Tree::validate_with(nodes, values, catalog).ok()
     }
 
     /// Image bytes at `offset`, at most [`MAX_CHUNK`].
@@ -98,20 +103,21 @@ impl<const NODES: usize, const BYTES: usize> Slot<NODES, BYTES> {
 }
 
 /// Everything [`serve`] keeps: two slots and the running tree's per-node state.
-/// `NODES` bounds a tree's node count, `BYTES` an image's length.
+/// `NODES` bounds a tree's node count, `BYTES` an image's length, `VALUES` its value
+/// table (leaves with more than three values; 0 refuses such images).
 #[derive(Debug)]
-pub struct Storage<const NODES: usize, const BYTES: usize> {
-    slots: [Slot<NODES, BYTES>; 2],
+pub struct Storage<const NODES: usize, const BYTES: usize, const VALUES: usize> {
+    slots: [Slot<NODES, BYTES, VALUES>; 2],
     state: [NodeState; NODES],
 }
 
-impl<const NODES: usize, const BYTES: usize> Default for Storage<NODES, BYTES> {
+impl<const NODES: usize, const BYTES: usize, const VALUES: usize> Default for Storage<NODES, BYTES, VALUES> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const NODES: usize, const BYTES: usize> Storage<NODES, BYTES> {
+impl<const NODES: usize, const BYTES: usize, const VALUES: usize> Storage<NODES, BYTES, VALUES> {
     /// Empty storage (`const`: can be a `static`).
     #[must_use]
     pub const fn new() -> Self {
@@ -177,10 +183,10 @@ struct Halts<'a, A> {
 }
 
 impl<A: BehaviorSet> BehaviorSet for Halts<'_, A> {
-    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         self.app.condition(leaf, ctx)
     }
-    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         self.app.action(leaf, ctx)
     }
     fn halt(&mut self, leaf: &bt_core::Leaf, node: NodeId) {
@@ -207,8 +213,8 @@ fn halt_all<B: Board, A: App, const DEPTH: usize>(
 /// answers the link until [`Board::closed`]. Ticking starts on the host's `Start`.
 ///
 /// Never panics and never allocates, whatever bytes arrive.
-pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const DEPTH: usize>(
-    storage: &mut Storage<NODES, BYTES>,
+pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize>(
+    storage: &mut Storage<NODES, BYTES, VALUES>,
     catalog: &C,
     boot: Option<&[u8]>,
     board: &mut B,
@@ -259,7 +265,9 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const DEPTH: usize
                         Action::None
                     }
                     Feed::Frame(bytes) => match frame::message::<Request<'_>>(bytes) {
-                        Ok(request) => session.handle::<C, B, NODES, BYTES, DEPTH>(request, run, spare, catalog, board),
+                        Ok(request) => {
+                            session.handle::<C, B, NODES, BYTES, VALUES, DEPTH>(request, run, spare, catalog, board)
+                        }
                         Err(fault) => {
                             send(board, &Reply::Garbled { fault });
                             Action::None
@@ -359,11 +367,11 @@ impl Session {
     }
 
     /// Answers one request. Only ever writes to `spare`.
-    fn handle<C, B, const NODES: usize, const BYTES: usize, const DEPTH: usize>(
+    fn handle<C, B, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize>(
         &mut self,
         request: Request<'_>,
-        run: &Slot<NODES, BYTES>,
-        spare: &mut Slot<NODES, BYTES>,
+        run: &Slot<NODES, BYTES, VALUES>,
+        spare: &mut Slot<NODES, BYTES, VALUES>,
         catalog: &C,
         board: &mut B,
     ) -> Action
@@ -391,7 +399,7 @@ impl Session {
                 }
             }
             Request::Chunk { offset, bytes } => self.chunk(offset, bytes, spare),
-            Request::Commit => self.commit::<C, NODES, BYTES, DEPTH>(spare, catalog),
+            Request::Commit => self.commit::<C, NODES, BYTES, VALUES, DEPTH>(spare, catalog),
             Request::Start { until, period_ms } => {
                 if run.image.is_none() {
                     Reply::Rejected { fault: Fault::NoTree }
@@ -419,9 +427,9 @@ impl Session {
     }
 
     /// Drops a transfer under way or an image waiting for its tick.
-    fn drop_incoming<const NODES: usize, const BYTES: usize>(
+    fn drop_incoming<const NODES: usize, const BYTES: usize, const VALUES: usize>(
         &mut self,
-        spare: &mut Slot<NODES, BYTES>,
+        spare: &mut Slot<NODES, BYTES, VALUES>,
     ) -> Option<Fault> {
         let crc = match self.incoming {
             Incoming::None => return None,
@@ -433,11 +441,11 @@ impl Session {
         Some(Fault::Superseded { crc })
     }
 
-    fn chunk<const NODES: usize, const BYTES: usize>(
+    fn chunk<const NODES: usize, const BYTES: usize, const VALUES: usize>(
         &mut self,
         offset: u32,
         bytes: &[u8],
-        spare: &mut Slot<NODES, BYTES>,
+        spare: &mut Slot<NODES, BYTES, VALUES>,
     ) -> Reply<'static> {
         let Incoming::Receiving { len, crc, swap_at, received } = self.incoming else {
             return Reply::Rejected { fault: Fault::NoTransfer };
@@ -459,9 +467,9 @@ impl Session {
         Reply::ChunkAck { received }
     }
 
-    fn commit<C, const NODES: usize, const BYTES: usize, const DEPTH: usize>(
+    fn commit<C, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize>(
         &mut self,
-        spare: &mut Slot<NODES, BYTES>,
+        spare: &mut Slot<NODES, BYTES, VALUES>,
         catalog: &C,
     ) -> Reply<'static>
     where

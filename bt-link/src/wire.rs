@@ -358,7 +358,7 @@ impl FrameFault {
 
 /// bt-core's `LoadError::code()` names, indexed by the code [`Fault::Load`] carries.
 /// The last entry stands for a variant a newer bt-core adds.
-pub const LOAD_CODES: [&str; 16] = [
+pub const LOAD_CODES: [&str; 19] = [
     "truncated",
     "bad-magic",
     "unsupported-version",
@@ -367,6 +367,9 @@ pub const LOAD_CODES: [&str; 16] = [
     "too-many-nodes",
     "malformed-node",
     "trailing-bytes",
+    "unknown-section",
+    "malformed-section",
+    "too-many-values",
     "empty-tree",
     "subtree-size-inconsistent",
     "wrong-arity",
@@ -389,14 +392,17 @@ pub fn load_fault(e: &LoadError) -> Fault {
         LoadError::TooManyNodes { .. } => 5,
         LoadError::MalformedNode { .. } => 6,
         LoadError::TrailingBytes { .. } => 7,
-        LoadError::EmptyTree => 8,
-        LoadError::SubtreeSizeInconsistent { .. } => 9,
-        LoadError::WrongArity { .. } => 10,
-        LoadError::DepthOverLimit { .. } => 11,
-        LoadError::UnknownBehavior { .. } => 12,
-        LoadError::WrongLeafKind { .. } => 13,
-        LoadError::BadArgument { .. } => 14,
-        _ => 15,
+        LoadError::UnknownSection { .. } => 8,
+        LoadError::MalformedSection { .. } => 9,
+        LoadError::TooManyValues { .. } => 10,
+        LoadError::EmptyTree => 11,
+        LoadError::SubtreeSizeInconsistent { .. } => 12,
+        LoadError::WrongArity { .. } => 13,
+        LoadError::DepthOverLimit { .. } => 14,
+        LoadError::UnknownBehavior { .. } => 15,
+        LoadError::WrongLeafKind { .. } => 16,
+        LoadError::BadArgument { .. } => 17,
+        _ => 18,
     };
     Fault::Load { code, node: e.node() }
 }

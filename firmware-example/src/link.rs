@@ -36,8 +36,11 @@ pub const DEPTH: usize = crate::control::DEPTH;
 /// three arguments each is 1,108 bytes; the planner's trees take 4-5 bytes a node.
 pub const IMAGE_BYTES: usize = 640;
 
+/// Most entries of a tree's value table (leaves with more than three values).
+pub const VALUES: usize = 32;
+
 /// The controller's two image slots and the running tree's state.
-pub type LinkStorage = Storage<MAX_NODES, IMAGE_BYTES>;
+pub type LinkStorage = Storage<MAX_NODES, IMAGE_BYTES, VALUES>;
 
 /// The plant, the trace, and the record of one tick's leaves and halts.
 struct Controller<'s, S> {
@@ -49,13 +52,13 @@ struct Controller<'s, S> {
 }
 
 impl<S: Sink> BehaviorSet for Controller<'_, S> {
-    fn condition(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let status = self.plant.condition(leaf, ctx);
         let _ = self.ran.push(Ran { node: ctx.node, status });
         status
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let status = self.plant.action(leaf, ctx);
         let _ = self.ran.push(Ran { node: ctx.node, status });
         status
@@ -157,5 +160,5 @@ pub fn serve<B: Board, S: Sink>(storage: &mut LinkStorage, boot: &[u8], board: &
         halted: heapless::Vec::new(),
         line: Line::new(),
     };
-    bt_link::serve::<_, _, _, MAX_NODES, IMAGE_BYTES, DEPTH>(storage, &BEHAVIORS, Some(boot), board, &mut app);
+    bt_link::serve::<_, _, _, MAX_NODES, IMAGE_BYTES, VALUES, DEPTH>(storage, &BEHAVIORS, Some(boot), board, &mut app);
 }

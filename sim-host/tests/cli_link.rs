@@ -62,11 +62,11 @@ impl Board for Tcp {
 struct World;
 
 impl BehaviorSet for World {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         // cube-sphere ids: 2 hand-empty, 4 path-free (see the domain's predicates).
         if matches!(leaf.behavior(), 2 | 4) { Status::Success } else { Status::Failure }
     }
-    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+    fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         Status::Running
     }
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
@@ -99,8 +99,14 @@ fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<
         let (stream, _) = listener.accept().unwrap();
         stream.set_nonblocking(true).unwrap();
         let mut board = Tcp { stream, closed: false, started: Instant::now() };
-        let mut storage = Box::new(Storage::<NODES, 640>::new());
-        bt_link::serve::<_, _, _, NODES, 640, 16>(&mut storage, &catalog(), boot.as_deref(), &mut board, &mut World);
+        let mut storage = Box::new(Storage::<NODES, 640, 32>::new());
+        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(
+            &mut storage,
+            &catalog(),
+            boot.as_deref(),
+            &mut board,
+            &mut World,
+        );
     });
     (addr, handle)
 }

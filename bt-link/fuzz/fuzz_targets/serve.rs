@@ -40,11 +40,11 @@ impl Board for Fuzz<'_> {
 struct World(u8);
 
 impl BehaviorSet for World {
-    fn condition(&mut self, _: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         self.0 = self.0.wrapping_mul(31).wrapping_add(7);
         if self.0 & 1 == 0 { Status::Success } else { Status::Failure }
     }
-    fn action(&mut self, _: &Leaf, _: Context) -> Status {
+    fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
         self.0 = self.0.wrapping_mul(31).wrapping_add(7);
         [Status::Success, Status::Failure, Status::Running][usize::from(self.0 % 3)]
     }
@@ -88,7 +88,7 @@ fuzz_target!(|data: &[u8]| {
         img[..n].to_vec()
     };
     let input = if data.first().is_some_and(|b| b & 1 == 1) { framed(&data[1..]) } else { data.to_vec() };
-    let mut storage = bt_link::Storage::<24, 256>::new();
+    let mut storage = bt_link::Storage::<24, 256, 16>::new();
     let mut board = Fuzz { input: &input, at: 0, reads: 0, clock: 0 };
-    bt_link::serve::<_, _, _, 24, 256, 8>(&mut storage, &SET, Some(&boot), &mut board, &mut World(0));
+    bt_link::serve::<_, _, _, 24, 256, 16, 8>(&mut storage, &SET, Some(&boot), &mut board, &mut World(0));
 });

@@ -10,13 +10,17 @@ use super::*;
 use crate::frame::{Decoder, Feed, MAX_ENCODED, encode, message};
 use crate::wire::FrameFault;
 
-const SET: [BehaviorInfo<'static>; 3] =
-    [BehaviorInfo::condition("ok?", 0), BehaviorInfo::condition("never?", 0), BehaviorInfo::action("work", 1)];
+const SET: [BehaviorInfo<'static>; 4] = [
+    BehaviorInfo::condition("ok?", 0),
+    BehaviorInfo::condition("never?", 0),
+    BehaviorInfo::action("work", 1),
+    BehaviorInfo::action("work4", 4),
+];
 const OK: u16 = 0;
 const NEVER: u16 = 1;
 const WORK: u16 = 2;
 const DEPTH: usize = 8;
-type Store = Storage<16, 256>;
+type Store = Storage<16, 256, 8>;
 
 /// `Sequence[ok?, work(a)]`, or with `second`, `Fallback[never?, work(a), work(b)]`.
 fn image(a: u16, second: Option<u16>, fp: u64) -> Vec<u8> {
@@ -63,10 +67,10 @@ struct Log {
 }
 
 impl BehaviorSet for Log {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         if leaf.behavior() == OK { Status::Success } else { Status::Failure }
     }
-    fn action(&mut self, _leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, _leaf: &Leaf, ctx: Context<'_>) -> Status {
         if ctx.starting {
             self.seen.push(Seen::Start(ctx.node));
         }
@@ -226,7 +230,7 @@ fn run(steps: Vec<Step>) -> (Host, Log) {
     let mut storage = Store::new();
     let mut host = Host::new(steps);
     let mut log = Log::default();
-    serve::<_, _, _, 16, 256, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
+    serve::<_, _, _, 16, 256, 8, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
     (host, log)
 }
 
@@ -361,7 +365,7 @@ fn an_image_that_loads_but_breaks_the_behavior_set_is_refused_at_its_node() {
     let n = bt_core::encode(nodes, fingerprint(&SET), &mut img).unwrap();
     img.truncate(n);
     let host = refused(deploy_image(&img, None));
-    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Load { code: 14, node: Some(2) } }));
+    assert!(host.replies.contains(&Reply::Rejected { fault: Fault::Load { code: 17, node: Some(2) } }));
 }
 
 #[test]
@@ -476,9 +480,43 @@ fn without_a_tree_start_and_read_are_refused_and_a_deploy_brings_one() {
     let mut log = Log::default();
     let mut broken = tree_a();
     broken[0] = b'X';
-    serve::<_, _, _, 16, 256, DEPTH>(&mut storage, &SET, Some(&broken), &mut host, &mut log);
+    serve::<_, _, _, 16, 256, 8, DEPTH>(&mut storage, &SET, Some(&broken), &mut host, &mut log);
     assert_eq!(host.rejections(), ["no-tree", "no-tree"]);
     assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&b)), Seen::Start(2)]);
+}
+
+/// `Sequence[ok?, work4(1, 2, 3, 4)]`: a leaf whose values live in the value table.
+fn tree_with_values() -> Vec<u8> {
+    use bt_core::{NodeKind, image::ImageParts};
+    let nodes = [
+        Node::new(NodeKind::Sequence, 3),
+        Node::new(NodeKind::Condition(Leaf::new(OK)), 1),
+        Node::new(NodeKind::Action(Leaf::extended(3, 0, 4).unwrap()), 1),
+    ];
+    let parts = ImageParts::new(&nodes).values(&[1, 2, 3, 4]);
+    let mut out = vec![0u8; 128];
+    let n = bt_core::encode_with(&parts, fingerprint(&SET), &mut out).unwrap();
+    out.truncate(n);
+    out
+}
+
+#[test]
+fn an_image_with_a_value_table_swaps_in_with_its_values() {
+    let v = tree_with_values();
+    let mut steps = deploy_image(&v, None);
+    steps.extend([start(2), Step::UntilTick(2)]);
+    let (host, log) = run(steps);
+    assert!(host.replies.contains(&Reply::Accepted { crc: crate::image_crc(&v), nodes: 3, swap_at: None }));
+    assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&v)), Seen::Start(2)]);
+}
+
+#[test]
+fn a_value_table_larger_than_the_slot_is_refused() {
+    let v = tree_with_values();
+    let mut storage = Storage::<16, 256, 2>::new();
+    let mut host = Host::new(deploy_image(&v, None));
+    serve::<_, _, _, 16, 256, 2, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut Log::default());
+    assert_eq!(host.rejections(), ["too-many-values"]);
 }
 
 proptest::proptest! {

@@ -82,7 +82,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             let local = super::catalogs::by_fingerprint(header.fingerprint)
                 .and_then(|k| {
                     let mut nodes = vec![bt_core::Node::EMPTY; usize::from(header.node_count)];
-                    bt_core::load::<_, 64>(&image, k.catalog.as_ref(), &mut nodes).err()
+                    let mut values = vec![0u16; image.len()];
+                    bt_core::load_with::<_, 64>(&image, k.catalog.as_ref(), &mut nodes, &mut values).err()
                 })
                 .map(|e| format!(" ({e})"))
                 .unwrap_or_default();

@@ -5,7 +5,7 @@ use std::io::{IsTerminal as _, Write};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context as _, bail};
+use anyhow::bail;
 use bt_core::{Catalog, Node, NodeKind, NodeStatus, Tree};
 use bt_link::Reply;
 use bt_link::host::Client;
@@ -51,6 +51,7 @@ pub struct Args {
 /// The tree the controller runs, with live statuses.
 struct Live {
     nodes: Vec<Node>,
+    values: Vec<u16>,
     status: Vec<NodeStatus>,
     catalog: Box<dyn Catalog>,
     crc: u32,
@@ -59,15 +60,19 @@ struct Live {
 impl Live {
     fn read(link: &mut Client<Box<dyn Io>>, name: &str, fingerprint: u64) -> anyhow::Result<Self> {
         let image = link.read_image(&mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        let known = catalogs::by_fingerprint(fingerprint).with_context(|| {
-            format!("{name}: the controller runs behavior set {fingerprint:#018x}, which this binary does not know")
-        })?;
-        let mut nodes = vec![Node::EMPTY; bt_core::image::read_header(&image).map_or(0, |h| usize::from(h.node_count))];
-        let tree: Tree<'_, DEPTH> = bt_core::load(&image, known.catalog.as_ref(), &mut nodes)
+        // Names from the image's names section when it has one, else from the known
+        // behavior set with this fingerprint.
+        let (known, header) = catalogs::for_image(std::path::Path::new(name), &image)?;
+        if header.fingerprint != fingerprint {
+            bail!("{name}: the image read back is for behavior set {:#018x}", header.fingerprint);
+        }
+        let mut nodes = vec![Node::EMPTY; usize::from(header.node_count)];
+        let mut values = vec![0u16; image.len()];
+        let tree: Tree<'_, DEPTH> = bt_core::load_with(&image, known.catalog.as_ref(), &mut nodes, &mut values)
             .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
-        let nodes = tree.nodes().to_vec();
+        let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
         let status = vec![NodeStatus::Idle; nodes.len()];
-        Ok(Self { nodes, status, catalog: known.catalog, crc: bt_link::image_crc(&image) })
+        Ok(Self { nodes, values, status, catalog: known.catalog, crc: bt_link::image_crc(&image) })
     }
 
     /// Lines of the py_trees-style view with status marks.
@@ -84,7 +89,11 @@ impl Live {
                 Some(NodeStatus::Running) => " [*]",
                 _ => "",
             };
-            out.push(format!("{}{}{mark}", "    ".repeat(ends.len()), Label(self.catalog.as_ref(), node.kind())));
+            out.push(format!(
+                "{}{}{mark}",
+                "    ".repeat(ends.len()),
+                Label(self.catalog.as_ref(), node.kind(), &self.values)
+            ));
             if !matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
                 ends.push(i + usize::from(node.size()));
             }
@@ -93,11 +102,11 @@ impl Live {
     }
 }
 
-struct Label<'a>(&'a dyn Catalog, &'a NodeKind);
+struct Label<'a>(&'a dyn Catalog, &'a NodeKind, &'a [u16]);
 
 impl fmt::Display for Label<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        bt_core::render::write_label(f, self.0, self.1)
+        bt_core::render::write_label(f, self.0, self.1, self.2)
     }
 }
 
