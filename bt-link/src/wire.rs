@@ -358,7 +358,7 @@ impl FrameFault {
 
 /// bt-core's `LoadError::code()` names, indexed by the code [`Fault::Load`] carries.
 /// The last entry stands for a variant a newer bt-core adds.
-pub const LOAD_CODES: [&str; 19] = [
+pub const LOAD_CODES: [&str; 20] = [
     "truncated",
     "bad-magic",
     "unsupported-version",
@@ -377,6 +377,7 @@ pub const LOAD_CODES: [&str; 19] = [
     "unknown-behavior",
     "wrong-leaf-kind",
     "bad-argument",
+    "bad-port",
     "other",
 ];
 
@@ -402,7 +403,8 @@ pub fn load_fault(e: &LoadError) -> Fault {
         LoadError::UnknownBehavior { .. } => 15,
         LoadError::WrongLeafKind { .. } => 16,
         LoadError::BadArgument { .. } => 17,
-        _ => 18,
+        LoadError::BadPort { .. } => 18,
+        _ => 19,
     };
     Fault::Load { code, node: e.node() }
 }
