@@ -190,6 +190,56 @@ fn monitor_prints_a_line_per_tick_and_records_the_session() {
 }
 
 #[test]
+fn monitor_records_a_groot2_replay_log_of_the_status_stream() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, image) = cube_image(dir.path());
+    let (addr, handle) = controller::<64>(Some(image));
+    let (trace, log) = (dir.path().join("run.txt"), dir.path().join("run.btlog"));
+    let out = sim_host(&[
+        "monitor",
+        "--tcp",
+        &addr,
+        "--start",
+        "--period",
+        "20",
+        "--ticks",
+        "3",
+        "--trace",
+        trace.to_str().unwrap(),
+        "--btlog",
+        log.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("btlog ") && text.contains("run.btlog"), "{text}");
+    handle.join().unwrap();
+    let log = btcpp::btlog::Log::parse(&std::fs::read(&log).unwrap()).unwrap();
+    assert!(log.xml.contains("<BehaviorTree ID=\"MainTree\"") && log.xml.contains("_uid=\"1\""), "{}", log.xml);
+    // Every status change of the trace is a transition, in the same order, at tick × 20 ms;
+    // bt-core node n is BehaviorTree.CPP's uid n + 1 in a tree without SubTree nodes.
+    let recorded = std::fs::read_to_string(&trace).unwrap();
+    let expected: Vec<(u64, u16, u8)> = recorded
+        .lines()
+        .filter_map(|l| l.strip_prefix("status "))
+        .map(|l| {
+            let w: Vec<&str> = l.split(' ').collect();
+            let tick: u64 = w[0].parse().unwrap();
+            let node: u16 = w[1].parse().unwrap();
+            let s = match w[2] {
+                "IDLE" => 0,
+                "RUNNING" => 1,
+                "SUCCESS" => 2,
+                "FAILURE" => 3,
+                other => panic!("status {other}"),
+            };
+            (tick * 20_000, node + 1, s)
+        })
+        .collect();
+    assert!(!expected.is_empty(), "{recorded}");
+    assert_eq!(log.transitions, expected);
+}
+
+#[test]
 fn an_unreachable_controller_is_one_line_and_exit_2() {
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = listener.local_addr().unwrap().to_string();

@@ -2,13 +2,15 @@
 
 use std::fmt;
 use std::io::{IsTerminal as _, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
 use bt_core::{Catalog, Node, NodeKind, NodeStatus, Tree};
 use bt_link::Reply;
 use bt_link::host::Client;
+use btcpp::btlog::replay::status as btlog_status;
+use btcpp::btlog::{LogTree, LogWriter};
 use crossterm::{cursor, terminal};
 
 use super::link::{self, Io, Line, Target};
@@ -25,7 +27,11 @@ const DEPTH: usize = 64;
     `inspect`), one line per tick otherwise. A deployment swapping in a new tree is \
     followed: the new tree is read and drawn.\n\n\
     --trace FILE records the session, one line per status change, tick and swap; the \
-    file is written when the session ends (--ticks, or the link closing).",
+    file is written when the session ends (--ticks, or the link closing).\n\n\
+    --btlog FILE.btlog records it as a Groot2 replay log (BehaviorTree.CPP's FileLogger2 \
+    format): the tree as Groot2 numbers it, then every status change the controller \
+    reported, back to Idle included, at tick × --period on the log's clock. A log holds \
+    one tree, so each tree swapped in gets its own file: FILE-2.btlog, FILE-3.btlog, ...",
     after_help = "Examples:\n  sim-host monitor --tcp 127.0.0.1:4321 --start          # QEMU\n  \
     sim-host monitor --port /dev/ttyACM0 --ticks 600 --trace run.txt"
 )]
@@ -46,6 +52,9 @@ pub struct Args {
     /// Record the session as a plain trace file.
     #[arg(long, value_name = "FILE")]
     pub trace: Option<PathBuf>,
+    /// Record the session as a Groot2 replay log (one file per tree; see above).
+    #[arg(long, value_name = "FILE.btlog")]
+    pub btlog: Option<PathBuf>,
 }
 
 /// The tree the controller runs, with live statuses.
@@ -54,6 +63,7 @@ struct Live {
     values: Vec<u16>,
     status: Vec<NodeStatus>,
     catalog: Box<dyn Catalog>,
+    ports: Option<Box<dyn btcpp::xml::Ports>>,
     crc: u32,
 }
 
@@ -62,7 +72,7 @@ impl Live {
         let image = link.read_image(&mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         // Names from the image's names section when it has one, else from the known
         // behavior set with this fingerprint.
-        let (known, header) = catalogs::for_image(std::path::Path::new(name), &image)?;
+        let (known, header) = catalogs::for_image(Path::new(name), &image)?;
         if header.fingerprint != fingerprint {
             bail!("{name}: the image read back is for behavior set {:#018x}", header.fingerprint);
         }
@@ -72,7 +82,24 @@ impl Live {
             .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
         let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
         let status = vec![NodeStatus::Idle; nodes.len()];
-        Ok(Self { nodes, values, status, catalog: known.catalog, crc: bt_link::image_crc(&image) })
+        Ok(Self { nodes, values, status, catalog: known.catalog, ports: known.ports, crc: bt_link::image_crc(&image) })
+    }
+
+    /// A Groot2 replay log of this tree, its clock starting at `usec`.
+    fn log(&self, usec: i64) -> anyhow::Result<Groot> {
+        let ports: &dyn btcpp::xml::Ports = match &self.ports {
+            Some(p) => p.as_ref(),
+            None => &btcpp::xml::NoPorts,
+        };
+        let tree = LogTree::new(&self.nodes, self.catalog.as_ref(), ports)
+            .map_err(|e| anyhow::anyhow!("--btlog: image {:08x}: {e}; record it with --trace instead", self.crc))?;
+        let mut uid = vec![None; self.nodes.len()];
+        for n in &tree.nodes {
+            if let Some(slot) = n.core.and_then(|c| uid.get_mut(c)) {
+                *slot = Some(n.uid);
+            }
+        }
+        Ok(Groot { writer: LogWriter::new(&tree, usec), uid })
     }
 
     /// Lines of the py_trees-style view with status marks.
@@ -102,6 +129,40 @@ impl Live {
     }
 }
 
+/// A Groot2 replay log being recorded.
+struct Groot {
+    writer: LogWriter,
+    /// BehaviorTree.CPP's uid of each bt-core node.
+    uid: Vec<Option<u16>>,
+}
+
+impl Groot {
+    fn change(&mut self, usec: i64, node: u16, status: NodeStatus) {
+        if let Some(&Some(uid)) = self.uid.get(usize::from(node)) {
+            let s = match status {
+                NodeStatus::Idle => btlog_status::IDLE,
+                NodeStatus::Running => btlog_status::RUNNING,
+                NodeStatus::Success => btlog_status::SUCCESS,
+                NodeStatus::Failure => btlog_status::FAILURE,
+            };
+            self.writer.transition(usec, uid, s);
+        }
+    }
+}
+
+/// The file of the `n`th tree's log (from 1): `run.btlog`, `run-2.btlog`, ...
+fn numbered(path: &Path, n: u32) -> PathBuf {
+    if n <= 1 {
+        return path.to_path_buf();
+    }
+    let stem = path.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let name = match path.extension() {
+        Some(ext) => format!("{stem}-{n}.{}", ext.to_string_lossy()),
+        None => format!("{stem}-{n}"),
+    };
+    path.with_file_name(name)
+}
+
 struct Label<'a>(&'a dyn Catalog, &'a NodeKind, &'a [u16]);
 
 impl fmt::Display for Label<'_> {
@@ -126,6 +187,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bail!("{name}: the controller runs no tree; deploy one first");
     }
     let mut live = Live::read(&mut link, &name, info.fingerprint)?;
+    // Microseconds on the log's clock at tick `t`.
+    let usec = |t: u32| i64::from(t) * i64::from(args.period) * 1000;
+    let mut groot = match &args.btlog {
+        Some(_) => Some(live.log(0)?),
+        None => None,
+    };
+    let mut logs_written: u32 = 0;
     let mut out = std::io::stdout().lock();
     let tty = std::io::stdout().is_terminal();
     let mut trace = String::new();
@@ -151,6 +219,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                     *s = status;
                 }
                 changes.push((node, status));
+                if let Some(g) = &mut groot {
+                    g.change(usec(tick), node, status);
+                }
                 trace.push_str(&format!("status {tick} {node} {}\n", status.name()));
             }
             Reply::Tick { tick, status, changes: n, micros } => {
@@ -183,6 +254,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             Reply::Swapped { tick, image, halted } => {
                 trace.push_str(&format!("swap {tick} image={:08x} nodes={} halted={halted}\n", image.crc, image.nodes));
                 live = Live::read(&mut link, &name, info.fingerprint)?;
+                if let (Some(path), Some(g)) = (&args.btlog, groot.take()) {
+                    logs_written += 1;
+                    write_log(&mut out, path, logs_written, g)?;
+                    groot = Some(live.log(usec(tick))?);
+                }
                 writeln!(
                     out,
                     "swap before tick {tick}: image {:08x}, {} nodes ({halted} action(s) of the old tree halted)",
@@ -199,5 +275,29 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if let Some(path) = &args.trace {
         output::write_whole(path, trace.as_bytes())?;
     }
+    if let (Some(path), Some(g)) = (&args.btlog, groot) {
+        write_log(&mut out, path, logs_written + 1, g)?;
+    }
     Ok(())
+}
+
+fn write_log(out: &mut impl Write, path: &Path, n: u32, g: Groot) -> anyhow::Result<()> {
+    let file = numbered(path, n);
+    let bytes = g.writer.into_bytes();
+    output::write_whole(&file, &bytes)?;
+    writeln!(out, "btlog {} ({} bytes; open it in Groot2)", file.display(), bytes.len())?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_tree_after_the_first_gets_a_numbered_log() {
+        let p = Path::new("/tmp/logs/run.btlog");
+        assert_eq!(numbered(p, 1), Path::new("/tmp/logs/run.btlog"));
+        assert_eq!(numbered(p, 2), Path::new("/tmp/logs/run-2.btlog"));
+        assert_eq!(numbered(Path::new("session"), 3), Path::new("session-3"));
+    }
 }
