@@ -46,9 +46,10 @@ fn import_writes_the_tree_or_a_located_error_and_nothing() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("Retry(3)") && text.contains("--> Dock(side=left)"), "{text}");
+    assert!(text.ends_with(")\n"), "the view ends its last line: {text:?}");
     let summary = String::from_utf8_lossy(&out.stderr);
     assert!(
-        summary.contains("imported `Main`") && summary.contains("6 nodes, 1 constants, 0 blackboard slots"),
+        summary.contains("imported `Main`") && summary.contains("6 nodes, 1 constant, 0 blackboard slots"),
         "{summary}"
     );
 }

@@ -92,14 +92,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         None => render(args.format, &imported)?,
     };
     let summary = format!(
-        "imported `{}` from {}: {} nodes, {} constants, {} blackboard slots; behavior set {:#018x} ({} behaviors)",
+        "imported `{}` from {}: {}, {}, {}; behavior set {:#018x} ({})",
         imported.main,
         args.tree.display(),
-        imported.nodes.len(),
-        imported.constants.len(),
-        imported.slots.len(),
+        count(imported.nodes.len(), "node"),
+        count(imported.constants.len(), "constant"),
+        count(imported.slots.len(), "blackboard slot"),
         imported.fingerprint,
-        known.as_ref().map_or(imported.catalog.behaviors().len(), |k| k.catalog.len()),
+        count(known.as_ref().map_or(imported.catalog.behaviors().len(), |k| k.catalog.len()), "behavior"),
     );
     match &args.out {
         Some(out) => {
@@ -116,10 +116,23 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
 }
 
+/// `1 node`, `2 nodes`.
+fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
+/// Text that ends its last line (the view has none after its last node).
+fn lines(mut text: String) -> Vec<u8> {
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    text.into_bytes()
+}
+
 fn render(format: Format, imported: &Imported) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
         Format::Image => imported.image()?,
-        Format::Ascii => planner::output::to_ascii(&imported.nodes, imported)?.into_bytes(),
+        Format::Ascii => lines(planner::output::to_ascii(&imported.nodes, imported)?),
         Format::Dot => planner::output::to_dot(&imported.nodes, imported).into_bytes(),
         Format::Xml => imported.to_xml()?.into_bytes(),
         Format::Tokens => {
@@ -138,7 +151,7 @@ fn render_known(format: Format, imported: &Imported, known: &catalogs::Known) ->
     };
     Ok(match format {
         Format::Image => planner::output::to_image(&imported.nodes, catalog)?,
-        Format::Ascii => planner::output::to_ascii(&imported.nodes, catalog)?.into_bytes(),
+        Format::Ascii => lines(planner::output::to_ascii(&imported.nodes, catalog)?),
         Format::Dot => planner::output::to_dot(&imported.nodes, catalog).into_bytes(),
         Format::Xml => planner::output::to_xml(&imported.nodes, catalog, ports)?.into_bytes(),
         Format::Tokens => {
