@@ -5,7 +5,7 @@
 #[non_exhaustive]
 pub enum PlanError {
     /// Grounding would make more atoms or actions than the planner handles.
-    #[error("the problem is too large to ground: {count} {what} (at most {limit})")]
+    #[error("the problem is too large to ground: more than {limit} {what} (stopped at {count})")]
     TooLarge {
         /// Atoms or actions.
         what: &'static str,
@@ -23,6 +23,49 @@ pub enum PlanError {
         arity: usize,
         /// `bt_core::MAX_ARGS`.
         max: usize,
+    },
+    /// An action whose parameters no precondition binds, with too many groundings.
+    #[error("action `{action}` has {count} groundings: its parameters {params} are bound by no precondition")]
+    Unbounded {
+        /// The action.
+        action: String,
+        /// The unbound parameters.
+        params: String,
+        /// How many combinations of objects they take.
+        count: u64,
+    },
+    /// An ADL formula whose compilation has too many alternatives.
+    #[error(
+        "the {what} of `{action}` expands to more than {limit} alternatives (disjunctions or quantifiers); simplify it"
+    )]
+    TooComplex {
+        /// The ground action (or `the goal`).
+        action: String,
+        /// Which formula.
+        what: &'static str,
+        /// The limit.
+        limit: usize,
+    },
+    /// An action cost read from a function that has no value in `:init`.
+    #[error("no value for `{term}` in the problem's :init (an action cost needs it)")]
+    MissingCost {
+        /// The function term.
+        term: String,
+    },
+    /// A goal with a literal and its negation.
+    #[error("the goal is contradictory: it asks for `{atom}` and `not {atom}`")]
+    ContradictoryGoal {
+        /// The atom.
+        atom: String,
+    },
+    /// The goal cannot be reached, for a reason found before searching.
+    #[error("the goal cannot be reached: {0}")]
+    Unsolvable(String),
+    /// A time budget ran out.
+    #[error("the time budget ran out while {stage}")]
+    Timeout {
+        /// What was running.
+        stage: &'static str,
     },
     /// A condition the behavior set has no leaf for.
     #[error("the behavior set has no condition `{condition}`")]

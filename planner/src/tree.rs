@@ -10,6 +10,23 @@ use bt_core::{Node, NodeKind};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding, Lit};
 
+/// Why a leaf could not be made: more arguments than a leaf carries, or none in the
+/// behavior set.
+fn too_many(g: &Grounding, call: Option<(u16, &[u16])>, name: impl Fn() -> String) -> PlanError {
+    match call {
+        Some((behavior, args)) if args.len() > bt_core::MAX_ARGS => {
+            let p = g.problem();
+            let n = p.domain.predicates.len();
+            let what = match usize::from(behavior).checked_sub(n) {
+                None => p.domain.predicates.get(usize::from(behavior)).map(|x| x.name.clone()),
+                Some(t) => p.domain.actions.get(t).map(|x| x.name.clone()),
+            };
+            PlanError::TooManyArgs { name: what.unwrap_or_else(&name), arity: args.len(), max: bt_core::MAX_ARGS }
+        }
+        _ => PlanError::NoLeaf { condition: name() },
+    }
+}
+
 /// Id of a planner node; stable across edits.
 pub type PlanNode = u32;
 const NONE: u32 = u32::MAX;
@@ -206,8 +223,9 @@ impl PlanTree {
                 Kind::Sequence => flat.nodes.push(Node::new(NodeKind::Sequence, s)),
                 Kind::Fallback => flat.nodes.push(Node::new(NodeKind::Fallback, s)),
                 Kind::Condition(l) => {
-                    let leaf =
-                        g.condition_leaf(l.atom).ok_or_else(|| PlanError::NoLeaf { condition: g.lit_name(l) })?;
+                    let leaf = g
+                        .condition_leaf(l.atom)
+                        .ok_or_else(|| too_many(g, g.condition_call(l.atom), || g.lit_name(l)))?;
                     if !l.positive {
                         flat.nodes.push(Node::new(NodeKind::Inverter, 2));
                         flat.of.push(n);
@@ -216,7 +234,7 @@ impl PlanTree {
                     flat.nodes.push(Node::new(NodeKind::Condition(leaf), 1));
                 }
                 Kind::Action(a) => {
-                    let leaf = g.action_leaf(a).ok_or_else(|| PlanError::NoLeaf { condition: g.action_name(a) })?;
+                    let leaf = g.action_leaf(a).ok_or_else(|| too_many(g, g.action_call(a), || g.action_name(a)))?;
                     flat.nodes.push(Node::new(NodeKind::Action(leaf), 1));
                 }
             }

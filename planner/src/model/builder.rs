@@ -1,8 +1,14 @@
 //! Building domains and problems in Rust, with the same checks as PDDL input.
+//!
+//! Names are looked up through hash maps while building, so a domain or problem of
+//! many declarations builds in time linear in its size.
+
+use std::collections::HashMap;
 
 use super::{
-    ActionTemplate, Atom, Domain, Literal, ModelError, OBJECT, Object, ObjectId, Param, Predicate, PredicateId,
-    Problem, TemplateId, TypeDef, TypeId,
+    ActionTemplate, Atom, Condition, CostTerm, Domain, Effect, Function, FunctionId, FunctionValue, Literal,
+    ModelError, OBJECT, Object, ObjectId, Param, Predicate, PredicateId, Problem, TemplateId, Term, TypeDef, TypeId,
+    Var,
 };
 
 /// Builds a [`Domain`].
@@ -22,6 +28,39 @@ use super::{
 #[derive(Debug)]
 pub struct DomainBuilder {
     domain: Domain,
+    names: Names,
+}
+
+/// Name → id maps of a domain under construction.
+#[derive(Debug, Default, Clone)]
+struct Names {
+    types: HashMap<String, TypeId>,
+    predicates: HashMap<String, PredicateId>,
+    actions: HashMap<String, TemplateId>,
+    functions: HashMap<String, FunctionId>,
+    constants: HashMap<String, ObjectId>,
+}
+
+impl Names {
+    fn of(d: &Domain) -> Self {
+        let mut n = Self::default();
+        for (i, t) in d.types.iter().enumerate() {
+            n.types.insert(t.name.clone(), i as TypeId);
+        }
+        for (i, p) in d.predicates.iter().enumerate() {
+            n.predicates.insert(p.name.clone(), i as PredicateId);
+        }
+        for (i, a) in d.actions.iter().enumerate() {
+            n.actions.insert(a.name.clone(), i as TemplateId);
+        }
+        for (i, f) in d.functions.iter().enumerate() {
+            n.functions.insert(f.name.clone(), i as FunctionId);
+        }
+        for (i, c) in d.constants.iter().enumerate() {
+            n.constants.insert(c.name.clone(), i as ObjectId);
+        }
+        n
+    }
 }
 
 /// Adds pre- and postconditions to the action just declared; made by
@@ -29,6 +68,7 @@ pub struct DomainBuilder {
 #[derive(Debug)]
 pub struct ActionBuilder<'d> {
     domain: &'d mut Domain,
+    names: &'d Names,
     action: usize,
 }
 
@@ -36,14 +76,60 @@ pub struct ActionBuilder<'d> {
 #[derive(Debug)]
 pub struct ProblemBuilder {
     problem: Problem,
+    names: Names,
+    objects: HashMap<String, ObjectId>,
+    init: std::collections::HashSet<Atom<ObjectId>>,
+    valued: HashMap<(FunctionId, Vec<ObjectId>), usize>,
 }
 
+/// PDDL's reserved words: never a name of a predicate, action, type or object.
+const RESERVED: &[&str] = &[
+    "and",
+    "or",
+    "not",
+    "imply",
+    "exists",
+    "forall",
+    "when",
+    "either",
+    "define",
+    "increase",
+    "decrease",
+    "assign",
+    "scale-up",
+    "scale-down",
+    "minimize",
+    "maximize",
+    "at",
+    "over",
+    "preference",
+];
+
+/// Checks a name: letters, digits, `-` and `_`, starting with a letter or a digit.
+/// Variables are checked by [`check_variable`]; a `?` anywhere else is refused.
 pub(crate) fn check_name(name: &str) -> Result<String, ModelError> {
-    let lower = name.strip_prefix('?').unwrap_or(name).to_ascii_lowercase();
+    let lower = name.to_ascii_lowercase();
     let mut chars = lower.chars();
-    let ok = chars.next().is_some_and(|c| c.is_ascii_alphabetic())
+    let ok = chars.next().is_some_and(|c| c.is_ascii_alphanumeric())
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
     if ok { Ok(lower) } else { Err(ModelError::BadName { name: name.to_string() }) }
+}
+
+/// Checks a name that declares something (`what`): a valid name, not a reserved word.
+/// `at` is allowed for predicates and objects (domains use `(at ?x ?y)` everywhere;
+/// only a timed `(at end ...)` would make it ambiguous, and this model has no time).
+pub(crate) fn check_declared(name: &str, what: &'static str) -> Result<String, ModelError> {
+    let lower = check_name(name)?;
+    if RESERVED.contains(&lower.as_str()) && lower != "at" && lower != "over" {
+        return Err(ModelError::ReservedName { name: lower, what });
+    }
+    Ok(lower)
+}
+
+/// Checks a variable or parameter name; a leading `?` is optional in the builders, so
+/// `?x` and `x` name the same parameter.
+pub(crate) fn check_variable(name: &str) -> Result<String, ModelError> {
+    check_name(name.strip_prefix('?').unwrap_or(name)).map_err(|_| ModelError::BadName { name: name.to_string() })
 }
 
 fn type_name(domain: &Domain, ty: TypeId) -> String {
@@ -51,7 +137,10 @@ fn type_name(domain: &Domain, ty: TypeId) -> String {
 }
 
 fn unknown_predicate(domain: &Domain, name: &str) -> ModelError {
-    let declared: Vec<&str> = domain.predicates.iter().map(|p| p.name.as_str()).collect();
+    let mut declared: Vec<&str> = domain.predicates.iter().take(20).map(|p| p.name.as_str()).collect();
+    if domain.predicates.len() > 20 {
+        declared.push("...");
+    }
     ModelError::UnknownPredicate {
         name: name.to_string(),
         declared: if declared.is_empty() { "none".into() } else { declared.join(", ") },
@@ -59,8 +148,9 @@ fn unknown_predicate(domain: &Domain, name: &str) -> ModelError {
 }
 
 /// Resolves a predicate by name and checks the argument count.
-fn predicate_for(domain: &Domain, name: &str, args: usize) -> Result<PredicateId, ModelError> {
-    let id = domain.predicate(name).ok_or_else(|| unknown_predicate(domain, &name.to_ascii_lowercase()))?;
+fn predicate_for(domain: &Domain, names: &Names, name: &str, args: usize) -> Result<PredicateId, ModelError> {
+    let lower = name.to_ascii_lowercase();
+    let id = *names.predicates.get(&lower).ok_or_else(|| unknown_predicate(domain, &lower))?;
     let p = &domain.predicates[usize::from(id)];
     if p.params.len() != args {
         return Err(ModelError::WrongArity { predicate: p.name.clone(), expected: p.params.len(), found: args });
@@ -68,25 +158,83 @@ fn predicate_for(domain: &Domain, name: &str, args: usize) -> Result<PredicateId
     Ok(id)
 }
 
-fn params(domain: &Domain, list: &[(&str, &str)]) -> Result<Vec<Param>, ModelError> {
+/// Checks an atom whose arguments have the given types (`(term, type, text)`): the
+/// predicate exists, the count fits, and each argument's type can be the parameter's.
+pub(crate) fn atom_of(
+    domain: &Domain,
+    names: &NamesRef<'_>,
+    predicate: &str,
+    args: &[(Term, TypeId, String)],
+) -> Result<Atom<Term>, ModelError> {
+    let id = predicate_for(domain, names.0, predicate, args.len())?;
+    let pred = &domain.predicates[usize::from(id)];
+    for (pos, ((_, ty, text), want)) in args.iter().zip(&pred.params).enumerate() {
+        if !domain.overlaps(*ty, want.ty) {
+            return Err(ModelError::TypeMismatch {
+                predicate: pred.name.clone(),
+                position: pos + 1,
+                argument: text.clone(),
+                expected: type_name(domain, want.ty),
+                found: type_name(domain, *ty),
+            });
+        }
+    }
+    Ok(Atom { predicate: id, args: args.iter().map(|a| a.0).collect() })
+}
+
+/// The name maps of a domain, for the PDDL reader.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NamesRef<'a>(&'a Names);
+
+impl NamesRef<'_> {
+    pub(crate) fn constant(&self, name: &str) -> Option<ObjectId> {
+        self.0.constants.get(name).copied()
+    }
+    pub(crate) fn function(&self, name: &str) -> Option<FunctionId> {
+        self.0.functions.get(name).copied()
+    }
+    pub(crate) fn type_id(&self, name: &str) -> Option<TypeId> {
+        self.0.types.get(name).copied()
+    }
+}
+
+fn params(domain: &Domain, names: &Names, list: &[(&str, &str)]) -> Result<Vec<Param>, ModelError> {
     let mut out: Vec<Param> = Vec::with_capacity(list.len());
+    let mut seen = std::collections::HashSet::with_capacity(list.len());
     for &(name, ty) in list {
-        let name = check_name(name)?;
-        if out.iter().any(|p| p.name == name) {
+        let name = check_variable(name)?;
+        if !seen.insert(name.clone()) {
             return Err(ModelError::DuplicateParameter { name });
         }
-        let ty = domain.type_id(ty).ok_or_else(|| ModelError::UnknownType { name: ty.to_ascii_lowercase() })?;
+        let lower = ty.to_ascii_lowercase();
+        let ty = *names.types.get(&lower).ok_or(ModelError::UnknownType { name: lower })?;
         out.push(Param { name, ty });
     }
+    let _ = domain;
     Ok(out)
 }
+
+const MAX_BEHAVIORS: usize = u16::MAX as usize;
 
 impl DomainBuilder {
     /// An empty domain (with the type `object` only).
     #[must_use]
     pub fn new(name: &str) -> Self {
-        let types = vec![TypeDef { name: "object".into(), parent: None }];
-        Self { domain: Domain { name: name.to_ascii_lowercase(), types, predicates: Vec::new(), actions: Vec::new() } }
+        let types = vec![TypeDef { name: "object".into(), parent: None, either: Vec::new() }];
+        let domain = Domain {
+            name: name.to_ascii_lowercase(),
+            types,
+            constants: Vec::new(),
+            predicates: Vec::new(),
+            functions: Vec::new(),
+            actions: Vec::new(),
+        };
+        let names = Names::of(&domain);
+        Self { domain, names }
+    }
+
+    pub(crate) fn names(&self) -> NamesRef<'_> {
+        NamesRef(&self.names)
     }
 
     /// Declares `names` as subtypes of `parent` (declared before, or `object`).
@@ -95,32 +243,60 @@ impl DomainBuilder {
     /// [`ModelError::UnknownType`] for an undeclared parent, [`ModelError::DuplicateType`]
     /// for a name declared before, [`ModelError::BadName`].
     pub fn types(&mut self, names: &[&str], parent: &str) -> Result<&mut Self, ModelError> {
-        let parent =
-            self.domain.type_id(parent).ok_or_else(|| ModelError::UnknownType { name: parent.to_ascii_lowercase() })?;
+        let lower = parent.to_ascii_lowercase();
+        let parent = *self.names.types.get(&lower).ok_or(ModelError::UnknownType { name: lower })?;
         for &n in names {
-            let name = check_name(n)?;
-            if self.domain.type_id(&name).is_some() {
+            let name = check_declared(n, "a type")?;
+            if self.names.types.contains_key(&name) {
                 return Err(ModelError::DuplicateType { name });
             }
-            if self.domain.types.len() >= usize::from(u16::MAX) {
-                return Err(ModelError::TooMany { what: "types", max: usize::from(u16::MAX) });
-            }
-            self.domain.types.push(TypeDef { name, parent: Some(parent) });
+            self.push_type(TypeDef { name, parent: Some(parent), either: Vec::new() })?;
         }
         Ok(self)
+    }
+
+    fn push_type(&mut self, t: TypeDef) -> Result<TypeId, ModelError> {
+        let id = TypeId::try_from(self.domain.types.len())
+            .ok()
+            .filter(|&i| i < u16::MAX)
+            .ok_or(ModelError::TooMany { what: "types", max: usize::from(u16::MAX - 1) })?;
+        self.names.types.insert(t.name.clone(), id);
+        self.domain.types.push(t);
+        Ok(id)
     }
 
     /// Declares a type whose parent may be declared later (PDDL allows any order);
     /// [`DomainBuilder::set_parent`] fixes it.
     pub(crate) fn declare_type(&mut self, name: &str) -> Result<TypeId, ModelError> {
-        let name = check_name(name)?;
-        if let Some(id) = self.domain.type_id(&name) {
+        let name = check_declared(name, "a type")?;
+        if let Some(&id) = self.names.types.get(&name) {
             return Ok(id);
         }
-        let id = TypeId::try_from(self.domain.types.len())
-            .map_err(|_| ModelError::TooMany { what: "types", max: usize::from(u16::MAX) })?;
-        self.domain.types.push(TypeDef { name, parent: Some(OBJECT) });
-        Ok(id)
+        self.push_type(TypeDef { name, parent: Some(OBJECT), either: Vec::new() })
+    }
+
+    /// The union type `(either a b ...)` of declared types (made once, then reused).
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownType`].
+    pub fn either(&mut self, members: &[&str]) -> Result<TypeId, ModelError> {
+        let mut ids = Vec::with_capacity(members.len());
+        for m in members {
+            let lower = m.to_ascii_lowercase();
+            let id = *self.names.types.get(&lower).ok_or(ModelError::UnknownType { name: lower })?;
+            if !ids.contains(&id) {
+                ids.push(id);
+            }
+        }
+        if let [one] = ids[..] {
+            return Ok(one);
+        }
+        let name =
+            format!("(either {})", ids.iter().map(|&i| type_name(&self.domain, i)).collect::<Vec<_>>().join(" "));
+        if let Some(&id) = self.names.types.get(&name) {
+            return Ok(id);
+        }
+        self.push_type(TypeDef { name, parent: None, either: ids })
     }
 
     /// Sets the parent of a declared type, refusing cycles.
@@ -134,22 +310,74 @@ impl DomainBuilder {
         Ok(())
     }
 
+    /// Declares constants of type `ty`: objects every problem of the domain has.
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownType`], [`ModelError::DuplicateObject`],
+    /// [`ModelError::BadName`], [`ModelError::TooMany`].
+    pub fn constants(&mut self, names: &[&str], ty: &str) -> Result<&mut Self, ModelError> {
+        let lower = ty.to_ascii_lowercase();
+        let ty = *self.names.types.get(&lower).ok_or(ModelError::UnknownType { name: lower })?;
+        self.constants_of_type(names, ty)?;
+        Ok(self)
+    }
+
+    pub(crate) fn constants_of_type(&mut self, names: &[&str], ty: TypeId) -> Result<(), ModelError> {
+        for &n in names {
+            let name = check_declared(n, "a constant")?;
+            if self.names.constants.contains_key(&name) {
+                return Err(ModelError::DuplicateObject { name });
+            }
+            if self.domain.constants.len() >= usize::from(MAX_OBJECTS) {
+                return Err(ModelError::TooMany { what: "objects", max: usize::from(MAX_OBJECTS) });
+            }
+            self.names.constants.insert(name.clone(), self.domain.constants.len() as ObjectId);
+            self.domain.constants.push(Object { name, ty });
+        }
+        Ok(())
+    }
+
     /// Declares a predicate with typed parameters `(name, type)`.
     ///
     /// # Errors
     /// [`ModelError::DuplicatePredicate`], [`ModelError::DuplicateParameter`],
     /// [`ModelError::UnknownType`], [`ModelError::BadName`].
     pub fn predicate(&mut self, name: &str, list: &[(&str, &str)]) -> Result<&mut Self, ModelError> {
-        let name = check_name(name)?;
-        if self.domain.predicate(&name).is_some() {
+        let name = check_declared(name, "a predicate")?;
+        if self.names.predicates.contains_key(&name) {
             return Err(ModelError::DuplicatePredicate { name });
         }
-        if self.domain.predicates.len() + self.domain.actions.len() >= usize::from(u16::MAX) {
-            return Err(ModelError::TooMany { what: "predicates and actions", max: usize::from(u16::MAX) });
+        if self.domain.predicates.len() + self.domain.actions.len() >= MAX_BEHAVIORS {
+            return Err(ModelError::TooMany { what: "predicates and actions", max: MAX_BEHAVIORS });
         }
-        let params = params(&self.domain, list)?;
+        if list.len() > 255 {
+            return Err(ModelError::TooMany { what: "parameters of a predicate", max: 255 });
+        }
+        let params = params(&self.domain, &self.names, list)?;
+        self.names.predicates.insert(name.clone(), self.domain.predicates.len() as PredicateId);
         self.domain.predicates.push(Predicate { name, params });
         Ok(self)
+    }
+
+    /// Declares a function (`:functions`): `total-cost`, or a static one that action
+    /// costs read.
+    ///
+    /// # Errors
+    /// [`ModelError::DuplicateFunction`], [`ModelError::UnknownType`],
+    /// [`ModelError::BadName`].
+    pub fn function(&mut self, name: &str, list: &[(&str, &str)]) -> Result<FunctionId, ModelError> {
+        let name = check_declared(name, "a function")?;
+        if self.names.functions.contains_key(&name) {
+            return Err(ModelError::DuplicateFunction { name });
+        }
+        if self.domain.functions.len() >= usize::from(u16::MAX) || list.len() > 255 {
+            return Err(ModelError::TooMany { what: "functions", max: usize::from(u16::MAX) });
+        }
+        let params = params(&self.domain, &self.names, list)?;
+        let id = self.domain.functions.len() as FunctionId;
+        self.names.functions.insert(name.clone(), id);
+        self.domain.functions.push(Function { name, params });
+        Ok(id)
     }
 
     /// Declares an action template with typed parameters `(name, type)`; add its
@@ -157,24 +385,36 @@ impl DomainBuilder {
     ///
     /// # Errors
     /// [`ModelError::DuplicateAction`], [`ModelError::DuplicateParameter`],
-    /// [`ModelError::UnknownType`], [`ModelError::BadName`].
+    /// [`ModelError::UnknownType`], [`ModelError::BadName`], [`ModelError::ReservedName`].
     pub fn action(&mut self, name: &str, list: &[(&str, &str)]) -> Result<ActionBuilder<'_>, ModelError> {
-        let name = check_name(name)?;
-        if self.domain.action(&name).is_some() {
+        let name = check_declared(name, "an action")?;
+        if self.names.actions.contains_key(&name) {
             return Err(ModelError::DuplicateAction { name });
         }
-        if self.domain.predicates.len() + self.domain.actions.len() >= usize::from(u16::MAX) || list.len() > 255 {
-            return Err(ModelError::TooMany { what: "predicates and actions", max: usize::from(u16::MAX) });
+        if self.domain.predicates.len() + self.domain.actions.len() >= MAX_BEHAVIORS {
+            return Err(ModelError::TooMany { what: "predicates and actions", max: MAX_BEHAVIORS });
         }
-        let params = params(&self.domain, list)?;
+        if list.len() > 255 {
+            return Err(ModelError::TooManyVariables { action: name });
+        }
+        let params = params(&self.domain, &self.names, list)?;
         let action = self.domain.actions.len();
-        self.domain.actions.push(ActionTemplate { name, params, pre: Vec::new(), effects: Vec::new() });
-        Ok(ActionBuilder { domain: &mut self.domain, action })
+        self.names.actions.insert(name.clone(), action as TemplateId);
+        let vars = params.iter().map(|p| p.ty).collect();
+        self.domain.actions.push(ActionTemplate {
+            name,
+            params,
+            vars,
+            pre: Vec::new(),
+            effects: Vec::new(),
+            cost: Vec::new(),
+        });
+        Ok(ActionBuilder { domain: &mut self.domain, names: &self.names, action })
     }
 
     /// The builder of an action declared before.
     pub(crate) fn action_mut(&mut self, id: TemplateId) -> ActionBuilder<'_> {
-        ActionBuilder { domain: &mut self.domain, action: usize::from(id) }
+        ActionBuilder { domain: &mut self.domain, names: &self.names, action: usize::from(id) }
     }
 
     /// The domain so far.
@@ -196,41 +436,41 @@ impl DomainBuilder {
 }
 
 impl ActionBuilder<'_> {
-    fn literal(&self, positive: bool, predicate: &str, args: &[&str]) -> Result<Literal<u8>, ModelError> {
-        let domain = &*self.domain;
-        let id = predicate_for(domain, predicate, args.len())?;
-        let pred = &domain.predicates[usize::from(id)];
-        let action = &domain.actions[self.action];
-        let mut out = Vec::with_capacity(args.len());
-        for (pos, (&arg, want)) in args.iter().zip(&pred.params).enumerate() {
-            let name = arg.strip_prefix('?').unwrap_or(arg).to_ascii_lowercase();
-            let Some(i) = action.params.iter().position(|p| p.name == name) else {
-                return Err(ModelError::UnknownParameter { name, action: action.name.clone() });
-            };
-            let ty = action.params[i].ty;
-            if !domain.is_subtype(ty, want.ty) {
-                return Err(ModelError::TypeMismatch {
-                    predicate: pred.name.clone(),
-                    position: pos + 1,
-                    argument: format!("?{name}"),
-                    expected: type_name(domain, want.ty),
-                    found: type_name(domain, ty),
-                });
-            }
-            // At most 255 parameters: checked when the action was declared.
-            out.push(i as u8);
-        }
-        Ok(Literal { positive, atom: Atom { predicate: id, args: out } })
+    fn template(&self) -> &ActionTemplate {
+        &self.domain.actions[self.action]
     }
 
-    /// Adds the precondition `predicate(args)` (`args` are parameter names).
+    /// The variable of a parameter name (`?x` or `x`), or a constant.
+    fn term(&self, arg: &str) -> Result<(Term, TypeId, String), ModelError> {
+        let action = self.template();
+        let var = check_variable(arg)?;
+        if let Some(i) = action.params.iter().position(|p| p.name == var) {
+            return Ok((Term::Var(i as u8), action.params[i].ty, format!("?{var}")));
+        }
+        if !arg.starts_with('?')
+            && let Some(c) = self.names.constants.get(&var)
+        {
+            let ty = self.domain.constants[usize::from(*c)].ty;
+            return Ok((Term::Object(*c), ty, var));
+        }
+        Err(ModelError::UnknownParameter { name: var, action: action.name.clone() })
+    }
+
+    fn literal(&self, positive: bool, predicate: &str, args: &[&str]) -> Result<Literal<Term>, ModelError> {
+        let terms = args.iter().map(|a| self.term(a)).collect::<Result<Vec<_>, _>>()?;
+        let atom = atom_of(self.domain, &NamesRef(self.names), predicate, &terms)?;
+        Ok(Literal { positive, atom })
+    }
+
+    /// Adds the precondition `predicate(args)` (`args` are parameter names, with or
+    /// without `?`, or constants).
     ///
     /// # Errors
     /// [`ModelError::UnknownPredicate`], [`ModelError::WrongArity`],
     /// [`ModelError::UnknownParameter`], [`ModelError::TypeMismatch`].
     pub fn pre(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let l = self.literal(true, predicate, args)?;
-        self.domain.actions[self.action].pre.push(l);
+        self.domain.actions[self.action].pre.push(Condition::Literal(l));
         Ok(self)
     }
 
@@ -240,7 +480,7 @@ impl ActionBuilder<'_> {
     /// As [`ActionBuilder::pre`].
     pub fn pre_not(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let l = self.literal(false, predicate, args)?;
-        self.domain.actions[self.action].pre.push(l);
+        self.domain.actions[self.action].pre.push(Condition::Literal(l));
         Ok(self)
     }
 
@@ -249,8 +489,8 @@ impl ActionBuilder<'_> {
     /// # Errors
     /// As [`ActionBuilder::pre`].
     pub fn effect(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
-        let l = self.literal(true, predicate, args)?;
-        self.domain.actions[self.action].effects.push(l);
+        let literal = self.literal(true, predicate, args)?;
+        self.domain.actions[self.action].effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
         Ok(self)
     }
 
@@ -259,25 +499,90 @@ impl ActionBuilder<'_> {
     /// # Errors
     /// As [`ActionBuilder::pre`].
     pub fn effect_not(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
-        let l = self.literal(false, predicate, args)?;
-        self.domain.actions[self.action].effects.push(l);
+        let literal = self.literal(false, predicate, args)?;
+        self.domain.actions[self.action].effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
         Ok(self)
+    }
+
+    /// A new quantified variable of type `ty` for [`Condition::Forall`],
+    /// [`Condition::Exists`] or [`Effect::forall`].
+    ///
+    /// # Errors
+    /// [`ModelError::TooManyVariables`] beyond 255 variables.
+    pub fn var(&mut self, ty: TypeId) -> Result<Var, ModelError> {
+        let a = &mut self.domain.actions[self.action];
+        let index = u8::try_from(a.vars.len()).map_err(|_| ModelError::TooManyVariables { action: a.name.clone() })?;
+        a.vars.push(ty);
+        Ok(Var { index, ty })
+    }
+
+    /// Sets the types of every variable (parameters first), for formulas read with
+    /// their own quantified variables.
+    pub(crate) fn set_vars(&mut self, types: Vec<TypeId>) {
+        self.domain.actions[self.action].vars = types;
+    }
+
+    /// Adds a precondition formula (built with variables of this action; the caller
+    /// checks its atoms, as the PDDL reader does).
+    pub fn condition(&mut self, c: Condition) -> &mut Self {
+        self.domain.actions[self.action].pre.push(c);
+        self
+    }
+
+    /// Adds an effect (possibly quantified or conditional).
+    pub fn effect_item(&mut self, e: Effect) -> &mut Self {
+        self.domain.actions[self.action].effects.push(e);
+        self
+    }
+
+    /// Adds a part of the action's cost.
+    pub fn cost(&mut self, c: CostTerm) -> &mut Self {
+        self.domain.actions[self.action].cost.push(c);
+        self
     }
 }
 
+/// Most objects in a problem (constants included): ids are `u16`, and bt-core leaves
+/// reserve the two highest values.
+pub const MAX_OBJECTS: u16 = u16::MAX - 2;
+
 impl ProblemBuilder {
-    /// An empty problem over `domain`.
+    /// An empty problem over `domain`; the domain's constants are its first objects.
     #[must_use]
     pub fn new(name: &str, domain: &Domain) -> Self {
+        let names = Names::of(domain);
+        let objects = names.constants.clone();
         Self {
             problem: Problem {
                 name: name.to_ascii_lowercase(),
                 domain: domain.clone(),
-                objects: Vec::new(),
+                objects: domain.constants.clone(),
                 init: Vec::new(),
+                functions: Vec::new(),
                 goal: Vec::new(),
+                metric: false,
             },
+            names,
+            objects,
+            init: std::collections::HashSet::new(),
+            valued: HashMap::new(),
         }
+    }
+
+    pub(crate) fn names(&self) -> NamesRef<'_> {
+        NamesRef(&self.names)
+    }
+
+    /// The problem so far.
+    #[must_use]
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    /// The object of a name, if declared (constants included).
+    #[must_use]
+    pub fn object(&self, name: &str) -> Option<ObjectId> {
+        self.objects.get(&name.to_ascii_lowercase()).copied()
     }
 
     /// Declares objects of type `ty`, in order (their indices are leaf arguments).
@@ -285,41 +590,54 @@ impl ProblemBuilder {
     /// # Errors
     /// [`ModelError::UnknownType`], [`ModelError::DuplicateObject`], [`ModelError::BadName`].
     pub fn objects(&mut self, names: &[&str], ty: &str) -> Result<&mut Self, ModelError> {
-        let ty =
-            self.problem.domain.type_id(ty).ok_or_else(|| ModelError::UnknownType { name: ty.to_ascii_lowercase() })?;
+        let lower = ty.to_ascii_lowercase();
+        let ty = *self.names.types.get(&lower).ok_or(ModelError::UnknownType { name: lower })?;
         for &n in names {
-            let name = check_name(n)?;
-            if self.problem.object(&name).is_some() {
-                return Err(ModelError::DuplicateObject { name });
-            }
-            if self.problem.objects.len() >= usize::from(u16::MAX - 1) {
-                return Err(ModelError::TooMany { what: "objects", max: usize::from(u16::MAX - 1) });
-            }
-            self.problem.objects.push(Object { name, ty });
+            self.object_of_type(n, ty)?;
         }
         Ok(self)
     }
 
-    fn atom(&self, predicate: &str, args: &[&str]) -> Result<Atom<ObjectId>, ModelError> {
-        let p = &self.problem;
-        let id = predicate_for(&p.domain, predicate, args.len())?;
-        let pred = &p.domain.predicates[usize::from(id)];
-        let mut out = Vec::with_capacity(args.len());
-        for (pos, (&arg, want)) in args.iter().zip(&pred.params).enumerate() {
-            let o = p.object(arg).ok_or_else(|| ModelError::UnknownObject { name: arg.to_ascii_lowercase() })?;
-            let ty = p.objects[usize::from(o)].ty;
-            if !p.domain.is_subtype(ty, want.ty) {
-                return Err(ModelError::TypeMismatch {
-                    predicate: pred.name.clone(),
-                    position: pos + 1,
-                    argument: p.objects[usize::from(o)].name.clone(),
-                    expected: type_name(&p.domain, want.ty),
-                    found: type_name(&p.domain, ty),
-                });
+    /// Declares one object of type `ty`. A constant of the domain declared again with
+    /// the same name is the same object (as planners read it), if its type fits.
+    pub(crate) fn object_of_type(&mut self, name: &str, ty: TypeId) -> Result<ObjectId, ModelError> {
+        let name = check_declared(name, "an object")?;
+        if let Some(&id) = self.objects.get(&name) {
+            let is_constant = usize::from(id) < self.problem.domain.constants.len();
+            if is_constant && self.problem.objects[usize::from(id)].ty == ty {
+                return Ok(id);
             }
-            out.push(o);
+            return Err(ModelError::DuplicateObject { name });
         }
-        Ok(Atom { predicate: id, args: out })
+        if self.problem.objects.len() >= usize::from(MAX_OBJECTS) {
+            return Err(ModelError::TooMany { what: "objects", max: usize::from(MAX_OBJECTS) });
+        }
+        let id = self.problem.objects.len() as ObjectId;
+        self.objects.insert(name.clone(), id);
+        self.problem.objects.push(Object { name, ty });
+        Ok(id)
+    }
+
+    fn atom(&self, predicate: &str, args: &[&str]) -> Result<Atom<ObjectId>, ModelError> {
+        let mut terms = Vec::with_capacity(args.len());
+        for &arg in args {
+            let lower = arg.to_ascii_lowercase();
+            let o = *self.objects.get(&lower).ok_or(ModelError::UnknownObject { name: lower })?;
+            let obj = &self.problem.objects[usize::from(o)];
+            terms.push((Term::Object(o), obj.ty, obj.name.clone()));
+        }
+        let a = atom_of(&self.problem.domain, &NamesRef(&self.names), predicate, &terms)?;
+        Ok(Atom {
+            predicate: a.predicate,
+            args: a
+                .args
+                .iter()
+                .map(|t| match t {
+                    Term::Object(o) => *o,
+                    Term::Var(_) => 0,
+                })
+                .collect(),
+        })
     }
 
     /// Makes `predicate(objects)` true in the initial state.
@@ -329,10 +647,15 @@ impl ProblemBuilder {
     /// [`ModelError::UnknownObject`], [`ModelError::TypeMismatch`].
     pub fn init(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let a = self.atom(predicate, args)?;
-        if !self.problem.init.contains(&a) {
+        self.init_atom(a);
+        Ok(self)
+    }
+
+    /// Adds a checked atom to the initial state (once).
+    pub(crate) fn init_atom(&mut self, a: Atom<ObjectId>) {
+        if self.init.insert(a.clone()) {
             self.problem.init.push(a);
         }
-        Ok(self)
     }
 
     /// Adds the goal condition `predicate(objects)`.
@@ -341,7 +664,8 @@ impl ProblemBuilder {
     /// As [`ProblemBuilder::init`].
     pub fn goal(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let atom = self.atom(predicate, args)?;
-        self.problem.goal.push(Literal { positive: true, atom });
+        let atom = Atom { predicate: atom.predicate, args: atom.args.into_iter().map(Term::Object).collect() };
+        self.problem.goal.push(Condition::Literal(Literal { positive: true, atom }));
         Ok(self)
     }
 
@@ -351,8 +675,34 @@ impl ProblemBuilder {
     /// As [`ProblemBuilder::init`].
     pub fn goal_not(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let atom = self.atom(predicate, args)?;
-        self.problem.goal.push(Literal { positive: false, atom });
+        let atom = Atom { predicate: atom.predicate, args: atom.args.into_iter().map(Term::Object).collect() };
+        self.problem.goal.push(Condition::Literal(Literal { positive: false, atom }));
         Ok(self)
+    }
+
+    /// Adds a goal formula (over objects and its own quantified variables).
+    pub fn goal_condition(&mut self, c: Condition) -> &mut Self {
+        self.problem.goal.push(c);
+        self
+    }
+
+    /// Sets `(= (function args...) value)` in the initial state.
+    ///
+    /// # Errors
+    /// [`ModelError::DuplicateFunction`] when the term was valued before.
+    pub fn function_value(&mut self, function: FunctionId, args: Vec<ObjectId>, value: u32) -> Result<(), ModelError> {
+        let name = self.problem.domain.functions.get(usize::from(function)).map_or("?", |f| f.name.as_str());
+        if self.valued.insert((function, args.clone()), self.problem.functions.len()).is_some() {
+            return Err(ModelError::DuplicateFunction { name: name.to_string() });
+        }
+        self.problem.functions.push(FunctionValue { function, args, value });
+        Ok(())
+    }
+
+    /// Asks to minimize `total-cost` (`(:metric minimize (total-cost))`).
+    pub fn minimize_total_cost(&mut self) -> &mut Self {
+        self.problem.metric = true;
+        self
     }
 
     /// Checks that there is a goal and returns the problem.
@@ -360,7 +710,8 @@ impl ProblemBuilder {
     /// # Errors
     /// [`ModelError::EmptyGoal`].
     pub fn build(self) -> Result<Problem, ModelError> {
-        if self.problem.goal.is_empty() {
+        let empty = self.problem.goal.iter().all(|c| matches!(c, Condition::And(v) if v.is_empty()));
+        if empty {
             return Err(ModelError::EmptyGoal);
         }
         Ok(self.problem)

@@ -107,11 +107,50 @@ pub enum ModelError {
         /// The domain's name.
         domain: String,
     },
-    /// A name that is not a PDDL name (letters, digits, `-` and `_`, starting with a letter).
-    #[error("`{name}` is not a valid name (letters, digits, `-`, `_`; starting with a letter)")]
+    /// A name that is not a PDDL name (letters, digits, `-` and `_`, starting with a
+    /// letter or digit; a `?` only at the start of a variable).
+    #[error("`{name}` is not a valid name (letters, digits, `-`, `_`, starting with a letter or digit)")]
     BadName {
         /// The name.
         name: String,
+    },
+    /// A word PDDL reserves (`and`, `not`, `forall`, ...) used as a name.
+    #[error("`{name}` is a reserved word of PDDL and cannot name {what}")]
+    ReservedName {
+        /// The name.
+        name: String,
+        /// What it was to name.
+        what: &'static str,
+    },
+    /// A function that was not declared in `:functions`.
+    #[error("unknown function `{name}`")]
+    UnknownFunction {
+        /// The name used.
+        name: String,
+    },
+    /// A function declared twice, or two values for one function term.
+    #[error("function `{name}` declared or valued twice")]
+    DuplicateFunction {
+        /// The name.
+        name: String,
+    },
+    /// An argument whose type cannot be the parameter's (the types share no object).
+    #[error("`{argument}` is a `{found}`, which can never be a `{expected}` ({what})")]
+    Incompatible {
+        /// The argument.
+        argument: String,
+        /// Its type.
+        found: String,
+        /// The type wanted.
+        expected: String,
+        /// Where: the function or equality.
+        what: String,
+    },
+    /// More variables in one action than the model numbers (255).
+    #[error("action `{action}` has more than 255 parameters and quantified variables")]
+    TooManyVariables {
+        /// The action.
+        action: String,
     },
     /// Too many declarations for 16-bit ids.
     #[error("too many {what} (at most {max})")]

@@ -1,5 +1,6 @@
-//! PDDL input: STRIPS with `:typing` and `:negative-preconditions`, domain and problem
-//! files.
+//! PDDL input: domain and problem files of classical planning — STRIPS with typing,
+//! negative preconditions, equality, constants, `either` types, action costs and the
+//! ADL constructs (`or`, `imply`, `forall`, `exists`, `when`).
 //!
 //! A small reader of our own (no PDDL crate reports positions the way we need): a
 //! tokenizer that builds the parenthesised structure without recursion and refuses
@@ -7,11 +8,20 @@
 //! [`model`](crate::model) with the same checks as the Rust builders. Every error names
 //! the file, line and column and what was expected; no input makes it panic.
 //!
-//! Supported: `(:requirements :strips :typing :negative-preconditions)`, `(:types ...)`
-//! with parents in any order, `(:predicates ...)`, `(:action ... :parameters
-//! :precondition :effect)` with conjunctions of literals, and problems with `(:domain)`,
-//! `(:objects)`, `(:init)` and `(:goal)`. Everything else (constants, equality,
-//! quantifiers, conditional effects, numbers, ...) is refused by name.
+//! Conditions are read into negation normal form (`not` pushed down to the literals);
+//! grounding compiles the ADL constructs away ([`crate::ground`]). Action costs are
+//! `(increase (total-cost) N)` or `(increase (total-cost) (f args...))` with static
+//! functions valued in the problem's `:init`, and `(:metric minimize (total-cost))`.
+//!
+//! Refused, each by name with its position: numeric fluents other than action costs,
+//! durative actions, derived predicates (`:derived`), timed initial literals,
+//! preferences and constraints.
+//!
+//! Accepted with a [`PddlWarning`], as other planners read them: a construct used
+//! without its `:requirements` entry, a parameter repeated in a predicate declaration,
+//! and an old `(:length ...)` section in a problem. A UTF-8 byte-order mark, any line
+//! ending, `(aircraft?a)` without a space and names that start with a digit are simply
+//! read.
 //!
 //! ```
 //! let domain = planner::pddl::parse_domain("d.pddl", "(define (domain d) (:predicates (p)) \
@@ -28,7 +38,7 @@
 mod read;
 mod sexp;
 
-pub use sexp::MAX_DEPTH;
+pub use sexp::{MAX_BEHAVIORS, MAX_DEPTH, MAX_OBJECTS};
 
 use crate::model::{Domain, ModelError, Problem};
 
@@ -84,17 +94,22 @@ pub enum ErrorKind {
         found: String,
     },
     /// A requirement this reader does not implement.
-    #[error("unsupported requirement `{0}` (supported: :strips :typing :negative-preconditions)")]
+    #[error("unsupported requirement `{0}` (this reader takes classical STRIPS and ADL with action costs)")]
     UnsupportedRequirement(String),
-    /// A construct outside STRIPS with typing and negative preconditions.
-    #[error("`{0}` is not supported: this reader takes STRIPS with :typing and :negative-preconditions")]
+    /// A construct outside classical STRIPS and ADL with action costs.
+    #[error("`{0}` is not supported (this reader takes classical STRIPS and ADL with action costs)")]
     Unsupported(String),
-    /// A negative precondition or goal without the requirement.
-    #[error("negative conditions need `:negative-preconditions` in the domain's :requirements")]
-    NegativeNeedsRequirement,
-    /// Types used without the requirement.
-    #[error("types need `:typing` in the domain's :requirements")]
-    TypingNeedsRequirement,
+    /// More declarations than ids exist for.
+    #[error("more than {limit} {what}")]
+    TooMany {
+        /// What is counted.
+        what: &'static str,
+        /// The limit.
+        limit: usize,
+    },
+    /// A number that is not a non-negative integer where one is needed.
+    #[error("`{0}` is not a cost this reader takes (a whole number from 0 to 4294967295)")]
+    BadNumber(String),
     /// A section or key given twice.
     #[error("`{0}` given twice")]
     Duplicate(String),
@@ -106,22 +121,60 @@ pub enum ErrorKind {
     Model(ModelError),
 }
 
-/// Reads a domain file; `file` names it in errors.
+/// Something a file does that other planners accept but that is not quite PDDL.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{file}:{}:{}: warning: {message}", pos.line, pos.column)]
+pub struct PddlWarning {
+    /// The file.
+    pub file: String,
+    /// Where.
+    pub pos: Pos,
+    /// What.
+    pub message: String,
+}
+
+/// Reads a domain file; `file` names it in errors. Warnings are dropped; see
+/// [`read_domain`].
 ///
 /// # Errors
 /// The first fault, as a [`PddlError`].
 pub fn parse_domain(file: &str, text: &str) -> Result<Domain, PddlError> {
-    let at = |(pos, kind)| PddlError { file: file.to_string(), pos, kind: Box::new(kind) };
-    let sexp = sexp::read(text).map_err(at)?;
-    read::domain(&sexp).map_err(at)
+    read_domain(file, text).map(|(d, _)| d)
 }
 
-/// Reads a problem file over `domain`; `file` names it in errors.
+/// Reads a problem file over `domain`; `file` names it in errors. Warnings are
+/// dropped; see [`read_problem`].
 ///
 /// # Errors
 /// The first fault, as a [`PddlError`].
 pub fn parse_problem(file: &str, text: &str, domain: &Domain) -> Result<Problem, PddlError> {
+    read_problem(file, text, domain).map(|(p, _)| p)
+}
+
+fn warnings(file: &str, list: Vec<(Pos, String)>) -> Vec<PddlWarning> {
+    list.into_iter().map(|(pos, message)| PddlWarning { file: file.to_string(), pos, message }).collect()
+}
+
+/// Reads a domain file, with the warnings it gave.
+///
+/// # Errors
+/// The first fault, as a [`PddlError`].
+pub fn read_domain(file: &str, text: &str) -> Result<(Domain, Vec<PddlWarning>), PddlError> {
     let at = |(pos, kind)| PddlError { file: file.to_string(), pos, kind: Box::new(kind) };
     let sexp = sexp::read(text).map_err(at)?;
-    read::problem(&sexp, domain).map_err(at)
+    let mut w = Vec::new();
+    let d = read::domain(&sexp, &mut w).map_err(at)?;
+    Ok((d, warnings(file, w)))
+}
+
+/// Reads a problem file over `domain`, with the warnings it gave.
+///
+/// # Errors
+/// The first fault, as a [`PddlError`].
+pub fn read_problem(file: &str, text: &str, domain: &Domain) -> Result<(Problem, Vec<PddlWarning>), PddlError> {
+    let at = |(pos, kind)| PddlError { file: file.to_string(), pos, kind: Box::new(kind) };
+    let sexp = sexp::read(text).map_err(at)?;
+    let mut w = Vec::new();
+    let p = read::problem(&sexp, domain, &mut w).map_err(at)?;
+    Ok((p, warnings(file, w)))
 }

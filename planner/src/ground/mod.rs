@@ -1,0 +1,753 @@
+//! Grounding — the paper's action refinement over a finite set of typed objects.
+//!
+//! Grounding is by reachability: starting from the initial state, an action template
+//! is instantiated only with objects that make its preconditions reachable in the
+//! delete relaxation, and an atom exists only if the initial state has it or a
+//! reachable action makes it true (or the goal names it). Memory and time follow the
+//! reachable part of the problem, not the product of the object counts; [`Limits`]
+//! bounds both, and the error says which limit was hit.
+//!
+//! Predicates that no action changes are *static*: static preconditions are checked
+//! while grounding and left out of the ground actions (and so out of every tree).
+//! Each ground action keeps its other preconditions in the order written, its add and
+//! delete lists, its conditional effects and its cost.
+//!
+//! ADL is compiled away: a precondition with `or`, `imply`, `forall` or `exists` is
+//! expanded over the objects and brought into disjunctive normal form, after static
+//! atoms are replaced by their truth; each alternative becomes a ground action of its
+//! own (same template, same arguments, same leaf). `when` effects become conditional
+//! effects of the ground action. A formula with more alternatives than
+//! [`Limits::alternatives`] is refused, naming the action.
+//!
+//! A grounding also knows the bt-core leaves of its atoms and actions: by default the
+//! PDDL contract (behavior ids are the predicates in declaration order, then the
+//! actions; leaf arguments are object indices), or a custom [`Vocabulary`] (the brick
+//! tasks), in which case actions and conditions without a leaf are dropped.
+
+mod action;
+mod formula;
+mod reach;
+mod tables;
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use bt_core::Leaf;
+
+pub use action::{ActionId, AtomId, CondEffect, GroundAction, Lit};
+
+use crate::PlanError;
+use crate::model::{Atom, Condition, CostTerm, ObjectId, PredicateId, Problem, TemplateId, Term};
+use crate::state::State;
+use formula::{Dnf, Eval};
+use tables::{Objects, UNBOUND, key_into};
+
+/// Bounds on grounding, so that a large problem is refused instead of exhausting
+/// memory or time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Most ground atoms.
+    pub atoms: usize,
+    /// Most ground actions.
+    pub actions: usize,
+    /// Most alternatives one ADL formula may expand to.
+    pub alternatives: usize,
+    /// Give up at this instant.
+    pub deadline: Option<Instant>,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self { atoms: 1 << 23, actions: 1 << 22, alternatives: 256, deadline: None }
+    }
+}
+
+/// Names a problem's atoms and actions as bt-core leaves, for behavior sets that do
+/// not follow the PDDL contract (e.g. the brick tasks of [`crate::duplo`]).
+pub trait Vocabulary {
+    /// The condition leaf of an atom, if the behavior set has one.
+    fn condition(&self, problem: &Problem, atom: &Atom<ObjectId>) -> Option<Leaf>;
+    /// The action leaf of a grounding of `template`, if the behavior set has one.
+    fn action(&self, problem: &Problem, template: TemplateId, args: &[ObjectId]) -> Option<Leaf>;
+}
+
+/// What a leaf stands for under a custom vocabulary.
+#[derive(Clone, Debug)]
+enum Target {
+    Condition(AtomId),
+    Actions(Vec<ActionId>),
+}
+
+#[derive(Clone, Debug)]
+enum Leaves {
+    /// The PDDL contract: computed, no tables.
+    Pddl,
+    /// A custom vocabulary: tables both ways.
+    Table { atom_leaf: HashMap<AtomId, Leaf>, action_leaf: Vec<Leaf>, by_leaf: HashMap<Leaf, Target> },
+}
+
+/// A problem grounded into atoms and actions, with their bt-core leaves.
+#[derive(Clone, Debug)]
+pub struct Grounding {
+    problem: Problem,
+    statics: Vec<bool>,
+    /// Per atom, its key `[predicate, args...]`; atoms are sorted by key.
+    keys: Vec<Box<[u16]>>,
+    atom_index: HashMap<Box<[u16]>, AtomId>,
+    init: State,
+    actions: Vec<GroundAction>,
+    /// `[template, args...]` → the ground actions of that leaf.
+    action_index: HashMap<Box<[u16]>, Vec<ActionId>>,
+    /// Per literal index: the actions achieving it, in template then grounding order.
+    achievers: Vec<Vec<ActionId>>,
+    goal: Vec<Lit>,
+    leaves: Leaves,
+    unit_cost: bool,
+}
+
+impl Grounding {
+    /// Grounds `problem` with the PDDL leaf contract and the default [`Limits`].
+    ///
+    /// # Errors
+    /// [`PlanError::TooLarge`], [`PlanError::Unbounded`], [`PlanError::TooComplex`],
+    /// [`PlanError::MissingCost`], [`PlanError::ContradictoryGoal`],
+    /// [`PlanError::Unsolvable`] (a goal atom no action reaches).
+    pub fn new(problem: &Problem) -> Result<Self, PlanError> {
+        Self::with_limits(problem, &Limits::default())
+    }
+
+    /// Grounds `problem` within `limits`.
+    ///
+    /// # Errors
+    /// As [`Grounding::new`], and [`PlanError::Timeout`] past the deadline.
+    pub fn with_limits(problem: &Problem, limits: &Limits) -> Result<Self, PlanError> {
+        build(problem, limits)
+    }
+
+    /// Grounds `problem` with the leaves of `vocabulary`; actions without a leaf, or
+    /// with a precondition without one, are left out.
+    ///
+    /// # Errors
+    /// As [`Grounding::new`].
+    pub fn with_vocabulary(problem: &Problem, vocabulary: &dyn Vocabulary) -> Result<Self, PlanError> {
+        let mut g = Self::new(problem)?;
+        let mut atom_leaf = HashMap::new();
+        let mut by_leaf: HashMap<Leaf, Target> = HashMap::new();
+        for atom in 0..g.keys.len() as AtomId {
+            if let Some(leaf) = vocabulary.condition(problem, &g.atom(atom)) {
+                atom_leaf.insert(atom, leaf);
+                by_leaf.insert(leaf, Target::Condition(atom));
+            }
+        }
+        let mut keep = Vec::new();
+        let mut action_leaf = Vec::new();
+        for a in std::mem::take(&mut g.actions) {
+            let Some(leaf) = vocabulary.action(problem, a.template, &a.args) else { continue };
+            let conds = a.pre.iter().chain(a.cond.iter().flat_map(|c| c.when.iter()));
+            if conds.clone().any(|l| !atom_leaf.contains_key(&l.atom)) {
+                continue;
+            }
+            let id = keep.len() as ActionId;
+            match by_leaf.entry(leaf).or_insert_with(|| Target::Actions(Vec::new())) {
+                Target::Actions(v) => v.push(id),
+                Target::Condition(_) => continue,
+            }
+            action_leaf.push(leaf);
+            keep.push(a);
+        }
+        g.actions = keep;
+        g.action_index.clear();
+        g.leaves = Leaves::Table { atom_leaf, action_leaf, by_leaf };
+        g.index();
+        Ok(g)
+    }
+
+    /// Rebuilds the achiever index after `actions` changed.
+    fn index(&mut self) {
+        self.achievers = vec![Vec::new(); self.keys.len() * 2];
+        for (i, a) in self.actions.iter().enumerate() {
+            let mut lits: Vec<Lit> = a.may_effects().collect();
+            lits.sort_unstable();
+            lits.dedup();
+            for l in lits {
+                if let Some(v) = self.achievers.get_mut(l.index()) {
+                    v.push(i as ActionId);
+                }
+            }
+        }
+    }
+
+    /// The problem.
+    #[must_use]
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    /// Number of ground atoms (ids run from 0).
+    #[must_use]
+    pub fn atom_count(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// The ground actions.
+    #[must_use]
+    pub fn actions(&self) -> &[GroundAction] {
+        &self.actions
+    }
+
+    /// Ground action `id`.
+    #[must_use]
+    pub fn action(&self, id: ActionId) -> Option<&GroundAction> {
+        self.actions.get(id as usize)
+    }
+
+    /// The initial state.
+    #[must_use]
+    pub fn init(&self) -> &State {
+        &self.init
+    }
+
+    /// The goal conditions, in order.
+    #[must_use]
+    pub fn goal(&self) -> &[Lit] {
+        &self.goal
+    }
+
+    /// Whether every goal condition holds in `state`.
+    #[must_use]
+    pub fn goal_holds(&self, state: &State) -> bool {
+        self.goal.iter().all(|l| l.holds(state))
+    }
+
+    /// Whether plan cost is the number of actions (no action costs, or no metric).
+    #[must_use]
+    pub fn unit_cost(&self) -> bool {
+        self.unit_cost
+    }
+
+    /// The cost of a sequence of actions.
+    #[must_use]
+    pub fn cost_of(&self, plan: &[ActionId]) -> u64 {
+        plan.iter().map(|&a| self.action(a).map_or(0, |x| u64::from(x.cost))).sum()
+    }
+
+    /// Whether the atom's predicate is static (no action changes it).
+    #[must_use]
+    pub fn is_static(&self, atom: AtomId) -> bool {
+        self.atom_predicate(atom).is_some_and(|p| self.statics.get(usize::from(p)).copied().unwrap_or(false))
+    }
+
+    /// The actions that make `lit` true (unconditionally or under a condition), in
+    /// template then grounding order.
+    #[must_use]
+    pub fn achievers(&self, lit: Lit) -> &[ActionId] {
+        self.achievers.get(lit.index()).map_or(&[], Vec::as_slice)
+    }
+
+    /// The id of `predicate(args)`, if that atom exists (in the initial state, made
+    /// true by some reachable action, or named by the goal).
+    #[must_use]
+    pub fn atom_id(&self, predicate: PredicateId, args: &[ObjectId]) -> Option<AtomId> {
+        let mut key = Vec::with_capacity(args.len() + 1);
+        key_into(&mut key, predicate, args.iter().copied());
+        self.atom_index.get(&key[..]).copied()
+    }
+
+    /// The atom `name(objects...)` by names.
+    #[must_use]
+    pub fn atom_by_name(&self, predicate: &str, objects: &[&str]) -> Option<AtomId> {
+        let p = self.problem.domain.predicate(predicate)?;
+        let args: Option<Vec<ObjectId>> = objects.iter().map(|o| self.problem.object(o)).collect();
+        self.atom_id(p, &args?)
+    }
+
+    fn atom_predicate(&self, atom: AtomId) -> Option<PredicateId> {
+        self.keys.get(atom as usize).and_then(|k| k.first().copied())
+    }
+
+    /// The predicate and objects of an atom.
+    #[must_use]
+    pub fn atom(&self, atom: AtomId) -> Atom<ObjectId> {
+        match self.keys.get(atom as usize) {
+            Some(k) => Atom { predicate: k[0], args: k[1..].to_vec() },
+            None => Atom { predicate: 0, args: Vec::new() },
+        }
+    }
+
+    /// The objects of an atom, without copying.
+    #[must_use]
+    pub fn atom_args(&self, atom: AtomId) -> &[ObjectId] {
+        self.keys.get(atom as usize).map_or(&[], |k| &k[1..])
+    }
+
+    /// `name(obj, ...)` of an atom.
+    #[must_use]
+    pub fn atom_name(&self, atom: AtomId) -> String {
+        self.problem.atom_name(&self.atom(atom))
+    }
+
+    /// `name(obj, ...)` of a literal, with `not ` for negative ones.
+    #[must_use]
+    pub fn lit_name(&self, lit: Lit) -> String {
+        let n = self.atom_name(lit.atom);
+        if lit.positive { n } else { format!("not {n}") }
+    }
+
+    /// `name(obj, ...)` of a ground action.
+    #[must_use]
+    pub fn action_name(&self, id: ActionId) -> String {
+        let Some(a) = self.action(id) else { return "?".into() };
+        let name = self.problem.domain.actions.get(usize::from(a.template)).map_or("?", |t| t.name.as_str());
+        self.problem.call_name(name, &a.args)
+    }
+
+    /// `(name obj ...)` of a ground action, as plan files write it.
+    #[must_use]
+    pub fn action_pddl(&self, id: ActionId) -> String {
+        let Some(a) = self.action(id) else { return "()".into() };
+        let mut s = String::from("(");
+        s.push_str(self.problem.domain.actions.get(usize::from(a.template)).map_or("?", |t| t.name.as_str()));
+        for &o in &a.args {
+            s.push(' ');
+            s.push_str(self.problem.objects.get(usize::from(o)).map_or("?", |x| x.name.as_str()));
+        }
+        s.push(')');
+        s
+    }
+
+    /// The behavior id and argument values of an atom's condition leaf under the PDDL
+    /// contract (`None` under a custom vocabulary).
+    #[must_use]
+    pub fn condition_call(&self, atom: AtomId) -> Option<(u16, &[u16])> {
+        match &self.leaves {
+            Leaves::Pddl => self.keys.get(atom as usize).map(|k| (k[0], &k[1..])),
+            Leaves::Table { .. } => None,
+        }
+    }
+
+    /// The behavior id and argument values of a ground action's leaf under the PDDL
+    /// contract (`None` under a custom vocabulary).
+    #[must_use]
+    pub fn action_call(&self, id: ActionId) -> Option<(u16, &[u16])> {
+        match &self.leaves {
+            Leaves::Pddl => {
+                let a = self.action(id)?;
+                let behavior = (self.problem.domain.predicates.len() as u16).checked_add(a.template)?;
+                Some((behavior, &a.args))
+            }
+            Leaves::Table { .. } => None,
+        }
+    }
+
+    /// The condition leaf of an atom (`None` when it has more arguments than a leaf
+    /// carries inline, or none under the vocabulary).
+    #[must_use]
+    pub fn condition_leaf(&self, atom: AtomId) -> Option<Leaf> {
+        match &self.leaves {
+            Leaves::Pddl => {
+                let (b, args) = self.condition_call(atom)?;
+                Leaf::with_args(b, args).ok()
+            }
+            Leaves::Table { atom_leaf, .. } => atom_leaf.get(&atom).copied(),
+        }
+    }
+
+    /// The action leaf of a ground action.
+    #[must_use]
+    pub fn action_leaf(&self, id: ActionId) -> Option<Leaf> {
+        match &self.leaves {
+            Leaves::Pddl => {
+                let (b, args) = self.action_call(id)?;
+                Leaf::with_args(b, args).ok()
+            }
+            Leaves::Table { action_leaf, .. } => action_leaf.get(id as usize).copied(),
+        }
+    }
+
+    /// The atom a condition leaf checks, given its argument values.
+    #[must_use]
+    pub fn leaf_atom_of(&self, leaf: &Leaf, args: &[u16]) -> Option<AtomId> {
+        match &self.leaves {
+            Leaves::Pddl => self.atom_id(leaf.behavior(), args),
+            Leaves::Table { by_leaf, .. } => match by_leaf.get(leaf)? {
+                Target::Condition(a) => Some(*a),
+                Target::Actions(_) => None,
+            },
+        }
+    }
+
+    /// The atom a condition leaf checks.
+    #[must_use]
+    pub fn leaf_atom(&self, leaf: &Leaf) -> Option<AtomId> {
+        self.leaf_atom_of(leaf, leaf.args())
+    }
+
+    /// The ground actions an action leaf with these argument values may stand for:
+    /// under the PDDL contract the alternatives of one grounding (one for a STRIPS
+    /// action); under a vocabulary every grounding named by that leaf (e.g. `place at
+    /// P!` for each brick). A world runs the first applicable one.
+    pub fn leaf_actions_of(&self, leaf: &Leaf, args: &[u16], out: &mut Vec<ActionId>) {
+        out.clear();
+        match &self.leaves {
+            Leaves::Pddl => {
+                let Some(t) = leaf.behavior().checked_sub(self.problem.domain.predicates.len() as u16) else { return };
+                let mut key = Vec::with_capacity(args.len() + 1);
+                key_into(&mut key, t, args.iter().copied());
+                if let Some(v) = self.action_index.get(&key[..]) {
+                    out.extend_from_slice(v);
+                }
+            }
+            Leaves::Table { by_leaf, .. } => {
+                if let Some(Target::Actions(v)) = by_leaf.get(leaf) {
+                    out.extend_from_slice(v);
+                }
+            }
+        }
+    }
+
+    /// [`Grounding::leaf_actions_of`] with the leaf's inline arguments.
+    pub fn leaf_actions(&self, leaf: &Leaf, out: &mut Vec<ActionId>) {
+        self.leaf_actions_of(leaf, leaf.args(), out);
+    }
+}
+
+fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, PlanError> {
+    let d = &problem.domain;
+    let statics = d.static_predicates();
+    let objects = Objects::new(problem);
+    let reach::Reached { mut atoms, schemas, instances } = reach::reach(problem, &objects, &statics, limits)?;
+    // The goal's atoms exist even when no action reaches them.
+    let goal_dnf = {
+        let mut ev =
+            Eval { objects: &objects, atoms: &atoms, statics: &statics, key: Vec::new(), missing: Some(Vec::new()) };
+        let mut b = Vec::new();
+        for c in &problem.goal {
+            let _ = ev.dnf(c, &mut b, limits.alternatives);
+        }
+        ev.missing.take().unwrap_or_default()
+    };
+    let mut unreached = Vec::new();
+    for key in goal_dnf {
+        let (_, new) = atoms.insert(&key, false);
+        if new {
+            unreached.push(key);
+        }
+    }
+    let ev_goal = |atoms: &tables::Atoms| -> Result<Dnf, PlanError> {
+        let mut ev = Eval { objects: &objects, atoms, statics: &statics, key: Vec::new(), missing: None };
+        ev.dnf(&Condition::And(problem.goal.clone()), &mut Vec::new(), limits.alternatives).map_err(|_| {
+            PlanError::TooComplex { action: "the goal".into(), what: "condition", limit: limits.alternatives }
+        })
+    };
+    let goal_alternatives = ev_goal(&atoms)?;
+
+    // Canonical atom ids: sorted by key.
+    let n = atoms.len();
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.sort_unstable_by(|&a, &b| atoms.key(a).cmp(atoms.key(b)));
+    let mut new_id = vec![0u32; n];
+    for (i, &old) in order.iter().enumerate() {
+        new_id[old as usize] = i as u32;
+    }
+    let remap = |l: Lit| Lit { atom: new_id[l.atom as usize], positive: l.positive };
+
+    let unit_cost = !(d.has_costs() && problem.metric);
+    let costs: HashMap<(u16, &[ObjectId]), u32> =
+        problem.functions.iter().map(|f| ((f.function, f.args.as_slice()), f.value)).collect();
+
+    // Ground actions, in template then argument order.
+    let mut sorted: Vec<(Vec<u16>, usize)> = instances
+        .iter()
+        .enumerate()
+        .map(|(i, inst)| {
+            let s = &schemas[inst.schema as usize];
+            let mut k = vec![s.template];
+            k.extend(s.bound.iter().map(|&v| inst.binding[usize::from(v)]));
+            (k, i)
+        })
+        .collect();
+    sorted.sort_unstable();
+    let mut actions: Vec<GroundAction> = Vec::new();
+    let mut ev = Eval { objects: &objects, atoms: &atoms, statics: &statics, key: Vec::new(), missing: None };
+    for (_, i) in sorted {
+        let inst = &instances[i];
+        let s = &schemas[inst.schema as usize];
+        let t = &d.actions[usize::from(s.template)];
+        let mut binding = inst.binding.to_vec();
+        let name = || {
+            let args: Vec<ObjectId> = binding_args(&inst.binding, t.params.len());
+            problem.call_name(&t.name, &args)
+        };
+        // Preconditions: the top-level literals, then each alternative of the rest.
+        let mut simple: Vec<Lit> = Vec::new();
+        let mut dead = false;
+        for l in &s.simple {
+            match ev.dnf(&Condition::Literal(l.clone()), &mut binding, limits.alternatives) {
+                Ok(d) if d.is_empty() => dead = true,
+                Ok(d) => {
+                    for &x in d.first().map_or(&[][..], Vec::as_slice) {
+                        if !simple.contains(&x) {
+                            simple.push(x);
+                        }
+                    }
+                }
+                Err(_) => dead = true,
+            }
+        }
+        if dead {
+            continue;
+        }
+        let residue = ev
+            .dnf(&Condition::And(s.residue.clone()), &mut binding, limits.alternatives)
+            .map_err(|_| PlanError::TooComplex { action: name(), what: "precondition", limit: limits.alternatives })?;
+        if residue.is_empty() {
+            continue;
+        }
+        // Effects.
+        let mut add = Vec::new();
+        let mut del = Vec::new();
+        let mut cond: Vec<CondEffect> = Vec::new();
+        for e in &t.effects {
+            let mut err = None;
+            ev.bindings(&e.forall, &mut binding, &mut |ev, b| {
+                let when = match ev.dnf(&Condition::And(e.when.clone()), b, limits.alternatives) {
+                    Ok(w) => w,
+                    Err(_) => {
+                        err = Some(PlanError::TooComplex {
+                            action: name(),
+                            what: "effect condition",
+                            limit: limits.alternatives,
+                        });
+                        return false;
+                    }
+                };
+                if when.is_empty() {
+                    return true;
+                }
+                let mut k = Vec::new();
+                key_into(&mut k, e.literal.atom.predicate, e.literal.atom.args.iter().map(|&x| term(x, b)));
+                let Some(atom) = ev.atoms.get(&k) else { return true };
+                for w in when {
+                    let (a, dl) = if w.is_empty() {
+                        (&mut add, &mut del)
+                    } else {
+                        let mut w = w;
+                        w.sort_unstable();
+                        let at = match cond.iter().position(|c| c.when == w) {
+                            Some(at) => at,
+                            None => {
+                                cond.push(CondEffect { when: w, add: Vec::new(), del: Vec::new() });
+                                cond.len() - 1
+                            }
+                        };
+                        let c = &mut cond[at];
+                        (&mut c.add, &mut c.del)
+                    };
+                    let list = if e.literal.positive { a } else { dl };
+                    if !list.contains(&atom) {
+                        list.push(atom);
+                    }
+                }
+                true
+            });
+            if let Some(e) = err {
+                return Err(e);
+            }
+        }
+        del.retain(|x| !add.contains(x));
+        let cost = if unit_cost { 1 } else { cost_of(&t.cost, &binding, &costs, problem)? };
+        let args = binding_args(&inst.binding, t.params.len());
+        for alt in &residue {
+            let mut pre = simple.clone();
+            let mut contradictory = false;
+            for &l in alt {
+                if pre.contains(&l.negated()) {
+                    contradictory = true;
+                }
+                if !pre.contains(&l) {
+                    pre.push(l);
+                }
+            }
+            if contradictory {
+                continue;
+            }
+            if actions.len() >= limits.actions {
+                return Err(PlanError::TooLarge {
+                    what: "ground actions",
+                    count: actions.len() as u64 + 1,
+                    limit: limits.actions as u64,
+                });
+            }
+            let candidate = GroundAction {
+                template: s.template,
+                args: args.clone(),
+                pre,
+                add: add.clone(),
+                del: del.clone(),
+                cond: cond.clone(),
+                cost,
+            };
+            // Two alternatives that ground the same are one action.
+            let same = actions
+                .iter()
+                .rev()
+                .take_while(|a| a.template == s.template && a.args == args)
+                .any(|a| *a == candidate);
+            if !same {
+                actions.push(candidate);
+            }
+        }
+        let _ = UNBOUND;
+    }
+    drop(ev);
+
+    // Renumber atoms everywhere.
+    for a in &mut actions {
+        for l in &mut a.pre {
+            *l = remap(*l);
+        }
+        for x in a.add.iter_mut().chain(a.del.iter_mut()) {
+            *x = new_id[*x as usize];
+        }
+        for c in &mut a.cond {
+            for l in &mut c.when {
+                *l = remap(*l);
+            }
+            for x in c.add.iter_mut().chain(c.del.iter_mut()) {
+                *x = new_id[*x as usize];
+            }
+        }
+    }
+    let keys: Vec<Box<[u16]>> = order.iter().map(|&o| atoms.key(o).into()).collect();
+    let mut init = State::new(n);
+    for old in 0..n as u32 {
+        if atoms.in_init(old) {
+            init.set(new_id[old as usize], true);
+        }
+    }
+    let goal: Vec<Lit> =
+        choose_goal(problem, &atoms, &statics, &goal_alternatives, &unreached)?.into_iter().map(remap).collect();
+    let atom_index = keys.iter().enumerate().map(|(i, k)| (k.clone(), i as AtomId)).collect();
+    let mut action_index: HashMap<Box<[u16]>, Vec<ActionId>> = HashMap::new();
+    for (i, a) in actions.iter().enumerate() {
+        let mut k = vec![a.template];
+        k.extend_from_slice(&a.args);
+        action_index.entry(k.into_boxed_slice()).or_default().push(i as ActionId);
+    }
+    let mut g = Grounding {
+        problem: problem.clone(),
+        statics,
+        keys,
+        atom_index,
+        init,
+        actions,
+        action_index,
+        achievers: Vec::new(),
+        goal,
+        leaves: Leaves::Pddl,
+        unit_cost,
+    };
+    g.index();
+    Ok(g)
+}
+
+fn term(t: Term, binding: &[ObjectId]) -> ObjectId {
+    match t {
+        Term::Object(o) => o,
+        Term::Var(v) => binding.get(usize::from(v)).copied().unwrap_or(UNBOUND),
+    }
+}
+
+fn binding_args(binding: &[ObjectId], params: usize) -> Vec<ObjectId> {
+    binding.iter().take(params).copied().collect()
+}
+
+fn cost_of(
+    terms: &[CostTerm],
+    binding: &[ObjectId],
+    values: &HashMap<(u16, &[ObjectId]), u32>,
+    problem: &Problem,
+) -> Result<u32, PlanError> {
+    let mut sum: u32 = 0;
+    for t in terms {
+        let v = match t {
+            CostTerm::Constant(c) => *c,
+            CostTerm::Function { function, args } => {
+                let objs: Vec<ObjectId> = args.iter().map(|&x| term(x, binding)).collect();
+                match values.get(&(*function, objs.as_slice())) {
+                    Some(v) => *v,
+                    None => {
+                        let name =
+                            problem.domain.functions.get(usize::from(*function)).map_or("?", |f| f.name.as_str());
+                        return Err(PlanError::MissingCost { term: problem.call_name(name, &objs) });
+                    }
+                }
+            }
+        };
+        sum = sum.saturating_add(v);
+    }
+    Ok(sum)
+}
+
+/// The goal as one conjunction of literals, or the reason there is none. A goal that
+/// is a conjunction of literals is kept as written (static literals included, so the
+/// tree checks them); an ADL goal becomes its first alternative that is not false.
+fn choose_goal(
+    problem: &Problem,
+    atoms: &tables::Atoms,
+    statics: &[bool],
+    alternatives: &Dnf,
+    unreached: &[Box<[u16]>],
+) -> Result<Vec<Lit>, PlanError> {
+    let name = |k: &[u16]| problem.atom_name(&Atom { predicate: k[0], args: k[1..].to_vec() });
+    let mut plain: Vec<&crate::model::Literal<Term>> = Vec::new();
+    for c in &problem.goal {
+        match c {
+            Condition::Literal(l) => plain.push(l),
+            Condition::And(v) if v.is_empty() => {}
+            _ => {
+                plain.clear();
+                break;
+            }
+        }
+    }
+    for (i, l) in plain.iter().enumerate() {
+        if plain[i + 1..].iter().any(|m| m.positive != l.positive && m.atom == l.atom) {
+            let args: Vec<ObjectId> = l.atom.args.iter().map(|&t| term(t, &[])).collect();
+            return Err(PlanError::ContradictoryGoal {
+                atom: problem.atom_name(&Atom { predicate: l.atom.predicate, args }),
+            });
+        }
+    }
+    if !plain.is_empty() {
+        let mut goal: Vec<Lit> = Vec::with_capacity(plain.len());
+        let mut key = Vec::new();
+        for l in plain {
+            key_into(&mut key, l.atom.predicate, l.atom.args.iter().map(|&t| term(t, &[])));
+            let Some(atom) = atoms.get(&key) else { continue };
+            let is_static = statics.get(usize::from(l.atom.predicate)).copied().unwrap_or(false);
+            if l.positive && unreached.iter().any(|k| k[..] == key[..]) {
+                return Err(PlanError::Unsolvable(format!("no reachable action makes `{}` true", name(&key))));
+            }
+            if is_static && atoms.in_init(atom) != l.positive {
+                let what = if l.positive { "false" } else { "true" };
+                return Err(PlanError::Unsolvable(format!("`{}` is {what} and no action changes it", name(&key))));
+            }
+            let lit = Lit { atom, positive: l.positive };
+            if !goal.contains(&lit) {
+                goal.push(lit);
+            }
+        }
+        return Ok(goal);
+    }
+    let Some(first) = alternatives.first() else {
+        if let Some(k) = unreached.first() {
+            return Err(PlanError::Unsolvable(format!("no reachable action makes `{}` true", name(k))));
+        }
+        return Err(PlanError::Unsolvable("the goal is false in every state reachable from the initial one".into()));
+    };
+    if first.is_empty() {
+        return Err(PlanError::Unsolvable("the goal holds in every state: there is nothing to plan".into()));
+    }
+    Ok(first.clone())
+}
