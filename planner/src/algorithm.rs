@@ -8,13 +8,18 @@
 //!   achieving action in domain order, preconditions in the order written; an action
 //!   without (non-static) preconditions stands alone instead of in a one-child
 //!   Sequence.
-//! * **Conflict**: the new subtree has a conflict when an action that executes before
-//!   it — an action inside a left sibling of any Sequence on its path from the root —
-//!   may falsify one of its preconditions (the conditions of its Sequences) and nothing
-//!   executed after that action re-establishes it for sure. What a subtree may and
-//!   must make true is summarised bottom-up: an action makes its effects true; a
-//!   condition that succeeded holds; a Sequence composes its children left to right; a
-//!   Fallback may do what any child may, and must do what all children must.
+//! * **Conflict**, both ways: the new subtree has a conflict when an action that
+//!   executes before it — an action inside a left sibling of any Sequence on its path
+//!   from the root — may falsify one of its preconditions (the conditions of its
+//!   Sequences) and nothing executed after that action re-establishes it for sure; and
+//!   when the new subtree itself may falsify a condition that the part executed before
+//!   it established for sure (a reactive Sequence re-checks that condition on the next
+//!   tick, re-achieves it, and the two parts undo each other forever). What a subtree
+//!   may and must make true is summarised bottom-up: an action makes its effects true
+//!   (conditional effects count as "may"); a condition that succeeded holds; a
+//!   Sequence composes its children left to right; a Fallback may do what any child
+//!   may, and must do what all children must. Moving the subtree left resolves both:
+//!   at the left end of the top Sequence nothing executes before it.
 //! * **IncreasePriority**: the subtree moves one place left in its Sequence; when it is
 //!   already leftmost, it moves *up a level*: into the nearest Sequence above its
 //!   parent, immediately left of the child that contains it (a Fallback above is passed
@@ -33,11 +38,31 @@ use bt_core::{NodeState, NodeStatus};
 /// The atomic BT of `lit`'s achievers as a new detached subtree; `condition` becomes
 /// its first child. Returns the Fallback.
 pub fn atomic_bt(tree: &mut PlanTree, g: &Grounding, condition: PlanNode, lit: Lit, actions: &[ActionId]) -> PlanNode {
+    let rows: Vec<(ActionId, Vec<Lit>)> = actions
+        .iter()
+        .map(|&a| {
+            // The action's preconditions, then the condition of the conditional
+            // effect that achieves `lit`, if that is how it does.
+            let mut pre: Vec<Lit> = g.action(a).map_or_else(Vec::new, |x| x.pre.clone());
+            if let Some(extra) = g.action(a).and_then(|x| x.achieving_condition(lit)) {
+                for &l in extra {
+                    if !pre.contains(&l) {
+                        pre.push(l);
+                    }
+                }
+            }
+            (a, pre)
+        })
+        .collect();
+    atomic_bt_of(tree, condition, &rows)
+}
+
+/// The atomic BT with the given achievers and the order of their preconditions.
+fn atomic_bt_of(tree: &mut PlanTree, condition: PlanNode, rows: &[(ActionId, Vec<Lit>)]) -> PlanNode {
     let fallback = tree.add(Kind::Fallback);
     tree.push_child(fallback, condition);
-    for &a in actions {
-        let pre = g.action(a).map_or(&[][..], |x| x.pre.as_slice());
-        let act = tree.add(Kind::Action(a));
+    for (a, pre) in rows {
+        let act = tree.add(Kind::Action(*a));
         if pre.is_empty() {
             tree.push_child(fallback, act);
             continue;
@@ -50,8 +75,25 @@ pub fn atomic_bt(tree: &mut PlanTree, g: &Grounding, condition: PlanNode, lit: L
         tree.push_child(seq, act);
         tree.push_child(fallback, seq);
     }
-    let _ = lit;
     fallback
+}
+
+/// ExpandTree with achievers chosen by the caller (a plan's guidance): each is an
+/// action, its preconditions in the order to check them, and the plan step it comes
+/// from. Returns the new subtree and the actions used.
+pub fn expand_with(
+    tree: &mut PlanTree,
+    condition: PlanNode,
+    lit: Lit,
+    choices: &[(ActionId, Vec<Lit>, usize)],
+) -> (PlanNode, Vec<ActionId>) {
+    let _ = lit;
+    let rows: Vec<(ActionId, Vec<Lit>)> = choices.iter().map(|c| (c.0, c.1.clone())).collect();
+    let placeholder = tree.add(Kind::Sequence);
+    tree.replace(condition, placeholder);
+    let fallback = atomic_bt_of(tree, condition, &rows);
+    tree.replace(placeholder, fallback);
+    (fallback, rows.iter().map(|r| r.0).collect())
 }
 
 /// ExpandTree: replaces the condition node `condition` by its atomic BT. Returns the
@@ -103,13 +145,10 @@ fn summary(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Summary {
     for &x in order.iter().rev() {
         let s = match tree.kind(x) {
             Kind::Condition(l) => Summary { must: vec![l], may: Vec::new() },
-            Kind::Action(a) => {
-                let eff: Vec<Lit> = g.action(a).map_or_else(Vec::new, |x| {
-                    let add = x.add.iter().map(|&atom| Lit { atom, positive: true });
-                    add.chain(x.del.iter().map(|&atom| Lit { atom, positive: false })).collect()
-                });
-                Summary { must: eff.clone(), may: eff }
-            }
+            Kind::Action(a) => match g.action(a) {
+                Some(x) => Summary { must: x.must_effects().collect(), may: x.may_effects().collect() },
+                None => Summary::default(),
+            },
             Kind::Sequence => {
                 let mut acc = Summary::default();
                 for c in tree.children(x) {
@@ -196,38 +235,47 @@ fn preconditions(tree: &PlanTree, n: PlanNode) -> Vec<Lit> {
 }
 
 /// A conflict: `precondition` of the new subtree may be falsified by `by`, which
-/// executes before it.
+/// executes before it; or (`by_new_subtree`) `by`, inside the new subtree, may falsify
+/// `precondition`, a condition established before the new subtree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Conflict {
-    /// The new subtree's precondition.
+    /// The condition undone.
     pub precondition: Lit,
-    /// An action executed before that falsifies it.
+    /// The action that undoes it.
     pub by: ActionId,
+    /// Whether `by` is in the new subtree (the second side of the test).
+    pub by_new_subtree: bool,
 }
 
 /// Conflict(T) for the subtree `n` (see the module docs), or `None`.
 #[must_use]
 pub fn conflict(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Option<Conflict> {
-    let pre = preconditions(tree, n);
-    if pre.is_empty() {
+    let before = executed_before(tree, n);
+    if before.is_empty() {
         return None;
     }
-    let before = executed_before(tree, n);
     let mut acc = Summary::default();
     for &b in &before {
         then(&mut acc, &summary(tree, g, b));
     }
-    let precondition = pre.into_iter().find(|p| acc.may.contains(&p.negated()))?;
-    let undo = precondition.negated();
-    let by = before
-        .iter()
-        .flat_map(|&b| tree.preorder(b))
-        .filter_map(|x| match tree.kind(x) {
-            Kind::Action(a) if g.action(a).is_some_and(|ga| ga.achieves(undo)) => Some(a),
-            _ => None,
-        })
-        .next_back()?;
-    Some(Conflict { precondition, by })
+    let pre = preconditions(tree, n);
+    let undoing = |nodes: &mut dyn Iterator<Item = PlanNode>, undo: Lit| {
+        nodes
+            .filter_map(|x| match tree.kind(x) {
+                Kind::Action(a) if g.action(a).is_some_and(|ga| ga.achieves(undo)) => Some(a),
+                _ => None,
+            })
+            .collect::<Vec<_>>()
+    };
+    if let Some(precondition) = pre.into_iter().find(|p| acc.may.contains(&p.negated())) {
+        let mut all = before.iter().flat_map(|&b| tree.preorder(b));
+        let by = undoing(&mut all, precondition.negated()).pop()?;
+        return Some(Conflict { precondition, by, by_new_subtree: false });
+    }
+    let own = summary(tree, g, n);
+    let established = acc.must.iter().find(|l| own.may.contains(&l.negated()) && !own.must.contains(l))?;
+    let by = *undoing(&mut tree.preorder(n).into_iter(), established.negated()).first()?;
+    Some(Conflict { precondition: *established, by, by_new_subtree: true })
 }
 
 /// Where one step of IncreasePriority took the subtree.

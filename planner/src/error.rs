@@ -89,11 +89,32 @@ pub enum PlanError {
     #[error("unresolvable conflict: {0}")]
     Unresolvable(String),
     /// The tree kept running without reaching the goal or failing.
-    #[error("the tree neither reached the goal nor failed within {ticks} ticks (it may oscillate)")]
+    #[error("the tree neither reached the goal nor failed within {ticks} ticks")]
     NoProgress {
         /// The tick budget.
         ticks: u32,
     },
+    /// The tree oscillates: the world comes back to a state it was in, with the same
+    /// actions running, and the goal is not reached.
+    #[error("the tree oscillates, repeating {}", actions.join(", "))]
+    Oscillates {
+        /// The repeating actions, in order.
+        actions: Vec<String>,
+        /// The tree.
+        nodes: Vec<bt_core::Node>,
+    },
+    /// The final tree, run from the initial state in the symbolic world, does not reach
+    /// the goal.
+    #[error("the final tree does not reach the goal from the initial state: {why}")]
+    GoalNotReached {
+        /// What happened instead.
+        why: String,
+        /// The tree.
+        nodes: Vec<bt_core::Node>,
+    },
+    /// Search found no plan: the problem has no solution.
+    #[error("no plan exists: {0}")]
+    NoPlan(String),
     /// More expansions than the budget.
     #[error("gave up after {0} expansions")]
     TooManyExpansions(usize),
@@ -104,6 +125,22 @@ pub enum PlanError {
         limit: usize,
         /// Depth limit.
         depth: usize,
+    },
+    /// The tree has more nodes than a bt-core tree holds.
+    #[error("the tree has {nodes} nodes; a bt-core tree holds at most {limit}")]
+    TooManyNodes {
+        /// Its size.
+        nodes: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The tree is deeper than the executor's stack.
+    #[error("the tree is {levels} levels deep; the planner's executor takes at most {limit}")]
+    TooDeep {
+        /// Its depth (the first level found past the limit).
+        levels: usize,
+        /// The limit.
+        limit: usize,
     },
     /// The tree does not validate against the catalog given.
     #[error("the tree does not fit the behavior set: {0}")]

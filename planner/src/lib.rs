@@ -41,12 +41,16 @@ pub mod duplo;
 mod duplo_plan;
 mod error;
 pub mod ground;
+pub mod guide;
 pub mod model;
 pub mod names;
+mod offline;
 pub mod output;
 pub mod pddl;
 mod planner;
 pub mod refine;
+pub mod regress;
+pub mod search;
 pub mod state;
 pub mod strips;
 pub mod tokens;
@@ -54,7 +58,8 @@ pub mod tree;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
-pub use planner::{Blended, ConflictStep, Expansion, Options, Plan, Planner, plan, run_blended};
+pub use offline::{Made, Plan, plan};
+pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
 
 /// Plans a brick task with explicit [`Options`] (see [`duplo::plan`]).

@@ -1,36 +1,66 @@
 //! Algorithm 1 of seed 000: the [`Planner`] that grows a tree by backchaining, used
-//! offline ([`plan`]) and online ([`Planner::on_failure`]).
+//! offline ([`crate::plan`]) and online ([`Planner::on_failure`]).
 
 use std::fmt;
 use std::sync::Arc;
+use std::time::Instant;
 
 use bt_core::{Catalog, Node, NodeState, Status};
 
 use crate::PlanError;
 use crate::algorithm::{self, Move};
 use crate::ground::{ActionId, Grounding, Lit};
+use crate::guide::Trace;
 use crate::refine::Refinement;
 use crate::state::State;
 use crate::strips::{self, StripsWorld};
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
+
+/// Which method makes the tree offline.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Algorithm 1 first; when it cannot finish (it oscillates, meets a dead end or
+    /// an unresolvable conflict, or runs out of its share of the time), a plan from
+    /// heuristic search guides backchaining; when even that tree does not reach the
+    /// goal, the plan's regression tree ([`crate::regress`]).
+    #[default]
+    Auto,
+    /// Algorithm 1 of seed 000 alone.
+    Algorithm1,
+    /// Search first, then guided backchaining (and the regression tree as a last
+    /// resort).
+    Search,
+}
 
 /// Planner settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Options {
     /// How free template parameters are bound.
     pub refinement: Refinement,
-    /// Offline: most ticks of the symbolic world between two expansions before giving
-    /// up (the tree may oscillate).
+    /// Offline: most ticks of the symbolic world in one run of the tree before giving
+    /// up.
     pub max_ticks: u32,
     /// Most expansions.
     pub max_expansions: usize,
     /// Offline: keep a copy of the tree after every expansion ([`Plan::steps`]).
     pub record_steps: bool,
+    /// Offline: how the tree is made.
+    pub method: Method,
+    /// Offline: give up at this instant (grounding is the caller's; see
+    /// [`crate::ground::Limits`]).
+    pub deadline: Option<Instant>,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { refinement: Refinement::Cheapest, max_ticks: 10_000, max_expansions: 10_000, record_steps: false }
+        Self {
+            refinement: Refinement::Cheapest,
+            max_ticks: 100_000,
+            max_expansions: 10_000,
+            record_steps: false,
+            method: Method::Auto,
+            deadline: None,
+        }
     }
 }
 
@@ -39,8 +69,11 @@ impl Default for Options {
 pub struct ConflictStep {
     /// The new subtree's precondition that was undone.
     pub precondition: String,
-    /// The action executed before it that undoes it.
+    /// The action that undoes it.
     pub by: String,
+    /// Whether that action is in the new subtree (it undoes a condition established
+    /// before the subtree), rather than executed before it.
+    pub by_new_subtree: bool,
     /// What IncreasePriority did about it.
     pub moved: Move,
 }
@@ -68,15 +101,23 @@ impl fmt::Display for Expansion {
                 Move::Left => "moved the new subtree one place left",
                 Move::Up => "moved the new subtree up a level",
             };
-            write!(f, "; conflict: `{}` undoes its precondition `{}`, {how}", c.by, c.precondition)?;
+            if c.by_new_subtree {
+                write!(f, "; conflict: its `{}` undoes `{}`, established before it, {how}", c.by, c.precondition)?;
+            } else {
+                write!(f, "; conflict: `{}` undoes its precondition `{}`, {how}", c.by, c.precondition)?;
+            }
         }
         write!(f, " ({} nodes)", self.nodes)
     }
 }
 
 /// The backchaining planner: the tree, which conditions were expanded, and the
-/// grounded problem. Offline planning ([`plan`]) drives it against the symbolic world;
-/// a running system drives it through [`Planner::on_failure`].
+/// grounded problem. Offline planning ([`crate::plan`]) drives it against the
+/// symbolic world; a running system drives it through [`Planner::on_failure`].
+///
+/// With a [`Trace`] (a plan found by search), expansions are *guided*: a condition
+/// is expanded with the action of its causal link in the plan, and preconditions and
+/// goal conditions are placed in the order the plan achieves them ([`crate::guide`]).
 #[derive(Clone, Debug)]
 pub struct Planner {
     g: Arc<Grounding>,
@@ -85,6 +126,9 @@ pub struct Planner {
     flat: Flat,
     options: Options,
     expansions: usize,
+    guide: Option<Arc<Trace>>,
+    /// Per planner node, the plan step that needs its condition (guided only).
+    steps: Vec<u32>,
 }
 
 impl Planner {
@@ -94,8 +138,36 @@ impl Planner {
     /// [`PlanError::NoLeaf`] when a goal condition has no leaf.
     pub fn new(g: Arc<Grounding>, options: Options) -> Result<Self, PlanError> {
         let tree = PlanTree::from_goal(g.goal());
+        Self::from_tree(g, tree, options)
+    }
+
+    /// The initial tree guided by `trace`: the goal conditions in the order the plan
+    /// achieves them.
+    ///
+    /// # Errors
+    /// As [`Planner::new`].
+    pub fn guided(g: Arc<Grounding>, trace: Arc<Trace>, options: Options) -> Result<Self, PlanError> {
+        let goal = trace.ordered(g.goal(), trace.goal_step());
+        let tree = PlanTree::from_goal(&goal);
+        let mut p = Self::from_tree(g, tree, options)?;
+        p.steps = vec![trace.goal_step() as u32; p.tree.capacity()];
+        p.guide = Some(trace);
+        Ok(p)
+    }
+
+    /// A planner that goes on from `tree`.
+    ///
+    /// # Errors
+    /// As [`Planner::new`].
+    pub fn from_tree(g: Arc<Grounding>, tree: PlanTree, options: Options) -> Result<Self, PlanError> {
         let flat = tree.flatten(&g)?;
-        Ok(Self { g, tree, expanded: Vec::new(), flat, options, expansions: 0 })
+        Ok(Self { g, tree, expanded: Vec::new(), flat, options, expansions: 0, guide: None, steps: Vec::new() })
+    }
+
+    /// The planner's tree.
+    #[must_use]
+    pub fn tree(&self) -> &PlanTree {
+        &self.tree
     }
 
     /// The current tree, as bt-core nodes.
@@ -156,8 +228,14 @@ impl Planner {
         for c in candidates {
             let Kind::Condition(lit) = self.tree.kind(c) else { continue };
             self.mark(c);
-            match algorithm::expand(&mut self.tree, &self.g, c, belief, self.options.refinement) {
+            let guided = self.guided_choice(c, lit);
+            let expanded = match &guided {
+                Some(choice) => Some(algorithm::expand_with(&mut self.tree, c, lit, std::slice::from_ref(choice))),
+                None => algorithm::expand(&mut self.tree, &self.g, c, belief, self.options.refinement),
+            };
+            match expanded {
                 Some((sub, actions)) => {
+                    self.set_steps(sub, c, guided.as_ref());
                     chosen = Some((lit, sub, actions));
                     break;
                 }
@@ -189,6 +267,41 @@ impl Planner {
         })
     }
 
+    /// The plan's choice for expanding condition node `c` (`lit`): the action of its
+    /// causal link and its preconditions in plan order, with the step they belong to.
+    fn guided_choice(&self, c: PlanNode, lit: Lit) -> Option<(ActionId, Vec<Lit>, usize)> {
+        let trace = self.guide.as_ref()?;
+        let k = self.steps.get(c as usize).map_or(trace.goal_step(), |&s| s as usize);
+        let (j, a) = trace.achiever(lit, k)?;
+        let action = self.g.action(a)?;
+        if !action.achieves(lit) {
+            return None;
+        }
+        let mut pre = action.pre.clone();
+        for &w in action.achieving_condition(lit).unwrap_or(&[]) {
+            if !pre.contains(&w) {
+                pre.push(w);
+            }
+        }
+        if pre.contains(&lit) {
+            return None;
+        }
+        Some((a, trace.ordered(&pre, j), j))
+    }
+
+    /// Records the plan step of the new subtree's conditions.
+    fn set_steps(&mut self, sub: PlanNode, expanded: PlanNode, guided: Option<&(ActionId, Vec<Lit>, usize)>) {
+        let Some(trace) = &self.guide else { return };
+        let outer = self.steps.get(expanded as usize).copied().unwrap_or(trace.goal_step() as u32);
+        let inner = guided.map_or(outer, |g| g.2 as u32);
+        if self.steps.len() < self.tree.capacity() {
+            self.steps.resize(self.tree.capacity(), trace.goal_step() as u32);
+        }
+        for n in self.tree.preorder(sub) {
+            self.steps[n as usize] = if n == expanded { outer } else { inner };
+        }
+    }
+
     /// Lines 11-12: while the new subtree conflicts, IncreasePriority.
     fn resolve(&mut self, sub: PlanNode) -> Result<Vec<ConflictStep>, PlanError> {
         let mut steps = Vec::new();
@@ -203,6 +316,9 @@ impl Planner {
             if !guarded {
                 if let Some(guard) = algorithm::leave_guard(&mut self.tree, sub) {
                     self.mark(guard);
+                    if let Some(&step) = self.steps.get(sub as usize) {
+                        self.steps.resize(self.tree.capacity(), step);
+                    }
                 }
                 guarded = true;
             }
@@ -213,7 +329,7 @@ impl Planner {
                 )));
             };
             let (precondition, by) = text(&self.g, c);
-            steps.push(ConflictStep { precondition, by, moved });
+            steps.push(ConflictStep { precondition, by, moved, by_new_subtree: c.by_new_subtree });
         }
         Ok(steps)
     }
@@ -227,66 +343,6 @@ impl Planner {
             _ => None,
         }
     }
-}
-
-/// A planned tree with its name table and what planning did.
-#[derive(Clone, Debug)]
-pub struct Plan<C> {
-    /// The tree, as bt-core nodes in pre-order.
-    pub nodes: Vec<Node>,
-    /// The behavior set the tree is built for.
-    pub catalog: Arc<C>,
-    /// Every expansion, in order.
-    pub expansions: Vec<Expansion>,
-    /// With [`Options::record_steps`]: the tree before any expansion, then after each.
-    pub steps: Vec<Vec<Node>>,
-    /// Ticks of the symbolic world spent planning.
-    pub planning_ticks: u32,
-    /// Ticks the final tree takes from the initial state to the goal in the symbolic
-    /// world, or `None` if it does not reach it there.
-    pub goal_ticks: Option<u32>,
-    /// The planner, to continue online from this tree.
-    pub planner: Planner,
-}
-
-/// Offline mode: ticks the tree against the symbolic STRIPS world of `g`, expanding
-/// the failed condition each time it fails, until it reaches the goal there; then
-/// checks the final tree from the initial state.
-///
-/// # Errors
-/// [`PlanError::NoAchiever`] (the condition no action achieves),
-/// [`PlanError::Unresolvable`] (the conflict that could not be resolved),
-/// [`PlanError::NoProgress`], and the errors of [`Planner::on_failure`].
-pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
-    let mut planner = Planner::new(g.clone(), options)?;
-    let mut world = StripsWorld::new(g.clone());
-    let mut states = Vec::new();
-    let mut expansions = Vec::new();
-    let mut steps = Vec::new();
-    let mut planning_ticks = 0;
-    if options.record_steps {
-        steps.push(planner.nodes().to_vec());
-    }
-    loop {
-        let out =
-            strips::run(planner.nodes(), catalog.as_ref(), &mut world, options.max_ticks, |_, _| {}, &mut states)?;
-        planning_ticks += out.ticks;
-        match out.status {
-            Status::Success => break,
-            Status::Running => return Err(PlanError::NoProgress { ticks: options.max_ticks }),
-            Status::Failure => {
-                let belief = world.state().clone();
-                expansions.push(planner.on_failure(&states, &belief)?);
-                if options.record_steps {
-                    steps.push(planner.nodes().to_vec());
-                }
-            }
-        }
-    }
-    let mut fresh = StripsWorld::new(g);
-    let check = strips::run(planner.nodes(), catalog.as_ref(), &mut fresh, options.max_ticks, |_, _| {}, &mut states)?;
-    let goal_ticks = (check.status == Status::Success).then_some(check.ticks);
-    Ok(Plan { nodes: planner.nodes().to_vec(), catalog, expansions, steps, planning_ticks, goal_ticks, planner })
 }
 
 /// How a blended run ended.

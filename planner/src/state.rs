@@ -38,9 +38,21 @@ impl State {
 
     /// The atoms that hold, in increasing order.
     pub fn iter(&self) -> impl Iterator<Item = AtomId> + '_ {
-        self.words
-            .iter()
-            .enumerate()
-            .flat_map(|(i, &w)| (0..64u32).filter(move |b| w & (1 << b) != 0).map(move |b| (i as u32) * 64 + b))
+        self.words.iter().enumerate().flat_map(|(i, &w)| {
+            let mut rest = w;
+            std::iter::from_fn(move || {
+                if rest == 0 {
+                    return None;
+                }
+                let b = rest.trailing_zeros();
+                rest &= rest - 1;
+                Some((i as u32) * 64 + b)
+            })
+        })
+    }
+
+    /// Makes every atom false.
+    pub fn clear(&mut self) {
+        self.words.fill(0);
     }
 }

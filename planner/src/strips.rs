@@ -39,6 +39,7 @@ pub struct StripsWorld {
     sabotaged: Vec<bool>,
     starts: Vec<u32>,
     done: Vec<u32>,
+    executed: Vec<ActionId>,
     scratch: Vec<ActionId>,
 }
 
@@ -54,6 +55,7 @@ impl StripsWorld {
             sabotaged: vec![false; n],
             starts: vec![0; n],
             done: vec![0; n],
+            executed: Vec::new(),
             scratch: Vec::new(),
         }
     }
@@ -120,18 +122,33 @@ impl StripsWorld {
         self.done.get(action as usize).copied().unwrap_or(0)
     }
 
+    /// The actions completed so far, in order (the plan the tree executed).
+    #[must_use]
+    pub fn executed(&self) -> &[ActionId] {
+        &self.executed
+    }
+
+    /// The actions running now, with the nodes that run them, sorted by node.
+    #[must_use]
+    pub fn running(&self) -> Vec<(NodeId, ActionId)> {
+        let mut r = self.running.clone();
+        r.sort_unstable();
+        r
+    }
+
     /// Back to the initial state, nothing running, counters cleared.
     pub fn reset(&mut self) {
         self.state = self.g.init().clone();
         self.running.clear();
         self.starts.fill(0);
         self.done.fill(0);
+        self.executed.clear();
     }
 
     /// Whether every goal condition holds.
     #[must_use]
     pub fn goal_reached(&self) -> bool {
-        self.g.goal().iter().all(|l| self.state.holds(l.atom) == l.positive)
+        self.g.goal_holds(&self.state)
     }
 }
 
@@ -154,6 +171,7 @@ impl BehaviorSet for StripsWorld {
             if let Some(d) = self.done.get_mut(a as usize) {
                 *d += 1;
             }
+            self.executed.push(a);
             return Status::Success;
         }
         let mut candidates = std::mem::take(&mut self.scratch);
@@ -208,7 +226,7 @@ pub fn run<C: Catalog + ?Sized>(
     let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
     states.clear();
     states.resize(nodes.len(), NodeState::IDLE);
-    let mut exec = Executor::new(tree, states).map_err(|_| PlanError::TreeTooLarge { limit: 0, depth: DEPTH })?;
+    let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;
     let mut status = Status::Running;
     let mut ticks = 0;
     while ticks < max_ticks {
@@ -223,4 +241,90 @@ pub fn run<C: Catalog + ?Sized>(
         exec.halt_all(world);
     }
     Ok(Outcome { status, ticks })
+}
+
+/// How an episode judged on the goal state ended ([`run_to_goal`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// The root returned Success with every goal condition true, after `ticks` ticks.
+    Reached {
+        /// Ticks made.
+        ticks: u32,
+    },
+    /// The root returned Failure.
+    Failed {
+        /// Ticks made.
+        ticks: u32,
+    },
+    /// The world came back to a state it was in before, with the same actions
+    /// running, without reaching the goal: ticking on repeats `actions` forever.
+    Oscillates {
+        /// The actions completed between the two visits of that state, in order.
+        actions: Vec<ActionId>,
+    },
+    /// The tick budget ran out (the root kept returning Running, or Success with the
+    /// goal false).
+    OutOfTicks {
+        /// The budget.
+        ticks: u32,
+    },
+}
+
+impl Verdict {
+    /// Whether the goal was reached.
+    #[must_use]
+    pub fn reached(&self) -> bool {
+        matches!(self, Self::Reached { .. })
+    }
+}
+
+/// Ticks `nodes` in `world` until the goal is reached: the root returns Success *and*
+/// every goal condition holds in the world. A Success with a goal condition false
+/// (an action undid a condition checked earlier in the same tick) is not the end: the
+/// next tick starts a new activation. With `detect_loops`, the episode stops as soon
+/// as the world returns to a state it was in after an action completed, with the same
+/// actions running (the tree and the world are deterministic, so it would loop); give
+/// `false` when `script` changes the world at random. `script(tick, world)` runs
+/// before every tick. `states` receives the node states after the last tick.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_to_goal<C: Catalog + ?Sized>(
+    nodes: &[bt_core::Node],
+    catalog: &C,
+    world: &mut StripsWorld,
+    max_ticks: u32,
+    detect_loops: bool,
+    mut script: impl FnMut(u32, &mut StripsWorld),
+    states: &mut Vec<NodeState>,
+) -> Result<Verdict, PlanError> {
+    let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
+    states.clear();
+    states.resize(nodes.len(), NodeState::IDLE);
+    let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;
+    let mut seen: std::collections::HashMap<(State, Vec<(NodeId, ActionId)>), usize> = std::collections::HashMap::new();
+    let mut completed = world.executed.len();
+    let mut ticks = 0;
+    while ticks < max_ticks {
+        ticks += 1;
+        script(ticks, world);
+        let status = exec.tick(world, ticks)?;
+        match status {
+            Status::Failure => return Ok(Verdict::Failed { ticks }),
+            Status::Success if world.goal_reached() => return Ok(Verdict::Reached { ticks }),
+            _ => {}
+        }
+        if detect_loops && world.executed.len() != completed {
+            completed = world.executed.len();
+            let key = (world.state.clone(), world.running());
+            if let Some(&before) = seen.get(&key) {
+                let actions = world.executed[before..].to_vec();
+                exec.halt_all(world);
+                return Ok(Verdict::Oscillates { actions });
+            }
+            seen.insert(key, completed);
+        }
+    }
+    exec.halt_all(world);
+    Ok(Verdict::OutOfTicks { ticks })
 }

@@ -92,6 +92,15 @@ impl PlanTree {
         t
     }
 
+    /// A tree of one node of `kind` (its root); grow it with [`PlanTree::add`] and
+    /// [`PlanTree::push_child`].
+    #[must_use]
+    pub fn with_root(kind: Kind) -> Self {
+        let mut t = Self { slots: Vec::new(), root: 0 };
+        t.root = t.add(kind);
+        t
+    }
+
     /// A new detached node.
     pub fn add(&mut self, kind: Kind) -> PlanNode {
         self.slots.push(Slot { kind, parent: NONE, children: Vec::new() });
@@ -190,7 +199,7 @@ impl PlanTree {
     /// [`PlanError::TreeTooLarge`] beyond `u16` nodes or [`DEPTH`] levels.
     pub fn flatten(&self, g: &Grounding) -> Result<Flat, PlanError> {
         let order = self.preorder(self.root);
-        let too_large = PlanError::TreeTooLarge { limit: usize::from(u16::MAX), depth: DEPTH };
+
         // Flat sizes, children before parents.
         let mut size = vec![0u32; self.slots.len()];
         for &n in order.iter().rev() {
@@ -202,7 +211,7 @@ impl PlanTree {
         }
         let total = size[self.root as usize] as usize;
         if total > usize::from(u16::MAX) {
-            return Err(too_large);
+            return Err(PlanError::TooManyNodes { nodes: total, limit: usize::from(u16::MAX) });
         }
         let mut flat = Flat {
             nodes: Vec::with_capacity(total),
@@ -215,7 +224,7 @@ impl PlanTree {
             let d = self.parent(n).map_or(0, |p| depth_of[p as usize] + 1);
             depth_of[n as usize] = d;
             if usize::from(d) >= DEPTH - 1 {
-                return Err(too_large);
+                return Err(PlanError::TooDeep { levels: usize::from(d) + 2, limit: DEPTH });
             }
             flat.top[n as usize] = flat.nodes.len() as u32;
             let s = size[n as usize] as u16;

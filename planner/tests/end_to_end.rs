@@ -100,8 +100,23 @@ fn refinement_all_keeps_every_grounding_and_still_reaches_the_goal() {
     let g = Arc::new(domains::cube_sphere_blocked().unwrap());
     let c = Arc::new(PddlCatalog::new(g.problem()));
     let all = Options { refinement: planner::Refinement::All, ..Options::default() };
-    let p = plan(g, c, all).unwrap();
-    let hand = p.expansions.iter().find(|e| e.condition == "hand-empty").unwrap();
-    assert_eq!(hand.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);
+    let p = plan(g.clone(), c.clone(), all).unwrap();
     assert!(p.goal_ticks.is_some());
+    // Planned from the initial state, the hand is empty when the path is cleared; an
+    // agent that puts the cube into the hand at the sphere makes `hand-empty` fail,
+    // and the run-time expansion keeps every grounding that achieves it.
+    let mut planner = p.planner;
+    let mut world = StripsWorld::new(g);
+    let mut given = false;
+    let out = planner::run_blended(&mut planner, c.as_ref(), &mut world, 200, |_, w| {
+        if !given && w.holds_named("near", &["sphere"]) {
+            w.set_named("holding", &["cube"], true);
+            w.set_named("hand-empty", &[], false);
+            given = true;
+        }
+    })
+    .unwrap();
+    assert_eq!(out.status, Status::Success);
+    let hand = out.expansions.iter().find(|e| e.1.condition == "hand-empty").unwrap();
+    assert_eq!(hand.1.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);
 }

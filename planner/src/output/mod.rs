@@ -18,7 +18,7 @@ use crate::tree::DEPTH;
 /// The image bytes of `nodes` for `catalog` (`bt_core::encode` with its fingerprint).
 ///
 /// # Errors
-/// [`PlanError::TreeTooLarge`] when the tree has more nodes than an image holds.
+/// [`PlanError::TooManyNodes`] when the tree has more nodes than an image holds.
 pub fn to_image<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Vec<u8>, PlanError> {
     to_image_with(&ImageParts::new(nodes), catalog)
 }
@@ -40,7 +40,7 @@ pub fn to_image_named<C: Catalog + ?Sized>(
 fn to_image_with<C: Catalog + ?Sized>(parts: &ImageParts<'_>, catalog: &C) -> Result<Vec<u8>, PlanError> {
     let mut buf = vec![0u8; parts.max_len()];
     let len = bt_core::encode_with(parts, catalog.fingerprint(), &mut buf)
-        .map_err(|_| PlanError::TreeTooLarge { limit: usize::from(u16::MAX), depth: DEPTH })?;
+        .map_err(|_| PlanError::TooManyNodes { nodes: parts.nodes.len(), limit: usize::from(u16::MAX) })?;
     buf.truncate(len);
     Ok(buf)
 }

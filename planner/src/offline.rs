@@ -1,0 +1,260 @@
+//! Offline planning: Algorithm 1 against the symbolic world, each run of the tree
+//! from the initial state, judged on the goal state; guided by heuristic search when
+//! Algorithm 1 cannot finish; and a final check that the tree reaches the goal.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use bt_core::{Catalog, Node};
+
+use crate::PlanError;
+use crate::ground::{ActionId, Grounding};
+use crate::guide::Trace;
+use crate::planner::{Expansion, Method, Options, Planner};
+use crate::search::{self, SearchOptions};
+use crate::strips::{self, StripsWorld, Verdict};
+
+/// Which method made a tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Made {
+    /// Algorithm 1 of seed 000.
+    Algorithm1,
+    /// Algorithm 1 with its choices (achieving actions, order of goal conditions and
+    /// preconditions) taken from a plan of greedy best-first search with h_FF.
+    SearchGuided,
+    /// The regression tree of a plan of greedy best-first search with h_FF
+    /// ([`crate::regress`]).
+    Regression,
+}
+
+impl Made {
+    /// A short name: `algorithm-1`, `search-guided`, `regression`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Algorithm1 => "algorithm-1",
+            Self::SearchGuided => "search-guided",
+            Self::Regression => "regression",
+        }
+    }
+
+    /// What it is, in a sentence.
+    #[must_use]
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Algorithm1 => "Algorithm 1 of seed 000 (backchaining by ticking the tree)",
+            Self::SearchGuided => {
+                "Algorithm 1 guided by a plan of greedy best-first search with h_FF (achievers and order from the plan)"
+            }
+            Self::Regression => "the regression tree of a plan of greedy best-first search with h_FF",
+        }
+    }
+}
+
+/// A planned tree with its name table and what planning did.
+#[derive(Clone, Debug)]
+pub struct Plan<C> {
+    /// The tree, as bt-core nodes in pre-order.
+    pub nodes: Vec<Node>,
+    /// The behavior set the tree is built for.
+    pub catalog: Arc<C>,
+    /// Every expansion of the method that made the tree, in order.
+    pub expansions: Vec<Expansion>,
+    /// With [`Options::record_steps`]: the tree before any expansion, then after each.
+    pub steps: Vec<Vec<Node>>,
+    /// Ticks of the symbolic world spent planning.
+    pub planning_ticks: u32,
+    /// Ticks the final tree takes from the initial state to the goal in the symbolic
+    /// world (always `Some`: a tree that does not reach the goal is an error).
+    pub goal_ticks: Option<u32>,
+    /// The planner, to continue online from this tree.
+    pub planner: Planner,
+    /// The method that made the tree.
+    pub method: Made,
+    /// The actions the tree executes from the initial state, undisturbed.
+    pub executed: Vec<ActionId>,
+    /// Why earlier methods were given up, in order (empty when Algorithm 1 made it).
+    pub notes: Vec<String>,
+}
+
+/// Offline mode (see [`Method`]): makes a tree, then checks that it reaches the goal
+/// from the initial state in the symbolic world of `g`.
+///
+/// Algorithm 1 ticks the tree against the symbolic world from the initial state,
+/// expanding the failed condition each time it fails, until it reaches the goal:
+/// the root returns Success with every goal condition true.
+///
+/// # Errors
+/// [`PlanError::GoalNotReached`] when the final tree does not reach the goal (never
+/// returned as a plan); with [`Method::Algorithm1`] its own failures, such as
+/// [`PlanError::NoAchiever`], [`PlanError::Unresolvable`] or
+/// [`PlanError::Oscillates`]; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
+/// search.
+pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
+    let mut notes = Vec::new();
+    if options.method != Method::Search {
+        let mut a1 = options;
+        if options.method == Method::Auto
+            && let Some(d) = options.deadline
+        {
+            // Algorithm 1 gets a quarter of the time left; search and guided
+            // backchaining the rest.
+            let now = Instant::now();
+            a1.deadline = Some(now + d.saturating_duration_since(now) / 4);
+        }
+        match algorithm1(g.clone(), catalog.clone(), a1, Made::Algorithm1) {
+            Ok(p) => return Ok(p),
+            Err(e) if options.method == Method::Algorithm1 || !recoverable(&e) => return Err(e),
+            Err(e) => notes.push(format!("Algorithm 1: {e}")),
+        }
+    }
+    let search_options = SearchOptions { deadline: options.deadline, ..SearchOptions::default() };
+    let found = search::gbfs(&g, &search_options)?;
+    let trace = Arc::new(
+        Trace::new(&g, &found.plan).ok_or_else(|| PlanError::NoPlan("search returned an invalid plan".into()))?,
+    );
+    let guided = Planner::guided(g.clone(), trace.clone(), options)?;
+    match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
+        Ok(mut p) => {
+            p.notes = notes;
+            return Ok(p);
+        }
+        Err(e) if !recoverable(&e) => return Err(e),
+        Err(e) => notes.push(format!("guided backchaining: {e}")),
+    }
+    let tree = crate::regress::tree(&g, &trace);
+    let planner = Planner::from_tree(g.clone(), tree, options)?;
+    let mut p = finish(planner, g, catalog, options, Made::Regression, Vec::new(), Vec::new(), 0)?;
+    p.notes = notes;
+    Ok(p)
+}
+
+/// Errors after which another method may still make a tree.
+fn recoverable(e: &PlanError) -> bool {
+    !matches!(
+        e,
+        PlanError::TooManyArgs { .. } | PlanError::NoLeaf { .. } | PlanError::InvalidTree(_) | PlanError::Tick(_)
+    )
+}
+
+fn algorithm1<C: Catalog>(
+    g: Arc<Grounding>,
+    catalog: Arc<C>,
+    options: Options,
+    made: Made,
+) -> Result<Plan<C>, PlanError> {
+    let planner = Planner::new(g.clone(), options)?;
+    run_algorithm1(planner, g, catalog, options, made)
+}
+
+/// The loop of Algorithm 1: run the tree from the initial state; on Failure expand.
+fn run_algorithm1<C: Catalog>(
+    mut planner: Planner,
+    g: Arc<Grounding>,
+    catalog: Arc<C>,
+    options: Options,
+    made: Made,
+) -> Result<Plan<C>, PlanError> {
+    let mut world = StripsWorld::new(g.clone());
+    let mut states = Vec::new();
+    let mut expansions = Vec::new();
+    let mut steps = Vec::new();
+    let mut planning_ticks: u32 = 0;
+    if options.record_steps {
+        steps.push(planner.nodes().to_vec());
+    }
+    loop {
+        if let Some(d) = options.deadline
+            && Instant::now() >= d
+        {
+            return Err(PlanError::Timeout { stage: "expanding the tree" });
+        }
+        world.reset();
+        let verdict = strips::run_to_goal(
+            planner.nodes(),
+            catalog.as_ref(),
+            &mut world,
+            options.max_ticks,
+            true,
+            |_, _| {},
+            &mut states,
+        )?;
+        match verdict {
+            Verdict::Reached { ticks } => {
+                planning_ticks = planning_ticks.saturating_add(ticks);
+                break;
+            }
+            Verdict::Failed { ticks } => {
+                planning_ticks = planning_ticks.saturating_add(ticks);
+                let belief = world.state().clone();
+                expansions.push(planner.on_failure(&states, &belief)?);
+                if options.record_steps {
+                    steps.push(planner.nodes().to_vec());
+                }
+            }
+            Verdict::Oscillates { actions } => {
+                return Err(PlanError::Oscillates {
+                    actions: actions.iter().map(|&a| g.action_name(a)).collect(),
+                    nodes: planner.nodes().to_vec(),
+                });
+            }
+            Verdict::OutOfTicks { ticks } => return Err(PlanError::NoProgress { ticks }),
+        }
+    }
+    finish(planner, g, catalog, options, made, expansions, steps, planning_ticks)
+}
+
+/// The final check: the tree, run from the initial state, reaches the goal.
+#[allow(clippy::too_many_arguments)]
+fn finish<C: Catalog>(
+    planner: Planner,
+    g: Arc<Grounding>,
+    catalog: Arc<C>,
+    options: Options,
+    method: Made,
+    expansions: Vec<Expansion>,
+    steps: Vec<Vec<Node>>,
+    planning_ticks: u32,
+) -> Result<Plan<C>, PlanError> {
+    let mut fresh = StripsWorld::new(g.clone());
+    let mut states = Vec::new();
+    let verdict = strips::run_to_goal(
+        planner.nodes(),
+        catalog.as_ref(),
+        &mut fresh,
+        options.max_ticks,
+        true,
+        |_, _| {},
+        &mut states,
+    )?;
+    let nodes = planner.nodes().to_vec();
+    let ticks = match verdict {
+        Verdict::Reached { ticks } => ticks,
+        Verdict::Failed { ticks } => {
+            return Err(PlanError::GoalNotReached { why: format!("the root fails at tick {ticks}"), nodes });
+        }
+        Verdict::Oscillates { actions } => {
+            let names: Vec<String> = actions.iter().map(|&a| g.action_name(a)).collect();
+            return Err(PlanError::GoalNotReached {
+                why: format!("it oscillates, repeating {}", names.join(", ")),
+                nodes,
+            });
+        }
+        Verdict::OutOfTicks { ticks } => {
+            return Err(PlanError::GoalNotReached { why: format!("not reached within {ticks} ticks"), nodes });
+        }
+    };
+    let executed = fresh.executed().to_vec();
+    Ok(Plan {
+        nodes,
+        catalog,
+        expansions,
+        steps,
+        planning_ticks,
+        goal_ticks: Some(ticks),
+        planner,
+        method,
+        executed,
+        notes: Vec::new(),
+    })
+}

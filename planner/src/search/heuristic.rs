@@ -1,0 +1,251 @@
+//! Delete-relaxation heuristics over literals: h_add and h_FF with helpful actions.
+//!
+//! The relaxation works on literals, not atoms: `p` and `not p` are separate facts, a
+//! delete effect achieves `not p`, and a state makes true every literal that holds in
+//! it. Negative preconditions and goals are then estimated like positive ones. Each
+//! ground action is one relaxed operator, and each of its conditional effects one
+//! more (with the effect's condition added to the preconditions).
+//!
+//! h_add propagates costs with a priority queue (Dijkstra over the AND/OR graph of
+//! operators and literals), each operator costing 1; h_FF extracts a relaxed plan by
+//! following best supporters back from the goal and counts its operators. The
+//! relaxed plan's operators whose preconditions hold in the state are the *helpful
+//! actions*.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use crate::ground::{ActionId, Grounding, Lit};
+use crate::state::State;
+
+/// Unreachable in the relaxation.
+pub const INFINITE: u32 = u32::MAX;
+
+/// The relaxed operators in compressed rows, and the scratch space of an evaluation.
+#[derive(Debug)]
+pub struct Relaxation {
+    /// Per operator: the range of its preconditions in `pre`.
+    op_pre: Vec<(u32, u32)>,
+    /// Per operator: the range of its effects in `eff`.
+    op_eff: Vec<(u32, u32)>,
+    /// Per operator: the ground action it comes from.
+    op_action: Vec<ActionId>,
+    pre: Vec<u32>,
+    eff: Vec<u32>,
+    /// Per literal: the range of the operators that need it in `consumers`.
+    lit_consumers: Vec<(u32, u32)>,
+    consumers: Vec<u32>,
+    /// Operators without preconditions.
+    free: Vec<u32>,
+    goal: Vec<u32>,
+    is_goal: Vec<bool>,
+    // Scratch, reused by every evaluation.
+    cost: Vec<u32>,
+    supporter: Vec<u32>,
+    unsat: Vec<u32>,
+    op_cost: Vec<u32>,
+    marked: Vec<bool>,
+    marked_list: Vec<u32>,
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl Relaxation {
+    /// The relaxed operators of `g`, for its goal.
+    #[must_use]
+    pub fn new(g: &Grounding) -> Self {
+        let lits = g.atom_count() * 2;
+        let mut op_pre = Vec::new();
+        let mut op_eff = Vec::new();
+        let mut op_action = Vec::new();
+        let mut pre: Vec<u32> = Vec::new();
+        let mut eff: Vec<u32> = Vec::new();
+        for (i, a) in g.actions().iter().enumerate() {
+            let mut push = |p: &mut dyn Iterator<Item = Lit>, e: &mut dyn Iterator<Item = Lit>| {
+                let s = pre.len() as u32;
+                pre.extend(p.map(|l| l.index() as u32));
+                op_pre.push((s, pre.len() as u32));
+                let s = eff.len() as u32;
+                eff.extend(e.map(|l| l.index() as u32));
+                op_eff.push((s, eff.len() as u32));
+                op_action.push(i as ActionId);
+            };
+            push(&mut a.pre.iter().copied(), &mut a.must_effects());
+            for c in &a.cond {
+                let add = c.add.iter().map(|&atom| Lit { atom, positive: true });
+                let del = c.del.iter().map(|&atom| Lit { atom, positive: false });
+                push(&mut a.pre.iter().chain(c.when.iter()).copied(), &mut add.chain(del));
+            }
+        }
+        let nops = op_pre.len();
+        let mut counts = vec![0u32; lits + 1];
+        for &p in &pre {
+            counts[p as usize + 1] += 1;
+        }
+        for i in 0..lits {
+            counts[i + 1] += counts[i];
+        }
+        let mut fill = counts.clone();
+        let mut consumers = vec![0u32; pre.len()];
+        let mut free = Vec::new();
+        for (op, &(s, e)) in op_pre.iter().enumerate() {
+            if s == e {
+                free.push(op as u32);
+            }
+            for &p in &pre[s as usize..e as usize] {
+                consumers[fill[p as usize] as usize] = op as u32;
+                fill[p as usize] += 1;
+            }
+        }
+        let lit_consumers = (0..lits).map(|i| (counts[i], counts[i + 1])).collect();
+        Self {
+            op_pre,
+            op_eff,
+            op_action,
+            pre,
+            eff,
+            lit_consumers,
+            consumers,
+            free,
+            goal: g.goal().iter().map(|l| l.index() as u32).collect(),
+            is_goal: {
+                let mut v = vec![false; lits];
+                for l in g.goal() {
+                    if let Some(x) = v.get_mut(l.index()) {
+                        *x = true;
+                    }
+                }
+                v
+            },
+            cost: vec![INFINITE; lits],
+            supporter: vec![NONE; lits],
+            unsat: vec![0; nops],
+            op_cost: vec![0; nops],
+            marked: vec![false; nops],
+            marked_list: Vec::new(),
+            heap: BinaryHeap::new(),
+        }
+    }
+
+    /// Runs h_add's propagation from `state` until every goal literal has its final
+    /// cost (or nothing more can be reached). Returns h_add.
+    fn propagate(&mut self, state: &State) -> u32 {
+        self.cost.fill(INFINITE);
+        self.supporter.fill(NONE);
+        self.heap.clear();
+        for (op, &(s, e)) in self.op_pre.iter().enumerate() {
+            self.unsat[op] = e - s;
+            self.op_cost[op] = 0;
+        }
+        let atoms = self.cost.len() / 2;
+        for atom in 0..atoms {
+            let l = Lit { atom: atom as u32, positive: state.holds(atom as u32) }.index();
+            self.cost[l] = 0;
+        }
+        for i in 0..self.free.len() {
+            let op = self.free[i];
+            self.fire(op, 0);
+        }
+        // Literals true in the state cost nothing: settle them without the queue.
+        for atom in 0..atoms {
+            let l = Lit { atom: atom as u32, positive: state.holds(atom as u32) }.index() as u32;
+            self.settle(l, 0);
+        }
+        let mut goals_left = self.goal.iter().filter(|&&g| self.cost[g as usize] != 0).count();
+        while goals_left > 0 {
+            let Some(Reverse((c, l))) = self.heap.pop() else { break };
+            if c > self.cost[l as usize] {
+                continue;
+            }
+            if self.is_goal[l as usize] {
+                goals_left = goals_left.saturating_sub(1);
+            }
+            self.settle(l, c);
+        }
+        let mut h: u32 = 0;
+        for &g in &self.goal {
+            let c = self.cost[g as usize];
+            if c == INFINITE {
+                return INFINITE;
+            }
+            h = h.saturating_add(c);
+        }
+        h
+    }
+
+    /// Literal `l` has its final cost `c`: its consumers count it.
+    fn settle(&mut self, l: u32, c: u32) {
+        let (s, e) = self.lit_consumers[l as usize];
+        for k in s..e {
+            let op = self.consumers[k as usize];
+            self.op_cost[op as usize] = self.op_cost[op as usize].saturating_add(c);
+            self.unsat[op as usize] -= 1;
+            if self.unsat[op as usize] == 0 {
+                let oc = self.op_cost[op as usize];
+                self.fire(op, oc);
+            }
+        }
+    }
+
+    /// An operator whose preconditions cost `pre_cost` in total reaches its effects
+    /// at that cost plus one.
+    fn fire(&mut self, op: u32, pre_cost: u32) {
+        let c = pre_cost.saturating_add(1);
+        let (s, e) = self.op_eff[op as usize];
+        for k in s..e {
+            let l = self.eff[k as usize] as usize;
+            if c < self.cost[l] {
+                self.cost[l] = c;
+                self.supporter[l] = op;
+                self.heap.push(Reverse((c, l as u32)));
+            }
+        }
+    }
+
+    /// h_add of `state`.
+    pub fn h_add(&mut self, state: &State) -> u32 {
+        self.propagate(state)
+    }
+
+    /// h_FF of `state` (the number of operators of a relaxed plan), and the helpful
+    /// actions (relaxed-plan actions applicable in `state`) into `helpful`.
+    pub fn h_ff(&mut self, state: &State, helpful: &mut Vec<ActionId>) -> u32 {
+        helpful.clear();
+        if self.propagate(state) == INFINITE {
+            return INFINITE;
+        }
+        for &op in &self.marked_list {
+            self.marked[op as usize] = false;
+        }
+        self.marked_list.clear();
+        let mut stack: Vec<u32> = self.goal.clone();
+        while let Some(l) = stack.pop() {
+            if self.cost[l as usize] == 0 {
+                continue;
+            }
+            let op = self.supporter[l as usize];
+            if op == NONE || self.marked[op as usize] {
+                continue;
+            }
+            self.marked[op as usize] = true;
+            self.marked_list.push(op);
+            let (s, e) = self.op_pre[op as usize];
+            let mut applicable = true;
+            for k in s..e {
+                let p = self.pre[k as usize];
+                if self.cost[p as usize] != 0 {
+                    applicable = false;
+                    stack.push(p);
+                }
+            }
+            if applicable {
+                let a = self.op_action[op as usize];
+                if !helpful.contains(&a) {
+                    helpful.push(a);
+                }
+            }
+        }
+        self.marked_list.len() as u32
+    }
+}

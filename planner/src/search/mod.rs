@@ -1,0 +1,209 @@
+//! Heuristic search for a plan: greedy best-first search with h_FF and helpful
+//! actions, over the ground actions of a [`Grounding`].
+//!
+//! The search is *eager*: every new state is evaluated when generated. Two open lists
+//! are kept, one with every state and one with the states reached by a helpful action
+//! of their parent; the search takes from them in turn, and from the helpful one for
+//! a while after each improvement of the best h (the boost of Fast Downward's and
+//! LAMA's searches, in our own code). Ties go to the state generated first, so a run
+//! is deterministic.
+//!
+//! States are stored once, as the sorted list of their true atoms, in one arena;
+//! [`SearchOptions::memory`] bounds it. The plan's actions are the leaves the
+//! backchaining tree then uses ([`crate::guide`]); the search never emits a tree.
+//!
+//! ```
+//! use planner::{domains, search};
+//! let g = domains::blocks_world(4)?;
+//! let found = search::gbfs(&g, &search::SearchOptions::default())?;
+//! assert!(g.goal_holds(&search::execute(&g, &found.plan).unwrap()));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod heuristic;
+mod registry;
+mod successors;
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::time::Instant;
+
+pub use heuristic::{INFINITE, Relaxation};
+
+use crate::PlanError;
+use crate::ground::{ActionId, Grounding};
+use crate::state::State;
+use registry::Registry;
+use successors::Successors;
+
+/// Bounds of a search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SearchOptions {
+    /// Give up at this instant.
+    pub deadline: Option<Instant>,
+    /// Most bytes of stored states.
+    pub memory: usize,
+    /// Expansions from the helpful list after each improvement of the best h.
+    pub boost: u32,
+}
+
+impl Default for SearchOptions {
+    fn default() -> Self {
+        Self { deadline: None, memory: 2 << 30, boost: 1000 }
+    }
+}
+
+/// A plan found by search, with what the search did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Found {
+    /// The actions, in order.
+    pub plan: Vec<ActionId>,
+    /// States expanded.
+    pub expanded: u64,
+    /// States stored (reached for the first time).
+    pub stored: u64,
+    /// h_FF of the initial state.
+    pub initial_h: u32,
+}
+
+/// The state after applying `plan` from the initial state, or `None` when an action
+/// is not applicable where the plan uses it.
+#[must_use]
+pub fn execute(g: &Grounding, plan: &[ActionId]) -> Option<State> {
+    let mut s = g.init().clone();
+    for &a in plan {
+        let x = g.action(a)?;
+        if !x.applicable(&s) {
+            return None;
+        }
+        x.apply(&mut s);
+    }
+    Some(s)
+}
+
+struct Node {
+    parent: u32,
+    action: ActionId,
+}
+
+/// Greedy best-first search with h_FF and helpful actions (see the module docs).
+///
+/// # Errors
+/// [`PlanError::NoPlan`] when every reachable state was expanded without reaching
+/// the goal, or the relaxation shows none can; [`PlanError::Timeout`];
+/// [`PlanError::TooLarge`] when the stored states pass [`SearchOptions::memory`].
+pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> {
+    let mut h = Relaxation::new(g);
+    let succ = Successors::new(g);
+    let mut reg = Registry::new();
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut helpful = Vec::new();
+    let init = g.init().clone();
+    let h0 = h.h_ff(&init, &mut helpful);
+    if h0 == INFINITE {
+        return Err(PlanError::NoPlan("the goal is unreachable even when deletes are ignored".into()));
+    }
+    let (root, _) = reg.insert(&init);
+    nodes.push(Node { parent: u32::MAX, action: 0 });
+    if g.goal_holds(&init) {
+        return Ok(Found { plan: Vec::new(), expanded: 0, stored: 1, initial_h: h0 });
+    }
+    // Open lists: (h, generation order, state).
+    let mut open: BinaryHeap<Reverse<(u32, u64, u32)>> = BinaryHeap::new();
+    let mut preferred: BinaryHeap<Reverse<(u32, u64, u32)>> = BinaryHeap::new();
+    let mut order: u64 = 0;
+    open.push(Reverse((h0, order, root)));
+    preferred.push(Reverse((h0, order, root)));
+    let mut helpful_of: Vec<Vec<ActionId>> = vec![helpful.clone()];
+    let mut closed = vec![false];
+    let mut best = h0;
+    let mut boost = 0u32;
+    let mut turn = false;
+    let mut expanded: u64 = 0;
+    let mut state = State::new(g.atom_count());
+    let mut next = State::new(g.atom_count());
+    let mut applicable = Vec::new();
+    loop {
+        let from_preferred = !preferred.is_empty() && (boost > 0 || turn || open.is_empty());
+        turn = !turn;
+        let popped = if from_preferred {
+            boost = boost.saturating_sub(1);
+            preferred.pop()
+        } else {
+            open.pop()
+        };
+        let Some(Reverse((_, _, id))) = popped else {
+            return Err(PlanError::NoPlan(format!("every reachable state was expanded ({} states)", reg.len())));
+        };
+        if closed[id as usize] {
+            continue;
+        }
+        closed[id as usize] = true;
+        expanded += 1;
+        if expanded & 0xFF == 0
+            && let Some(d) = options.deadline
+            && Instant::now() >= d
+        {
+            return Err(PlanError::Timeout { stage: "searching for a plan" });
+        }
+        reg.load(id, &mut state);
+        let helpful_here = std::mem::take(&mut helpful_of[id as usize]);
+        succ.applicable(g, &state, &mut applicable);
+        for &a in &applicable {
+            let Some(action) = g.action(a) else { continue };
+            next.clone_from(&state);
+            action.apply(&mut next);
+            let (sid, new) = reg.insert(&next);
+            if !new {
+                continue;
+            }
+            if reg.bytes() > options.memory {
+                return Err(PlanError::TooLarge {
+                    what: "bytes of search states",
+                    count: reg.bytes() as u64,
+                    limit: options.memory as u64,
+                });
+            }
+            nodes.push(Node { parent: id, action: a });
+            closed.push(false);
+            if g.goal_holds(&next) {
+                let plan = path(&nodes, sid);
+                return Ok(Found { plan, expanded, stored: reg.len() as u64, initial_h: h0 });
+            }
+            if let Some(d) = options.deadline
+                && Instant::now() >= d
+            {
+                return Err(PlanError::Timeout { stage: "searching for a plan" });
+            }
+            let hv = h.h_ff(&next, &mut helpful);
+            helpful_of.push(if hv == INFINITE { Vec::new() } else { helpful.clone() });
+            if hv == INFINITE {
+                closed[sid as usize] = true;
+                continue;
+            }
+            order += 1;
+            open.push(Reverse((hv, order, sid)));
+            if helpful_here.contains(&a) {
+                preferred.push(Reverse((hv, order, sid)));
+            }
+            if hv < best {
+                best = hv;
+                boost = boost.saturating_add(options.boost);
+            }
+        }
+    }
+}
+
+/// The actions from the root to state `id`.
+fn path(nodes: &[Node], mut id: u32) -> Vec<ActionId> {
+    let mut plan = Vec::new();
+    while let Some(n) = nodes.get(id as usize) {
+        if n.parent == u32::MAX {
+            break;
+        }
+        plan.push(n.action);
+        id = n.parent;
+    }
+    plan.reverse();
+    plan
+}
