@@ -62,20 +62,26 @@ fn atomic_bt_of(tree: &mut PlanTree, condition: PlanNode, rows: &[(ActionId, Vec
     let fallback = tree.add(Kind::Fallback);
     tree.push_child(fallback, condition);
     for (a, pre) in rows {
-        let act = tree.add(Kind::Action(*a));
-        if pre.is_empty() {
-            tree.push_child(fallback, act);
-            continue;
-        }
-        let seq = tree.add(Kind::Sequence);
-        for &p in pre {
-            let c = tree.add(Kind::Condition(p));
-            tree.push_child(seq, c);
-        }
-        tree.push_child(seq, act);
-        tree.push_child(fallback, seq);
+        let r = row(tree, *a, pre);
+        tree.push_child(fallback, r);
     }
     fallback
+}
+
+/// One alternative of an atomic BT, detached: `Sequence(pre..., action)`, or the
+/// action alone without preconditions.
+pub fn row(tree: &mut PlanTree, action: ActionId, pre: &[Lit]) -> PlanNode {
+    let act = tree.add(Kind::Action(action));
+    if pre.is_empty() {
+        return act;
+    }
+    let seq = tree.add(Kind::Sequence);
+    for &p in pre {
+        let c = tree.add(Kind::Condition(p));
+        tree.push_child(seq, c);
+    }
+    tree.push_child(seq, act);
+    seq
 }
 
 /// ExpandTree with achievers chosen by the caller (a plan's guidance): each is an

@@ -73,8 +73,18 @@ pub struct Plan<C> {
     pub method: Made,
     /// The actions the tree executes from the initial state, undisturbed.
     pub executed: Vec<ActionId>,
-    /// Why earlier methods were given up, in order (empty when Algorithm 1 made it).
-    pub notes: Vec<String>,
+    /// The methods tried before and why each was given up, in order (empty when
+    /// Algorithm 1 made the tree).
+    pub gave_up: Vec<GaveUp>,
+}
+
+/// A method that did not make the tree, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GaveUp {
+    /// The method.
+    pub method: Made,
+    /// Its error (for an oscillation, with the tree and the repeating actions).
+    pub error: PlanError,
 }
 
 /// Offline mode (see [`Method`]): makes a tree, then checks that it reaches the goal
@@ -91,7 +101,7 @@ pub struct Plan<C> {
 /// [`PlanError::Oscillates`]; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
 /// search.
 pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
-    let mut notes = Vec::new();
+    let mut gave_up = Vec::new();
     if options.method != Method::Search {
         let mut a1 = options;
         if options.method == Method::Auto
@@ -105,7 +115,7 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
         match algorithm1(g.clone(), catalog.clone(), a1, Made::Algorithm1) {
             Ok(p) => return Ok(p),
             Err(e) if options.method == Method::Algorithm1 || !recoverable(&e) => return Err(e),
-            Err(e) => notes.push(format!("Algorithm 1: {e}")),
+            Err(error) => gave_up.push(GaveUp { method: Made::Algorithm1, error }),
         }
     }
     let search_options = SearchOptions { deadline: options.deadline, ..SearchOptions::default() };
@@ -116,16 +126,16 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     let guided = Planner::guided(g.clone(), trace.clone(), options)?;
     match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
         Ok(mut p) => {
-            p.notes = notes;
+            p.gave_up = gave_up;
             return Ok(p);
         }
         Err(e) if !recoverable(&e) => return Err(e),
-        Err(e) => notes.push(format!("guided backchaining: {e}")),
+        Err(error) => gave_up.push(GaveUp { method: Made::SearchGuided, error }),
     }
     let tree = crate::regress::tree(&g, &trace);
     let planner = Planner::from_tree(g.clone(), tree, options)?;
     let mut p = finish(planner, g, catalog, options, Made::Regression, Vec::new(), Vec::new(), 0)?;
-    p.notes = notes;
+    p.gave_up = gave_up;
     Ok(p)
 }
 
@@ -255,6 +265,6 @@ fn finish<C: Catalog>(
         planner,
         method,
         executed,
-        notes: Vec::new(),
+        gave_up: Vec::new(),
     })
 }

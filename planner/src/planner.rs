@@ -16,6 +16,18 @@ use crate::state::State;
 use crate::strips::{self, StripsWorld};
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
 
+/// What [`Planner::backtrack`] did.
+enum Backtrack {
+    /// Added an achieving action to the Fallback of a condition.
+    Alternative(Lit, PlanNode, ActionId),
+    /// Expanded a condition that stood alone.
+    Expanded(Lit, PlanNode, Vec<ActionId>),
+}
+
+/// Most achieving actions one Fallback gets when alternatives are added to it
+/// ([`Planner::on_failure`] when every failed condition was expanded before).
+pub const MAX_ALTERNATIVES: usize = 8;
+
 /// Which method makes the tree offline.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Method {
@@ -91,11 +103,18 @@ pub struct Expansion {
     pub conflicts: Vec<ConflictStep>,
     /// Nodes in the tree afterwards.
     pub nodes: usize,
+    /// Whether this added another achieving action to a condition expanded before
+    /// (all its alternatives had failed), instead of expanding a new condition.
+    pub added_alternative: bool,
 }
 
 impl fmt::Display for Expansion {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "expanded `{}` with {}", self.condition, self.actions.join(", "))?;
+        if self.added_alternative {
+            write!(f, "added {} as another way to achieve `{}`", self.actions.join(", "), self.condition)?;
+        } else {
+            write!(f, "expanded `{}` with {}", self.condition, self.actions.join(", "))?;
+        }
         for c in &self.conflicts {
             let how = match c.moved {
                 Move::Left => "moved the new subtree one place left",
@@ -129,6 +148,8 @@ pub struct Planner {
     guide: Option<Arc<Trace>>,
     /// Per planner node, the plan step that needs its condition (guided only).
     steps: Vec<u32>,
+    /// How often each literal was expanded again as a lone condition.
+    again: std::collections::HashMap<Lit, u8>,
 }
 
 impl Planner {
@@ -161,7 +182,17 @@ impl Planner {
     /// As [`Planner::new`].
     pub fn from_tree(g: Arc<Grounding>, tree: PlanTree, options: Options) -> Result<Self, PlanError> {
         let flat = tree.flatten(&g)?;
-        Ok(Self { g, tree, expanded: Vec::new(), flat, options, expansions: 0, guide: None, steps: Vec::new() })
+        Ok(Self {
+            g,
+            tree,
+            expanded: Vec::new(),
+            flat,
+            options,
+            expansions: 0,
+            guide: None,
+            steps: Vec::new(),
+            again: std::collections::HashMap::new(),
+        })
     }
 
     /// The planner's tree.
@@ -242,6 +273,25 @@ impl Planner {
                 None => unachievable.push(self.g.lit_name(lit)),
             }
         }
+        if chosen.is_none() && unachievable.is_empty() {
+            match self.backtrack(states, belief) {
+                Some(Backtrack::Alternative(lit, fallback, action)) => {
+                    self.expansions += 1;
+                    let conflicts = self.resolve(fallback)?;
+                    self.flat = self.tree.flatten(&self.g)?;
+                    return Ok(Expansion {
+                        condition: self.g.lit_name(lit),
+                        actions: vec![self.g.action_name(action)],
+                        unachievable,
+                        conflicts,
+                        nodes: self.flat.nodes.len(),
+                        added_alternative: true,
+                    });
+                }
+                Some(Backtrack::Expanded(lit, sub, actions)) => chosen = Some((lit, sub, actions)),
+                None => {}
+            }
+        }
         let Some((lit, sub, actions)) = chosen else {
             if let Some(first) = unachievable.into_iter().next() {
                 return Err(PlanError::NoAchiever { condition: first });
@@ -264,7 +314,104 @@ impl Planner {
             unachievable,
             conflicts,
             nodes: self.flat.nodes.len(),
+            added_alternative: false,
         })
+    }
+
+    /// When every failed condition was expanded before, the first of them
+    /// (breadth-first) that can still be helped: a condition whose Fallback failed
+    /// gets one more achieving action, the cheapest from `belief` by h_add among those
+    /// its Fallback does not have yet (a grounding chosen before may lead nowhere in
+    /// the situation the tree meets now), at most [`MAX_ALTERNATIVES`] per Fallback; a
+    /// condition standing alone (the guard IncreasePriority leaves behind) is expanded
+    /// in place.
+    fn backtrack(&mut self, states: &[NodeState], belief: &State) -> Option<Backtrack> {
+        let mut failed: Vec<(u16, usize, PlanNode)> = Vec::new();
+        for (i, &n) in self.flat.of.iter().enumerate() {
+            let failed_here = states.get(i).map(NodeState::status) == Some(bt_core::NodeStatus::Failure);
+            if !failed_here || self.flat.top.get(n as usize) != Some(&(i as u32)) {
+                continue;
+            }
+            if !matches!(self.tree.kind(n), Kind::Condition(_))
+                || !self.expanded.get(n as usize).copied().unwrap_or(false)
+            {
+                continue;
+            }
+            failed.push((self.flat.depth[i], i, n));
+        }
+        failed.sort_unstable();
+        let mut cost: Option<Vec<u32>> = None;
+        for (_, _, n) in failed {
+            let Kind::Condition(lit) = self.tree.kind(n) else { continue };
+            let Some(fb) = self.tree.parent(n) else { continue };
+            let in_fallback = self.tree.kind(fb) == Kind::Fallback && self.tree.children(fb).first() == Some(&n);
+            if !in_fallback {
+                let count = self.again.entry(lit).or_insert(0);
+                if *count >= 2 {
+                    continue;
+                }
+                *count += 1;
+                let guided = self.guided_choice(n, lit);
+                let expanded = match &guided {
+                    Some(choice) => Some(algorithm::expand_with(&mut self.tree, n, lit, std::slice::from_ref(choice))),
+                    None => algorithm::expand(&mut self.tree, &self.g, n, belief, self.options.refinement),
+                };
+                if let Some((sub, actions)) = expanded {
+                    self.set_steps(sub, n, guided.as_ref());
+                    return Some(Backtrack::Expanded(lit, sub, actions));
+                }
+                continue;
+            }
+            let have: Vec<ActionId> = self
+                .tree
+                .children(fb)
+                .iter()
+                .filter_map(|&c| match self.tree.kind(c) {
+                    Kind::Action(a) => Some(a),
+                    Kind::Sequence => self.tree.children(c).last().and_then(|&l| match self.tree.kind(l) {
+                        Kind::Action(a) => Some(a),
+                        _ => None,
+                    }),
+                    _ => None,
+                })
+                .collect();
+            if have.len() >= MAX_ALTERNATIVES {
+                continue;
+            }
+            let cost = cost.get_or_insert_with(|| crate::refine::h_add(&self.g, belief));
+            let price = |a: ActionId| -> u64 {
+                self.g.action(a).map_or(u64::MAX, |x| {
+                    let extra = x.achieving_condition(lit).unwrap_or(&[]);
+                    x.pre.iter().chain(extra).map(|p| u64::from(cost[p.index()])).fold(0, u64::saturating_add)
+                })
+            };
+            let best = self
+                .g
+                .achievers(lit)
+                .iter()
+                .copied()
+                .filter(|a| !have.contains(a))
+                .filter(|&a| self.g.action(a).is_some_and(|x| !x.pre.contains(&lit)))
+                .map(|a| (price(a), a))
+                .filter(|&(p, _)| p < u64::from(u32::MAX))
+                .min();
+            let Some((_, action)) = best else { continue };
+            let x = self.g.action(action)?;
+            let mut pre = x.pre.clone();
+            for &w in x.achieving_condition(lit).unwrap_or(&[]) {
+                if !pre.contains(&w) {
+                    pre.push(w);
+                }
+            }
+            let r = algorithm::row(&mut self.tree, action, &pre);
+            self.tree.push_child(fb, r);
+            if let Some(trace) = &self.guide {
+                let step = self.steps.get(n as usize).copied().unwrap_or(trace.goal_step() as u32);
+                self.steps.resize(self.tree.capacity(), step);
+            }
+            return Some(Backtrack::Alternative(lit, fb, action));
+        }
+        None
     }
 
     /// The plan's choice for expanding condition node `c` (`lit`): the action of its
