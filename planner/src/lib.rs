@@ -36,6 +36,7 @@
 
 pub mod algorithm;
 mod catalog;
+pub mod coverage;
 pub mod domains;
 pub mod duplo;
 mod duplo_plan;
@@ -58,7 +59,7 @@ pub mod tree;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
-pub use offline::{Made, Plan, plan};
+pub use offline::{GaveUp, Made, Plan, plan};
 pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
 

@@ -41,6 +41,7 @@ pub struct StripsWorld {
     done: Vec<u32>,
     executed: Vec<ActionId>,
     scratch: Vec<ActionId>,
+    checked: bool,
 }
 
 impl StripsWorld {
@@ -57,6 +58,7 @@ impl StripsWorld {
             done: vec![0; n],
             executed: Vec::new(),
             scratch: Vec::new(),
+            checked: false,
         }
     }
 
@@ -82,6 +84,11 @@ impl StripsWorld {
     #[must_use]
     pub fn holds_named(&self, predicate: &str, objects: &[&str]) -> bool {
         self.g.atom_by_name(predicate, objects).is_some_and(|a| self.state.holds(a))
+    }
+
+    /// An external change of the whole state (the actions running go on).
+    pub fn set_state(&mut self, state: State) {
+        self.state = state;
     }
 
     /// An external change: makes `atom` true or false.
@@ -120,6 +127,13 @@ impl StripsWorld {
     #[must_use]
     pub fn completions(&self, action: ActionId) -> u32 {
         self.done.get(action as usize).copied().unwrap_or(0)
+    }
+
+    /// With `true`, an action whose preconditions an external change made false while
+    /// it ran fails when it would complete, without effects (the change interrupted
+    /// it); by default it completes as started.
+    pub fn set_checked_completion(&mut self, on: bool) {
+        self.checked = on;
     }
 
     /// The actions completed so far, in order (the plan the tree executed).
@@ -166,6 +180,9 @@ impl BehaviorSet for StripsWorld {
         {
             let (_, a) = self.running.swap_remove(i);
             if let Some(ga) = self.g.action(a) {
+                if self.checked && !ga.applicable(&self.state) {
+                    return Status::Failure;
+                }
                 ga.apply(&mut self.state);
             }
             if let Some(d) = self.done.get_mut(a as usize) {

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod bench_pddl;
 mod btlog;
 mod catalog;
 mod catalogs;
@@ -72,6 +73,9 @@ enum Command {
     Deploy(deploy::Args),
     /// Watch a running controller's tree live, status by status.
     Monitor(monitor::Args),
+    /// Measure the planner on a folder of PDDL benchmarks, side by side with pyperplan.
+    #[command(long_about = bench_pddl::LONG_ABOUT)]
+    BenchPddl(bench_pddl::Args),
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
@@ -98,6 +102,7 @@ pub fn main() -> ExitCode {
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Deploy(args)) => deploy::run(&args),
         Some(Command::Monitor(args)) => monitor::run(&args),
+        Some(Command::BenchPddl(args)) => bench_pddl::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,399 @@
+//! Coverage on benchmark collections: one instance read, grounded, planned and its
+//! tree run undisturbed and with disturbances; instances found in a folder; results
+//! summed up per domain. `sim-host bench-pddl` drives it, one process per instance.
+//!
+//! **Disturbances** are the external agents of Problem 1 in seed 000, acting at random
+//! ticks (seeded): one *undoes* the robot's last completed action (the world goes
+//! back to the state before it), the other *helps* by doing an action the tree
+//! contains that is applicable at that moment (the world jumps to its result). Both
+//! leave the world in a state the domain can produce. During disturbed episodes an
+//! action whose preconditions were changed under it fails instead of completing
+//! ([`StripsWorld::set_checked_completion`]). The tree is run as planned, without
+//! expanding it at run time.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use bt_core::{Catalog, Node, NodeKind};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::ground::{ActionId, Grounding, Limits};
+use crate::state::State;
+use crate::strips::{self, StripsWorld};
+use crate::{Made, Options, PddlCatalog, PlanError, output, pddl};
+
+/// One problem of a collection with its domain file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Instance {
+    /// The folder it is in (the domain's name in tables).
+    pub domain: String,
+    /// The domain file.
+    pub domain_file: PathBuf,
+    /// The problem file.
+    pub problem_file: PathBuf,
+}
+
+/// The domain file of a problem file in its folder, by the naming conventions of the
+/// IPC collections: `domain_P`, `domain-P`, the first three characters of `P` and
+/// `-domain.pddl`, then `domain.pddl`.
+#[must_use]
+pub fn domain_file_of(problem: &Path) -> Option<PathBuf> {
+    let dir = problem.parent()?;
+    let name = problem.file_name()?.to_str()?;
+    let prefix: String = name.chars().take(3).collect();
+    [format!("domain_{name}"), format!("domain-{name}"), format!("{prefix}-domain.pddl"), "domain.pddl".into()]
+        .into_iter()
+        .map(|c| dir.join(c))
+        .find(|p| p.is_file())
+}
+
+/// The instances under `dir`: its `.pddl` files whose name does not contain
+/// `domain`, in each sub-folder (or in `dir` itself), sorted by folder then name.
+///
+/// # Errors
+/// When a folder cannot be read.
+pub fn instances(dir: &Path) -> std::io::Result<Vec<Instance>> {
+    let mut folders: Vec<PathBuf> = vec![dir.to_path_buf()];
+    for e in std::fs::read_dir(dir)? {
+        let p = e?.path();
+        if p.is_dir() {
+            folders.push(p);
+        }
+    }
+    folders.sort();
+    let mut out = Vec::new();
+    for f in folders {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&f)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.extension().is_some_and(|x| x == "pddl")
+                    && p.file_name().and_then(|n| n.to_str()).is_some_and(|n| !n.contains("domain"))
+            })
+            .collect();
+        files.sort();
+        for problem_file in files {
+            let Some(domain_file) = domain_file_of(&problem_file) else { continue };
+            let domain = f.file_name().and_then(|n| n.to_str()).unwrap_or(".").to_string();
+            out.push(Instance { domain, domain_file, problem_file });
+        }
+    }
+    Ok(out)
+}
+
+/// How an instance is run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Time for reading, grounding and planning.
+    pub timeout: Duration,
+    /// Disturbed episodes per solved instance.
+    pub episodes: u32,
+    /// Seed of the disturbances.
+    pub seed: u64,
+    /// Chance of a disturbance at each tick.
+    pub rate: f64,
+    /// Most disturbances in one episode.
+    pub max_disturbances: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self { timeout: Duration::from_secs(60), episodes: 20, seed: 1, rate: 0.2, max_disturbances: 3 }
+    }
+}
+
+/// What happened to an instance.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// A tree that reaches the goal.
+    Solved,
+    /// The reader refused the files (one line, file:line:column).
+    Refused(String),
+    /// Read, but no tree: the error.
+    Failed(String),
+    /// Out of time.
+    Timeout,
+}
+
+/// The result of one instance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Run {
+    /// What happened.
+    pub outcome: Outcome,
+    /// Seconds from reading the files to the checked tree.
+    pub seconds: f64,
+    /// The method that made the tree.
+    pub method: Option<Made>,
+    /// Tree nodes.
+    pub nodes: usize,
+    /// The actions the tree executes undisturbed, as a plan file writes them.
+    pub plan: Vec<String>,
+    /// Their cost (sum of action costs, or their number without costs).
+    pub cost: u64,
+    /// Disturbed episodes that reached the goal, and episodes run.
+    pub disturbed: (u32, u32),
+    /// Methods given up on the way, one line each.
+    pub gave_up: Vec<String>,
+    /// For an oscillation met on the way: the tree (ASCII) and the repeating actions.
+    pub oscillation: Option<(String, Vec<String>)>,
+}
+
+impl Run {
+    /// A run that ended with `outcome` after `seconds`, nothing else known.
+    #[must_use]
+    pub fn new(outcome: Outcome, seconds: f64) -> Self {
+        Self {
+            outcome,
+            seconds,
+            method: None,
+            nodes: 0,
+            plan: Vec::new(),
+            cost: 0,
+            disturbed: (0, 0),
+            gave_up: Vec::new(),
+            oscillation: None,
+        }
+    }
+
+    /// Whether a tree was made.
+    #[must_use]
+    pub fn solved(&self) -> bool {
+        self.outcome == Outcome::Solved
+    }
+
+    /// Whether the files were read.
+    #[must_use]
+    pub fn parsed(&self) -> bool {
+        !matches!(self.outcome, Outcome::Refused(_))
+    }
+}
+
+fn clean(s: &str) -> String {
+    s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect()
+}
+
+/// Reads, grounds and plans one instance within `settings.timeout`, then runs the
+/// tree undisturbed and in `settings.episodes` disturbed episodes.
+#[must_use]
+pub fn run(instance: &Instance, settings: &Settings) -> Run {
+    let start = Instant::now();
+    let deadline = start + settings.timeout;
+    let read = |p: &Path| std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()));
+    let secs = || start.elapsed().as_secs_f64();
+    let (dtext, ptext) = match (read(&instance.domain_file), read(&instance.problem_file)) {
+        (Ok(d), Ok(p)) => (d, p),
+        (Err(e), _) | (_, Err(e)) => return Run::new(Outcome::Refused(e), secs()),
+    };
+    let dname = instance.domain_file.display().to_string();
+    let pname = instance.problem_file.display().to_string();
+    let problem = match pddl::parse_domain(&dname, &dtext).and_then(|d| pddl::parse_problem(&pname, &ptext, &d)) {
+        Ok(p) => p,
+        Err(e) => return Run::new(Outcome::Refused(clean(&e.to_string())), secs()),
+    };
+    let failed = |e: PlanError, s: f64| match e {
+        PlanError::Timeout { .. } => Run::new(Outcome::Timeout, s),
+        e => Run::new(Outcome::Failed(clean(&e.to_string())), s),
+    };
+    let limits = Limits { deadline: Some(deadline), ..Limits::default() };
+    let g = match Grounding::with_limits(&problem, &limits) {
+        Ok(g) => Arc::new(g),
+        Err(e) => return failed(e, secs()),
+    };
+    let catalog = Arc::new(PddlCatalog::new(&problem));
+    let options = Options { deadline: Some(deadline), ..Options::default() };
+    let plan = match crate::plan(g.clone(), catalog.clone(), options) {
+        Ok(p) => p,
+        Err(e) => return failed(e, secs()),
+    };
+    let seconds = secs();
+    let mut out = Run::new(Outcome::Solved, seconds);
+    out.method = Some(plan.method);
+    out.nodes = plan.nodes.len();
+    out.plan = plan.executed.iter().map(|&a| g.action_pddl(a)).collect();
+    out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
+    for gu in &plan.gave_up {
+        out.gave_up.push(clean(&format!("{}: {}", gu.method.name(), gu.error)));
+        if let PlanError::Oscillates { actions, nodes } = &gu.error
+            && out.oscillation.is_none()
+        {
+            let tree = output::to_ascii(nodes, catalog.as_ref()).unwrap_or_default();
+            out.oscillation = Some((tree, actions.clone()));
+        }
+    }
+    let ticks = plan.goal_ticks.unwrap_or(0);
+    out.disturbed = disturbed(&plan.nodes, catalog.as_ref(), &g, ticks, settings).unwrap_or((0, settings.episodes));
+    out
+}
+
+/// The ground actions of a tree's action leaves.
+fn tree_actions(nodes: &[Node], g: &Grounding) -> Vec<ActionId> {
+    let mut out = Vec::new();
+    let mut buf = Vec::new();
+    for n in nodes {
+        if let NodeKind::Action(leaf) = n.kind() {
+            g.leaf_actions(leaf, &mut buf);
+            for &a in &buf {
+                if !out.contains(&a) {
+                    out.push(a);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Runs `settings.episodes` disturbed episodes of the tree (see the module docs);
+/// returns how many reached the goal, and how many ran.
+///
+/// # Errors
+/// As [`strips::run_to_goal`].
+pub fn disturbed<C: Catalog + ?Sized>(
+    nodes: &[Node],
+    catalog: &C,
+    g: &Arc<Grounding>,
+    undisturbed_ticks: u32,
+    settings: &Settings,
+) -> Result<(u32, u32), PlanError> {
+    let helpers = tree_actions(nodes, g);
+    let budget = undisturbed_ticks.saturating_mul(4).saturating_add(200);
+    let mut reached = 0;
+    let mut states = Vec::new();
+    for e in 0..settings.episodes {
+        let mut rng = ChaCha8Rng::seed_from_u64(settings.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(e));
+        let mut world = StripsWorld::new(g.clone());
+        world.set_checked_completion(true);
+        let mut history: Vec<(State, usize)> = Vec::new();
+        let mut count = 0;
+        let verdict = strips::run_to_goal(
+            nodes,
+            catalog,
+            &mut world,
+            budget,
+            false,
+            |_, w| {
+                history.push((w.state().clone(), w.executed().len()));
+                if count >= settings.max_disturbances || w.goal_reached() || !rng.random_bool(settings.rate) {
+                    return;
+                }
+                let done = w.executed().len();
+                if rng.random_bool(0.5) {
+                    // Undo: back to the state before the last completed action.
+                    if let Some((before, _)) = history.iter().rev().find(|h| h.1 < done) {
+                        w.set_state(before.clone());
+                        count += 1;
+                    }
+                } else {
+                    let options: Vec<ActionId> = helpers
+                        .iter()
+                        .copied()
+                        .filter(|&a| g.action(a).is_some_and(|x| x.applicable(w.state())))
+                        .collect();
+                    if !options.is_empty() {
+                        let a = options[rng.random_range(0..options.len())];
+                        let mut s = w.state().clone();
+                        if let Some(x) = g.action(a) {
+                            x.apply(&mut s);
+                        }
+                        w.set_state(s);
+                        count += 1;
+                    }
+                }
+            },
+            &mut states,
+        )?;
+        if verdict.reached() {
+            reached += 1;
+        }
+    }
+    Ok((reached, settings.episodes))
+}
+
+const SEP: char = '\t';
+
+impl Run {
+    /// The run as lines `key<TAB>value`, for passing it between processes.
+    #[must_use]
+    pub fn encode(&self) -> String {
+        let mut s = String::new();
+        let (kind, text) = match &self.outcome {
+            Outcome::Solved => ("solved", String::new()),
+            Outcome::Refused(e) => ("refused", e.clone()),
+            Outcome::Failed(e) => ("failed", e.clone()),
+            Outcome::Timeout => ("timeout", String::new()),
+        };
+        let mut line = |k: &str, v: &str| {
+            s.push_str(k);
+            s.push(SEP);
+            s.push_str(&clean(v));
+            s.push('\n');
+        };
+        line("outcome", kind);
+        line("message", &text);
+        line("seconds", &format!("{:.3}", self.seconds));
+        line("method", self.method.map_or("", Made::name));
+        line("nodes", &self.nodes.to_string());
+        line("cost", &self.cost.to_string());
+        line("disturbed", &format!("{} {}", self.disturbed.0, self.disturbed.1));
+        for p in &self.plan {
+            line("plan", p);
+        }
+        for g in &self.gave_up {
+            line("gave-up", g);
+        }
+        if let Some((tree, actions)) = &self.oscillation {
+            for t in tree.lines() {
+                line("tree", t);
+            }
+            line("repeats", &actions.join(", "));
+        }
+        s
+    }
+
+    /// Reads [`Run::encode`]'s lines (other lines are skipped); `None` without an
+    /// outcome line.
+    #[must_use]
+    pub fn decode(text: &str) -> Option<Self> {
+        let mut r = Run::new(Outcome::Timeout, 0.0);
+        let mut kind = None;
+        let mut message = String::new();
+        let mut tree = String::new();
+        let mut repeats = None;
+        for l in text.lines() {
+            let Some((k, v)) = l.split_once(SEP) else { continue };
+            match k {
+                "outcome" => kind = Some(v.to_string()),
+                "message" => message = v.to_string(),
+                "seconds" => r.seconds = v.parse().unwrap_or(0.0),
+                "method" => {
+                    r.method =
+                        [Made::Algorithm1, Made::SearchGuided, Made::Regression].into_iter().find(|m| m.name() == v);
+                }
+                "nodes" => r.nodes = v.parse().unwrap_or(0),
+                "cost" => r.cost = v.parse().unwrap_or(0),
+                "disturbed" => {
+                    let mut it = v.split(' ').map(|x| x.parse().unwrap_or(0));
+                    r.disturbed = (it.next().unwrap_or(0), it.next().unwrap_or(0));
+                }
+                "plan" => r.plan.push(v.to_string()),
+                "gave-up" => r.gave_up.push(v.to_string()),
+                "tree" => {
+                    tree.push_str(v);
+                    tree.push('\n');
+                }
+                "repeats" => repeats = Some(v.split(", ").map(str::to_string).collect()),
+                _ => {}
+            }
+        }
+        r.outcome = match kind?.as_str() {
+            "solved" => Outcome::Solved,
+            "refused" => Outcome::Refused(message),
+            "failed" => Outcome::Failed(message),
+            _ => Outcome::Timeout,
+        };
+        if let Some(rep) = repeats {
+            r.oscillation = Some((tree, rep));
+        }
+        Some(r)
+    }
+}
