@@ -214,25 +214,26 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
     out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
     for gu in &plan.gave_up {
         out.gave_up.push(clean(&format!("{}: {}", gu.method.name(), gu.error)));
-        if let PlanError::Oscillates { actions, nodes } = &gu.error
+        if let PlanError::Oscillates { actions, nodes, values } = &gu.error
             && out.oscillation.is_none()
         {
-            let tree = output::to_ascii(nodes, catalog.as_ref()).unwrap_or_default();
+            let tree = output::to_ascii_with(nodes, values, catalog.as_ref()).unwrap_or_default();
             out.oscillation = Some((tree, actions.clone()));
         }
     }
     let ticks = plan.goal_ticks.unwrap_or(0);
-    out.disturbed = disturbed(&plan.nodes, catalog.as_ref(), &g, ticks, settings).unwrap_or((0, settings.episodes));
+    out.disturbed =
+        disturbed(&plan.nodes, &plan.values, catalog.as_ref(), &g, ticks, settings).unwrap_or((0, settings.episodes));
     out
 }
 
 /// The ground actions of a tree's action leaves.
-fn tree_actions(nodes: &[Node], g: &Grounding) -> Vec<ActionId> {
+fn tree_actions(nodes: &[Node], values: &[u16], g: &Grounding) -> Vec<ActionId> {
     let mut out = Vec::new();
     let mut buf = Vec::new();
     for n in nodes {
         if let NodeKind::Action(leaf) = n.kind() {
-            g.leaf_actions(leaf, &mut buf);
+            g.leaf_actions_of(leaf, leaf.args_in(values), &mut buf);
             for &a in &buf {
                 if !out.contains(&a) {
                     out.push(a);
@@ -250,12 +251,13 @@ fn tree_actions(nodes: &[Node], g: &Grounding) -> Vec<ActionId> {
 /// As [`strips::run_to_goal`].
 pub fn disturbed<C: Catalog + ?Sized>(
     nodes: &[Node],
+    values: &[u16],
     catalog: &C,
     g: &Arc<Grounding>,
     undisturbed_ticks: u32,
     settings: &Settings,
 ) -> Result<(u32, u32), PlanError> {
-    let helpers = tree_actions(nodes, g);
+    let helpers = tree_actions(nodes, values, g);
     let budget = undisturbed_ticks.saturating_mul(4).saturating_add(200);
     let mut reached = 0;
     let mut states = Vec::new();
@@ -266,7 +268,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
         let mut history: Vec<(State, usize)> = Vec::new();
         let mut count = 0;
         let verdict = strips::run_to_goal(
-            nodes,
+            (nodes, values),
             catalog,
             &mut world,
             budget,

@@ -14,15 +14,12 @@ pub enum PlanError {
         /// The limit.
         limit: u64,
     },
-    /// A predicate or action with more parameters than a bt-core leaf carries.
-    #[error("`{name}` has {arity} parameters; a bt-core leaf carries at most {max} arguments")]
-    TooManyArgs {
-        /// The predicate or action.
-        name: String,
-        /// Its parameter count.
-        arity: usize,
-        /// `bt_core::MAX_ARGS`.
-        max: usize,
+    /// The tree's value table (the values of leaves with more than
+    /// `bt_core::MAX_ARGS` arguments) would hold more than an image does.
+    #[error("the tree's leaves with more than 3 arguments need more than {limit} values in its value table")]
+    TooManyValues {
+        /// The most values an image holds.
+        limit: usize,
     },
     /// An action whose parameters no precondition binds, with too many groundings.
     #[error("action `{action}` has {count} groundings: its parameters {params} are bound by no precondition")]
@@ -102,6 +99,8 @@ pub enum PlanError {
         actions: Vec<String>,
         /// The tree.
         nodes: Vec<bt_core::Node>,
+        /// Its value table.
+        values: Vec<u16>,
     },
     /// The final tree, run from the initial state in the symbolic world, does not reach
     /// the goal.
@@ -111,6 +110,8 @@ pub enum PlanError {
         why: String,
         /// The tree.
         nodes: Vec<bt_core::Node>,
+        /// Its value table.
+        values: Vec<u16>,
     },
     /// Search found no plan: the problem has no solution.
     #[error("no plan exists: {0}")]

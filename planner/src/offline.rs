@@ -54,6 +54,9 @@ impl Made {
 /// A planned tree with its name table and what planning did.
 #[derive(Clone, Debug)]
 pub struct Plan<C> {
+    /// The value table of the tree's leaves with more than `bt_core::MAX_ARGS`
+    /// arguments (empty when it has none); images carry it in their values section.
+    pub values: Vec<u16>,
     /// The tree, as bt-core nodes in pre-order.
     pub nodes: Vec<Node>,
     /// The behavior set the tree is built for.
@@ -143,7 +146,7 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
 fn recoverable(e: &PlanError) -> bool {
     !matches!(
         e,
-        PlanError::TooManyArgs { .. } | PlanError::NoLeaf { .. } | PlanError::InvalidTree(_) | PlanError::Tick(_)
+        PlanError::TooManyValues { .. } | PlanError::NoLeaf { .. } | PlanError::InvalidTree(_) | PlanError::Tick(_)
     )
 }
 
@@ -181,7 +184,7 @@ fn run_algorithm1<C: Catalog>(
         }
         world.reset();
         let verdict = strips::run_to_goal(
-            planner.nodes(),
+            (planner.nodes(), planner.values()),
             catalog.as_ref(),
             &mut world,
             options.max_ticks,
@@ -206,6 +209,7 @@ fn run_algorithm1<C: Catalog>(
                 return Err(PlanError::Oscillates {
                     actions: actions.iter().map(|&a| g.action_name(a)).collect(),
                     nodes: planner.nodes().to_vec(),
+                    values: planner.values().to_vec(),
                 });
             }
             Verdict::OutOfTicks { ticks } => return Err(PlanError::NoProgress { ticks }),
@@ -229,7 +233,7 @@ fn finish<C: Catalog>(
     let mut fresh = StripsWorld::new(g.clone());
     let mut states = Vec::new();
     let verdict = strips::run_to_goal(
-        planner.nodes(),
+        (planner.nodes(), planner.values()),
         catalog.as_ref(),
         &mut fresh,
         options.max_ticks,
@@ -238,25 +242,28 @@ fn finish<C: Catalog>(
         &mut states,
     )?;
     let nodes = planner.nodes().to_vec();
+    let values = planner.values().to_vec();
     let ticks = match verdict {
         Verdict::Reached { ticks } => ticks,
         Verdict::Failed { ticks } => {
-            return Err(PlanError::GoalNotReached { why: format!("the root fails at tick {ticks}"), nodes });
+            return Err(PlanError::GoalNotReached { why: format!("the root fails at tick {ticks}"), nodes, values });
         }
         Verdict::Oscillates { actions } => {
             let names: Vec<String> = actions.iter().map(|&a| g.action_name(a)).collect();
             return Err(PlanError::GoalNotReached {
                 why: format!("it oscillates, repeating {}", names.join(", ")),
                 nodes,
+                values,
             });
         }
         Verdict::OutOfTicks { ticks } => {
-            return Err(PlanError::GoalNotReached { why: format!("not reached within {ticks} ticks"), nodes });
+            return Err(PlanError::GoalNotReached { why: format!("not reached within {ticks} ticks"), nodes, values });
         }
     };
     let executed = fresh.executed().to_vec();
     Ok(Plan {
         nodes,
+        values,
         catalog,
         expansions,
         steps,

@@ -207,6 +207,12 @@ impl Planner {
         &self.flat.nodes
     }
 
+    /// The current tree's value table (see [`Flat::values`]).
+    #[must_use]
+    pub fn values(&self) -> &[u16] {
+        &self.flat.values
+    }
+
     /// The grounded problem.
     #[must_use]
     pub fn grounding(&self) -> &Arc<Grounding> {
@@ -523,8 +529,15 @@ pub fn run_blended<C: Catalog + ?Sized>(
     let mut expansions = Vec::new();
     loop {
         let base = ticks;
-        let out =
-            strips::run(planner.nodes(), catalog, world, max_ticks - ticks, |t, w| script(base + t, w), &mut states)?;
+        let out = strips::run_with(
+            planner.nodes(),
+            planner.values(),
+            catalog,
+            world,
+            max_ticks - ticks,
+            |t, w| script(base + t, w),
+            &mut states,
+        )?;
         ticks += out.ticks;
         if out.status != Status::Failure || ticks >= max_ticks {
             return Ok(Blended { status: out.status, ticks, expansions });

@@ -167,8 +167,8 @@ impl StripsWorld {
 }
 
 impl BehaviorSet for StripsWorld {
-    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
-        match self.g.leaf_atom(leaf) {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
+        match self.g.leaf_atom_of(leaf, ctx.args(leaf)) {
             Some(a) if self.state.holds(a) => Status::Success,
             _ => Status::Failure,
         }
@@ -192,7 +192,7 @@ impl BehaviorSet for StripsWorld {
             return Status::Success;
         }
         let mut candidates = std::mem::take(&mut self.scratch);
-        self.g.leaf_actions(leaf, &mut candidates);
+        self.g.leaf_actions_of(leaf, ctx.args(leaf), &mut candidates);
         let chosen = candidates.iter().copied().find(|&a| {
             !self.sabotaged.get(a as usize).copied().unwrap_or(false)
                 && self.g.action(a).is_some_and(|ga| ga.applicable(&self.state))
@@ -237,10 +237,28 @@ pub fn run<C: Catalog + ?Sized>(
     catalog: &C,
     world: &mut StripsWorld,
     max_ticks: u32,
+    script: impl FnMut(u32, &mut StripsWorld),
+    states: &mut Vec<NodeState>,
+) -> Result<Outcome, PlanError> {
+    run_with(nodes, &[], catalog, world, max_ticks, script, states)
+}
+
+/// [`run`] for a tree with a value table (leaves with more than
+/// [`bt_core::MAX_ARGS`] arguments).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with<C: Catalog + ?Sized>(
+    nodes: &[bt_core::Node],
+    values: &[u16],
+    catalog: &C,
+    world: &mut StripsWorld,
+    max_ticks: u32,
     mut script: impl FnMut(u32, &mut StripsWorld),
     states: &mut Vec<NodeState>,
 ) -> Result<Outcome, PlanError> {
-    let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
+    let tree: Tree<'_, DEPTH> =
+        Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
     states.clear();
     states.resize(nodes.len(), NodeState::IDLE);
     let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;
@@ -295,7 +313,7 @@ impl Verdict {
     }
 }
 
-/// Ticks `nodes` in `world` until the goal is reached: the root returns Success *and*
+/// Ticks `nodes` (with their value table) in `world` until the goal is reached: the root returns Success *and*
 /// every goal condition holds in the world. A Success with a goal condition false
 /// (an action undid a condition checked earlier in the same tick) is not the end: the
 /// next tick starts a new activation. With `detect_loops`, the episode stops as soon
@@ -307,7 +325,7 @@ impl Verdict {
 /// # Errors
 /// As [`run`].
 pub fn run_to_goal<C: Catalog + ?Sized>(
-    nodes: &[bt_core::Node],
+    (nodes, values): (&[bt_core::Node], &[u16]),
     catalog: &C,
     world: &mut StripsWorld,
     max_ticks: u32,
@@ -315,7 +333,8 @@ pub fn run_to_goal<C: Catalog + ?Sized>(
     mut script: impl FnMut(u32, &mut StripsWorld),
     states: &mut Vec<NodeState>,
 ) -> Result<Verdict, PlanError> {
-    let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
+    let tree: Tree<'_, DEPTH> =
+        Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
     states.clear();
     states.resize(nodes.len(), NodeState::IDLE);
     let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;

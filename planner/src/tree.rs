@@ -5,26 +5,44 @@
 //! Negative conditions: a condition `not p` is written as `Inverter(Condition p)` in
 //! the bt-core tree (the pair counts as one condition for the planner).
 
-use bt_core::{Node, NodeKind};
+use bt_core::{Leaf, Node, NodeKind};
 
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding, Lit};
 
-/// Why a leaf could not be made: more arguments than a leaf carries, or none in the
-/// behavior set.
-fn too_many(g: &Grounding, call: Option<(u16, &[u16])>, name: impl Fn() -> String) -> PlanError {
+/// Why a leaf could not be made: none in the behavior set, or a value table full.
+fn no_leaf(call: Option<(u16, &[u16])>, name: impl Fn() -> String) -> PlanError {
     match call {
-        Some((behavior, args)) if args.len() > bt_core::MAX_ARGS => {
-            let p = g.problem();
-            let n = p.domain.predicates.len();
-            let what = match usize::from(behavior).checked_sub(n) {
-                None => p.domain.predicates.get(usize::from(behavior)).map(|x| x.name.clone()),
-                Some(t) => p.domain.actions.get(t).map(|x| x.name.clone()),
-            };
-            PlanError::TooManyArgs { name: what.unwrap_or_else(&name), arity: args.len(), max: bt_core::MAX_ARGS }
-        }
+        Some((_, args)) if args.len() > bt_core::MAX_ARGS => PlanError::TooManyValues { limit: usize::from(u16::MAX) },
         _ => PlanError::NoLeaf { condition: name() },
     }
+}
+
+/// The leaf of a call under the PDDL contract: inline up to [`bt_core::MAX_ARGS`]
+/// values, else extended, its values in `values` (a run of values already in the
+/// table is shared).
+fn leaf_of(
+    call: (u16, &[u16]),
+    values: &mut Vec<u16>,
+    runs: &mut std::collections::HashMap<Vec<u16>, u16>,
+) -> Option<Leaf> {
+    let (behavior, args) = call;
+    if args.len() <= bt_core::MAX_ARGS {
+        return Leaf::with_args(behavior, args).ok();
+    }
+    let start = match runs.get(args) {
+        Some(&s) => s,
+        None => {
+            let s = u16::try_from(values.len()).ok()?;
+            if values.len() + args.len() > usize::from(u16::MAX) {
+                return None;
+            }
+            values.extend_from_slice(args);
+            runs.insert(args.to_vec(), s);
+            s
+        }
+    };
+    Leaf::extended(behavior, start, u16::try_from(args.len()).ok()?).ok()
 }
 
 /// Id of a planner node; stable across edits.
@@ -72,6 +90,9 @@ pub struct Flat {
     pub of: Vec<PlanNode>,
     /// Depth of each bt-core node (root 0).
     pub depth: Vec<u16>,
+    /// The value table of the extended leaves (those with more than
+    /// [`bt_core::MAX_ARGS`] values; empty when there are none).
+    pub values: Vec<u16>,
 }
 
 impl PlanTree {
@@ -218,7 +239,9 @@ impl PlanTree {
             top: vec![NONE; self.slots.len()],
             of: Vec::with_capacity(total),
             depth: Vec::with_capacity(total),
+            values: Vec::new(),
         };
+        let mut runs = std::collections::HashMap::new();
         let mut depth_of = vec![0u16; self.slots.len()];
         for &n in &order {
             let d = self.parent(n).map_or(0, |p| depth_of[p as usize] + 1);
@@ -232,9 +255,11 @@ impl PlanTree {
                 Kind::Sequence => flat.nodes.push(Node::new(NodeKind::Sequence, s)),
                 Kind::Fallback => flat.nodes.push(Node::new(NodeKind::Fallback, s)),
                 Kind::Condition(l) => {
-                    let leaf = g
-                        .condition_leaf(l.atom)
-                        .ok_or_else(|| too_many(g, g.condition_call(l.atom), || g.lit_name(l)))?;
+                    let leaf = match g.condition_call(l.atom) {
+                        Some(call) => leaf_of(call, &mut flat.values, &mut runs),
+                        None => g.condition_leaf(l.atom),
+                    }
+                    .ok_or_else(|| no_leaf(g.condition_call(l.atom), || g.lit_name(l)))?;
                     if !l.positive {
                         flat.nodes.push(Node::new(NodeKind::Inverter, 2));
                         flat.of.push(n);
@@ -243,7 +268,11 @@ impl PlanTree {
                     flat.nodes.push(Node::new(NodeKind::Condition(leaf), 1));
                 }
                 Kind::Action(a) => {
-                    let leaf = g.action_leaf(a).ok_or_else(|| too_many(g, g.action_call(a), || g.action_name(a)))?;
+                    let leaf = match g.action_call(a) {
+                        Some(call) => leaf_of(call, &mut flat.values, &mut runs),
+                        None => g.action_leaf(a),
+                    }
+                    .ok_or_else(|| no_leaf(g.action_call(a), || g.action_name(a)))?;
                     flat.nodes.push(Node::new(NodeKind::Action(leaf), 1));
                 }
             }

@@ -2,9 +2,9 @@
 //! makes the reader panic.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
+use planner::domains;
 use planner::model::ModelError;
 use planner::pddl::{ErrorKind, parse_domain, parse_problem};
-use planner::{PlanError, domains};
 use proptest::prelude::*;
 
 type Check = fn(&ErrorKind) -> bool;
@@ -147,19 +147,6 @@ fn more_faults_each_with_its_own_error() {
         let (msg, kind) = problem_err(text);
         assert!(want(&kind), "{text}\n-> {msg}");
     }
-}
-
-#[test]
-fn leaves_carry_at_most_three_arguments() {
-    let text = "(define (domain d) (:predicates (p ?a ?b ?c ?d)) (:action a :parameters () :effect (and)))";
-    let d = parse_domain("d.pddl", &text.replace("(and)", "(p ?a ?b ?c ?d)").replace("()", "(?a ?b ?c ?d)")).unwrap();
-    let p = parse_problem("p.pddl", "(define (problem q) (:domain d) (:objects o) (:goal (p o o o o)))", &d).unwrap();
-    let g = std::sync::Arc::new(planner::ground::Grounding::new(&p).unwrap());
-    let c = std::sync::Arc::new(planner::PddlCatalog::new(&p));
-    assert_eq!(
-        planner::plan(g, c, planner::Options::default()).unwrap_err(),
-        PlanError::TooManyArgs { name: "p".into(), arity: 4, max: 3 }
-    );
 }
 
 proptest! {

@@ -78,3 +78,24 @@ fn brick_tasks_and_errors() {
     assert_eq!(out.status.code(), Some(2));
     assert!(!target.exists());
 }
+
+#[test]
+fn leaves_with_more_than_three_arguments_go_into_the_image_and_back() {
+    // IPC 2006 storage: `drop` has five parameters, `lift` five, `move` four.
+    let ipc = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/fixtures/ipc/storage");
+    let (d, p) = (ipc.join("domain.pddl"), ipc.join("p01.pddl"));
+    let dir = tempfile::tempdir().unwrap();
+    let img = dir.path().join("storage.bt");
+    let args = ["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "image"];
+    let out = sim_host(&[&args[..], &["--out", img.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("the tree reaches the goal"));
+    let out = sim_host(&["inspect", img.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("--> drop(hoist0, crate0, "), "{text}");
+    let out = sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "tokens"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("--format tokens cannot write leaves with more than 3 arguments"), "{err}");
+}

@@ -15,6 +15,13 @@ fn escape(s: &str) -> String {
 /// sizes end the drawing early instead of panicking.
 #[must_use]
 pub fn to_dot<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> String {
+    to_dot_with(nodes, &[], catalog)
+}
+
+/// [`to_dot`] for a tree with a value table (leaves with more than
+/// [`bt_core::MAX_ARGS`] arguments).
+#[must_use]
+pub fn to_dot_with<C: Catalog + ?Sized>(nodes: &[Node], values: &[u16], catalog: &C) -> String {
     let mut out = String::from("digraph bt {\n  ordering=out;\n  node [fontname=\"Helvetica\"];\n");
     let mut open: Vec<(usize, usize)> = Vec::new();
     for (i, n) in nodes.iter().enumerate() {
@@ -30,8 +37,8 @@ pub fn to_dot<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> String {
                 (format!("⇉ {success_threshold}/{failure_threshold}"), "box")
             }
             NodeKind::Inverter => ("¬".to_string(), "diamond"),
-            NodeKind::Condition(leaf) => (leaf_text(catalog, leaf), "ellipse"),
-            NodeKind::Action(leaf) => (leaf_text(catalog, leaf), "box"),
+            NodeKind::Condition(leaf) => (leaf_text(catalog, leaf, values), "ellipse"),
+            NodeKind::Action(leaf) => (leaf_text(catalog, leaf, values), "box"),
             other => (other.name().to_string(), "diamond"),
         };
         let style = match n.kind() {

@@ -5,7 +5,7 @@
 mod dot;
 
 pub use btcpp::xml::{XmlError, XmlOptions, to_xml, to_xml_with};
-pub use dot::to_dot;
+pub use dot::{to_dot, to_dot_with};
 
 use bt_core::image::ImageParts;
 use bt_core::{Catalog, Node, Tree};
@@ -21,6 +21,30 @@ use crate::tree::DEPTH;
 /// [`PlanError::TooManyNodes`] when the tree has more nodes than an image holds.
 pub fn to_image<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Vec<u8>, PlanError> {
     to_image_with(&ImageParts::new(nodes), catalog)
+}
+
+/// The image bytes of a tree with its value table (empty: none) and, when given, a
+/// names section (see [`crate::names`]).
+///
+/// # Errors
+/// As [`to_image`]; [`PlanError::TooManyValues`] for a value table beyond what an
+/// image holds.
+pub fn to_image_parts<C: Catalog + ?Sized>(
+    nodes: &[Node],
+    values: &[u16],
+    catalog: &C,
+    names: Option<&NameTable>,
+) -> Result<Vec<u8>, PlanError> {
+    if values.len() > usize::from(u16::MAX) {
+        return Err(PlanError::TooManyValues { limit: usize::from(u16::MAX) });
+    }
+    let names = names.map(NameTable::to_bytes);
+    let mut parts = ImageParts::new(nodes);
+    parts.values = values;
+    if let Some(n) = &names {
+        parts = parts.names(n);
+    }
+    to_image_with(&parts, catalog)
 }
 
 /// The image bytes of `nodes`, with a names section that lets host tools print the
@@ -50,13 +74,23 @@ fn to_image_with<C: Catalog + ?Sized>(parts: &ImageParts<'_>, catalog: &C) -> Re
 /// # Errors
 /// [`PlanError::InvalidTree`] when `nodes` do not validate against `catalog`.
 pub fn to_ascii<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<String, PlanError> {
-    let tree: Tree<'_, DEPTH> = Tree::validate(nodes, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
+    to_ascii_with(nodes, &[], catalog)
+}
+
+/// [`to_ascii`] for a tree with a value table (leaves with more than
+/// [`bt_core::MAX_ARGS`] arguments).
+///
+/// # Errors
+/// As [`to_ascii`].
+pub fn to_ascii_with<C: Catalog + ?Sized>(nodes: &[Node], values: &[u16], catalog: &C) -> Result<String, PlanError> {
+    let tree: Tree<'_, DEPTH> =
+        Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
     Ok(tree.display(catalog).to_string())
 }
 
 /// A leaf as the catalog renders it, e.g. `holding(cube)`.
-pub(crate) fn leaf_text<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf) -> String {
-    bt_core::render::display_leaf(catalog, leaf, &[]).to_string()
+pub(crate) fn leaf_text<C: Catalog + ?Sized>(catalog: &C, leaf: &bt_core::Leaf, values: &[u16]) -> String {
+    bt_core::render::display_leaf(catalog, leaf, values).to_string()
 }
 
 #[cfg(test)]

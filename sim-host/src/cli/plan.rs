@@ -80,23 +80,30 @@ pub struct Args {
 fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
     format: Format,
     nodes: &[Node],
+    values: &[u16],
     catalog: &C,
     ports: &P,
     names: Option<&NameTable>,
 ) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
-        Format::Ascii => output::to_ascii(nodes, catalog)?.into_bytes(),
-        Format::Dot => output::to_dot(nodes, catalog).into_bytes(),
-        Format::Xml => output::to_xml(nodes, catalog, ports)?.into_bytes(),
+        Format::Ascii => output::to_ascii_with(nodes, values, catalog)?.into_bytes(),
+        Format::Dot => output::to_dot_with(nodes, values, catalog).into_bytes(),
+        Format::Xml => {
+            let options = output::XmlOptions { values, ..output::XmlOptions::default() };
+            output::to_xml_with(nodes, catalog, ports, &options)?.into_bytes()
+        }
+        Format::Tokens if !values.is_empty() => {
+            bail!(
+                "--format tokens cannot write leaves with more than 3 arguments (this tree has some); \
+                 use ascii, dot, xml or image"
+            )
+        }
         Format::Tokens => {
             let mut t = planner::tokens::to_string(nodes, catalog)?;
             t.push('\n');
             t.into_bytes()
         }
-        Format::Image => match names {
-            Some(names) => output::to_image_named(nodes, catalog, names)?,
-            None => output::to_image(nodes, catalog)?,
-        },
+        Format::Image => output::to_image_parts(nodes, values, catalog, names)?,
     })
 }
 
@@ -138,7 +145,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         );
         // A brick task's behavior set and names are fixed by its fingerprint: no names
         // section needed.
-        let bytes = render(args.format, &plan.nodes, plan.catalog.as_ref(), &NoPorts, None)?;
+        let bytes = render(args.format, &plan.nodes, &plan.values, plan.catalog.as_ref(), &NoPorts, None)?;
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     } else {
         let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
@@ -162,7 +169,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         // domain has the same fingerprint but other objects.
         let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
         let names = NameTable::of_pddl(&title, &catalog);
-        let bytes = render(args.format, &plan.nodes, catalog.as_ref(), catalog.as_ref(), Some(&names))?;
+        let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names))?;
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     };
     match &args.out {
