@@ -94,7 +94,8 @@ fn leaves_with_more_than_three_arguments_go_into_the_image_and_back() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("--> drop(hoist0, crate0, "), "{text}");
-    let out = sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "tokens"]);
+    let out =
+        sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "tokens"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("--format tokens cannot write leaves with more than 3 arguments"), "{err}");

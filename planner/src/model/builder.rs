@@ -217,6 +217,14 @@ fn params(domain: &Domain, names: &Names, list: &[(&str, &str)]) -> Result<Vec<P
 const MAX_BEHAVIORS: usize = u16::MAX as usize;
 
 impl DomainBuilder {
+    /// Records a requirement the domain declares.
+    pub fn requirement(&mut self, name: &str) {
+        let name = name.to_ascii_lowercase();
+        if !self.domain.requirements.contains(&name) {
+            self.domain.requirements.push(name);
+        }
+    }
+
     /// An empty domain (with the type `object` only).
     #[must_use]
     pub fn new(name: &str) -> Self {
@@ -228,6 +236,7 @@ impl DomainBuilder {
             predicates: Vec::new(),
             functions: Vec::new(),
             actions: Vec::new(),
+            requirements: Vec::new(),
         };
         let names = Names::of(&domain);
         Self { domain, names }

@@ -130,6 +130,9 @@ pub struct Domain {
     pub functions: Vec<Function>,
     /// Action templates, in declaration order (behavior ids after the predicates).
     pub actions: Vec<ActionTemplate>,
+    /// The requirements the domain file declares (`:strips`, `:typing`, ...), lower
+    /// case; a problem's constructs are checked against them and its own.
+    pub requirements: Vec<String>,
 }
 
 /// A typed object of a problem.

@@ -1,6 +1,6 @@
 //! `sim-host plan`: backchaining planning (seed 000) of a PDDL problem or a brick task.
 
-use std::io::IsTerminal as _;
+use std::io::{IsTerminal as _, Write as _};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -151,8 +151,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
             bail!("give --domain D.pddl --problem P.pddl, or --task NAME");
         };
-        let domain = planner::pddl::parse_domain(&dpath.display().to_string(), &read(dpath)?)?;
-        let problem = planner::pddl::parse_problem(&ppath.display().to_string(), &read(ppath)?, &domain)?;
+        let (domain, dwarn) = planner::pddl::read_domain(&dpath.display().to_string(), &read(dpath)?)?;
+        let (problem, pwarn) = planner::pddl::read_problem(&ppath.display().to_string(), &read(ppath)?, &domain)?;
+        for w in dwarn.iter().chain(&pwarn) {
+            let _ = writeln!(std::io::stderr().lock(), "{w}");
+        }
         let g = Arc::new(
             planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?,
         );
@@ -179,7 +182,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             println!("wrote {} ({} bytes)", out.display(), bytes.len());
         }
         None => {
-            use std::io::Write as _;
             let mut stdout = std::io::stdout().lock();
             stdout.write_all(&bytes)?;
             if args.format == Format::Ascii {

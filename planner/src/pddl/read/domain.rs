@@ -29,6 +29,9 @@ pub fn domain(s: &Sexp, w: &mut Vec<(Pos, String)>) -> R<Domain> {
     }
     let name = model(name_pos, check_declared(name, "a domain"))?;
     let mut b = DomainBuilder::new(&name);
+    for (_, _, items) in secs.iter().filter(|s| s.0 == ":requirements") {
+        items.iter().filter_map(Sexp::symbol).for_each(|r| b.requirement(r));
+    }
     for (_, sec, items) in secs.iter().filter(|s| s.0 == ":types") {
         let typing = req.typing;
         req.need(typing, ":typing", "`:types`", sec.pos(), w);

@@ -92,7 +92,15 @@ const REFUSED: &[&str] = &[
 impl Requirements {
     fn add(&mut self, items: &[Sexp]) -> R<()> {
         for r in items {
-            match symbol(r, "a requirement such as `:strips`")? {
+            self.add_one(symbol(r, "a requirement such as `:strips`")?, r.pos())?;
+        }
+        Ok(())
+    }
+
+    /// Adds one requirement, `pos` naming it in errors.
+    pub(crate) fn add_one(&mut self, name: &str, pos: Pos) -> R<()> {
+        {
+            match name {
                 ":strips" => {}
                 ":typing" => self.typing = true,
                 ":negative-preconditions" => self.negative = true,
@@ -116,9 +124,9 @@ impl Requirements {
                     self.conditional = true;
                 }
                 other if REFUSED.contains(&other) => {
-                    return Err((r.pos(), ErrorKind::UnsupportedRequirement(other.to_string())));
+                    return Err((pos, ErrorKind::UnsupportedRequirement(other.to_string())));
                 }
-                other => return Err((r.pos(), ErrorKind::UnsupportedRequirement(clip(other)))),
+                other => return Err((pos, ErrorKind::UnsupportedRequirement(clip(other)))),
             }
         }
         Ok(())

@@ -12,10 +12,13 @@ pub fn problem(s: &Sexp, domain: &Domain, w: &mut Vec<(Pos, String)>) -> R<Probl
     let (name, name_pos, rest) = super::define(s, "problem")?;
     let name = model(name_pos, check_declared(name, "a problem"))?;
     let secs = sections(rest, &[":domain", ":requirements", ":objects", ":init", ":goal", ":metric"], &[":length"], w)?;
-    // A problem reads its conditions with the domain's requirements and its own; the
-    // domain's are not known here, so constructs are taken without warnings.
+    // A problem reads its conditions with the domain's requirements and its own: a
+    // construct that neither declares (a negative goal without
+    // `:negative-preconditions`) is read with a warning, as in a domain.
     let mut req = Requirements::default();
-    req.add(&[Sexp::Symbol(":adl".into(), name_pos), Sexp::Symbol(":action-costs".into(), name_pos)])?;
+    for r in &domain.requirements {
+        req.add_one(r, name_pos)?;
+    }
     for (_, _, items) in secs.iter().filter(|s| s.0 == ":requirements") {
         req.add(items)?;
     }
