@@ -87,3 +87,34 @@ fn predicates_with_many_parameters_are_read_and_the_limit_is_reported_on_the_dom
     let e = parse_domain("d.pddl", &text).unwrap_err();
     assert!(e.to_string().starts_with("d.pddl:3:4:"), "{e}");
 }
+
+#[test]
+fn too_many_predicates_are_refused_while_reading_at_the_first_one_too_many() {
+    let mut text = String::from("(define (domain d)\n(:predicates\n");
+    for i in 0..70_000 {
+        text.push_str(&format!("(p{i})\n"));
+    }
+    text.push_str(") (:action a :parameters () :effect (p1)))");
+    let e = parse_domain("d.pddl", &text).unwrap_err();
+    // Line 3 holds the first predicate: the 65,536th is on line 65,538.
+    assert!(e.to_string().starts_with("d.pddl:65538:1: more than 65535 predicates and actions"), "{e}");
+}
+
+#[test]
+fn a_problem_with_65000_objects_is_refused_with_the_true_grounding_count() {
+    let d = parse_domain(
+        "d.pddl",
+        "(define (domain d) (:predicates (q ?a ?b)) (:action a :parameters (?a ?b) :effect (q ?a ?b)))",
+    )
+    .unwrap();
+    let objects: Vec<String> = (0..65_000).map(|i| format!("o{i}")).collect();
+    let text = format!("(define (problem q) (:domain d) (:objects {}) (:goal (q o1 o2)))", objects.join(" "));
+    let p = parse_problem("p.pddl", &text, &d).unwrap();
+    match Grounding::new(&p).unwrap_err() {
+        PlanError::Unbounded { action, count, .. } => {
+            assert_eq!(action, "a");
+            assert_eq!(count, 65_000 * 65_000);
+        }
+        e => panic!("{e}"),
+    }
+}

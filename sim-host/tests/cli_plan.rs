@@ -100,3 +100,34 @@ fn leaves_with_more_than_three_arguments_go_into_the_image_and_back() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("--format tokens cannot write leaves with more than 3 arguments"), "{err}");
 }
+
+#[test]
+fn a_planned_tree_deeper_than_64_levels_loads_in_inspect_and_export() {
+    // A 40-cell corridor: each step backchains two levels deeper.
+    let dir = tempfile::tempdir().unwrap();
+    let (d, p, img) = (dir.path().join("d.pddl"), dir.path().join("p.pddl"), dir.path().join("c.bt"));
+    std::fs::write(
+        &d,
+        "(define (domain corridor) (:requirements :strips) (:predicates (at ?c) (adj ?a ?b))
+           (:action move :parameters (?a ?b) :precondition (and (at ?a) (adj ?a ?b))
+              :effect (and (at ?b) (not (at ?a)))))",
+    )
+    .unwrap();
+    let cells: Vec<String> = (0..40).map(|i| format!("c{i}")).collect();
+    let adj: Vec<String> = (0..39).map(|i| format!("(adj c{i} c{})", i + 1)).collect();
+    let problem = format!(
+        "(define (problem walk) (:domain corridor) (:objects {}) (:init (at c0) {}) (:goal (at c39)))",
+        cells.join(" "),
+        adj.join(" ")
+    );
+    std::fs::write(&p, problem).unwrap();
+    let args = ["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--format", "image"];
+    let out = sim_host(&[&args[..], &["--out", img.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = sim_host(&["inspect", img.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("nodes      157 (depth 79)"), "{text}");
+    let out = sim_host(&["export", img.to_str().unwrap(), "--format", "dot"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

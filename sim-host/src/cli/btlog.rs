@@ -55,7 +55,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = std::fs::read(&args.image).with_context(|| format!("cannot read {}", args.image.display()))?;
     let (known, header) = catalogs::for_image(&args.image, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let tree: Tree<'_, 64> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+    let tree: Tree<'_, { planner::tree::DEPTH }> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
     let ports: &dyn btcpp::xml::Ports = match &known.ports {
         Some(p) => p.as_ref(),

@@ -8,7 +8,8 @@ use bt_core::{Node, Tree};
 use super::{catalogs, output};
 
 /// Most levels a tree may have to be exported.
-const DEPTH: usize = 64;
+/// As deep as the planner makes trees, so every planned image loads.
+const DEPTH: usize = planner::tree::DEPTH;
 
 /// What to turn the tree into.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

@@ -8,7 +8,8 @@ use bt_core::{Node, Tree};
 use super::catalogs;
 
 /// Most levels a tree may have to be shown.
-const DEPTH: usize = 64;
+/// As deep as the planner makes trees, so every planned image loads.
+const DEPTH: usize = planner::tree::DEPTH;
 
 #[derive(clap::Args, Debug)]
 #[command(long_about = "Loads a tree image exactly as a controller would (envelope, CRC, \

@@ -17,7 +17,8 @@ use super::link::{self, Io, Line, Target};
 use super::{catalogs, output};
 
 /// Most levels a tree may have to be shown.
-const DEPTH: usize = 64;
+/// As deep as the planner makes trees, so every planned image loads.
+const DEPTH: usize = planner::tree::DEPTH;
 
 #[derive(clap::Args, Debug)]
 #[command(

@@ -15,7 +15,8 @@ use sim_host::world::BrickWorld;
 use super::output;
 
 /// Most levels a tree may have to be run.
-const DEPTH: usize = 64;
+/// As deep as the planner makes trees, so every planned image loads.
+const DEPTH: usize = planner::tree::DEPTH;
 
 /// Which world plays the episode.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
