@@ -68,7 +68,9 @@ struct Row {
     instance: Instance,
     ours: Run,
     valid: Option<bool>,
-    pyperplan: Option<(bool, f64, Option<bool>)>,
+    pyperplan: Option<PyperplanRun>,
+    /// Why pyperplan ended without a plan before the timeout.
+    pyperplan_why: Option<String>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -113,11 +115,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             (Some(v), true) => Some(validate(v, &instance, &ours.plan.join("\n"))?),
             _ => None,
         };
-        let pyperplan = match &args.pyperplan {
-            Some(p) => Some(pyperplan(p, &instance, args)?),
-            None => None,
+        let (pyperplan, pyperplan_why) = match &args.pyperplan {
+            Some(p) => {
+                let (r, why) = pyperplan(p, &instance, args)?;
+                (Some(r), why)
+            }
+            None => (None, None),
         };
-        let row = Row { instance, ours, valid, pyperplan };
+        let row = Row { instance, ours, valid, pyperplan, pyperplan_why };
         writeln!(out, "{}", line(&row))?;
         if let Some((tree, actions)) = &row.ours.oscillation {
             writeln!(out, "  Algorithm 1 oscillated, repeating: {}", actions.join(", "))?;
@@ -207,8 +212,12 @@ fn validate(program: &Path, instance: &Instance, plan: &str) -> anyhow::Result<b
     Ok(out.is_some_and(|o| o.status.success()))
 }
 
-/// pyperplan on a copy of the files: (solved, seconds, plan valid).
-fn pyperplan(program: &Path, instance: &Instance, args: &Args) -> anyhow::Result<(bool, f64, Option<bool>)> {
+/// pyperplan's result: solved, seconds, plan valid (`None`: not validated).
+type PyperplanRun = (bool, f64, Option<bool>);
+
+/// pyperplan on a copy of the files: (solved, seconds, plan valid), and when it ended
+/// by itself without a plan, its exit status and last line of output (why).
+fn pyperplan(program: &Path, instance: &Instance, args: &Args) -> anyhow::Result<(PyperplanRun, Option<String>)> {
     let dir = tempfile::tempdir()?;
     let d = dir.path().join("domain.pddl");
     let p = dir.path().join("problem.pddl");
@@ -220,6 +229,14 @@ fn pyperplan(program: &Path, instance: &Instance, args: &Args) -> anyhow::Result
         timed(cmd, Duration::from_secs(args.timeout)).with_context(|| format!("cannot run {}", program.display()))?;
     let soln = dir.path().join("problem.pddl.soln");
     let solved = out.is_some() && soln.is_file();
+    let why = out.as_ref().filter(|_| !solved).map(|o| {
+        let last_of = |b: &[u8]| {
+            String::from_utf8_lossy(b).lines().rev().find(|l| !l.trim().is_empty()).map(|l| l.trim().to_string())
+        };
+        let last = last_of(&o.stderr).or_else(|| last_of(&o.stdout)).unwrap_or_default();
+        let last: String = last.chars().filter(|c| !c.is_control()).take(120).collect();
+        format!("{}: {last}", o.status)
+    });
     let valid = match (&args.validate, solved) {
         (Some(v), true) => {
             let plan = std::fs::read_to_string(&soln)?;
@@ -227,7 +244,7 @@ fn pyperplan(program: &Path, instance: &Instance, args: &Args) -> anyhow::Result
         }
         _ => None,
     };
-    Ok((solved, secs, valid))
+    Ok(((solved, secs, valid), why))
 }
 
 fn yes(b: Option<bool>) -> &'static str {
@@ -259,7 +276,10 @@ fn line(r: &Row) -> String {
     };
     let py = match &r.pyperplan {
         Some((true, s, v)) => format!(" | pyperplan solved {s:.2}s {}", yes(*v)),
-        Some((false, s, _)) => format!(" | pyperplan unsolved ({s:.0}s)"),
+        Some((false, s, _)) => match &r.pyperplan_why {
+            Some(why) => format!(" | pyperplan unsolved ({s:.0}s, {why})"),
+            None => format!(" | pyperplan unsolved ({s:.0}s)"),
+        },
         None => String::new(),
     };
     format!("{id}: {ours}{py}")
