@@ -131,3 +131,24 @@ fn a_planned_tree_deeper_than_64_levels_loads_in_inspect_and_export() {
     let out = sim_host(&["export", img.to_str().unwrap(), "--format", "dot"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn the_summary_says_which_method_made_the_tree_and_why_others_gave_up() {
+    // The Sussman anomaly: Algorithm 1 oscillates, the search's plan makes the tree.
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("sussman.pddl");
+    std::fs::write(
+        &p,
+        "(define (problem sussman) (:domain blocks) (:objects a b c - block)
+           (:init (on c a) (on-table a) (on-table b) (clear c) (clear b) (hand-empty))
+           (:goal (and (on a b) (on b c))))",
+    )
+    .unwrap();
+    let d = domains().join("blocks/domain.pddl");
+    let out = sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("algorithm-1 gave up: the tree oscillates, repeating"), "{text}");
+    assert!(text.contains("made by "), "{text}");
+    assert!(text.contains("the tree reaches the goal in"), "{text}");
+}

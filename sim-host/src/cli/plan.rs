@@ -168,6 +168,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                      (planning reached it along another path)"
                 .to_string(),
         };
+        let mut made = String::new();
+        for gave_up in &plan.gave_up {
+            let why: String = gave_up.error.to_string().chars().take(300).collect();
+            made.push_str(&format!("{} gave up: {why}\n", gave_up.method.name()));
+        }
+        let verdict = format!("{made}made by {}: {}\n{verdict}", plan.method.name(), plan.method.describe());
         // The problem's own names travel with the image: another problem of the same
         // domain has the same fingerprint but other objects.
         let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
