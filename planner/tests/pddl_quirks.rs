@@ -118,3 +118,11 @@ fn a_problem_with_65000_objects_is_refused_with_the_true_grounding_count() {
         e => panic!("{e}"),
     }
 }
+
+#[test]
+fn an_action_named_with_a_question_mark_or_a_reserved_word_is_refused_where_it_is() {
+    let e = parse_domain("d.pddl", &DOMAIN.replace("(:action pick", "(:action ?pick")).unwrap_err();
+    assert!(e.to_string().starts_with("d.pddl:4:12: `?pick` is not a valid name"), "{e}");
+    let e = parse_domain("d.pddl", &DOMAIN.replace("(:action pick", "(:action and")).unwrap_err();
+    assert!(e.to_string().starts_with("d.pddl:4:12: `and` is a reserved word of PDDL"), "{e}");
+}
