@@ -2,6 +2,8 @@
 //! physics (rapier3d), for the scenarios of the two papers; episodes and the fitness of
 //! seed 003; pictures of runs.
 #![forbid(unsafe_code)]
+// The library returns text; the binary writes it (with errors returned, never a panic).
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 #![warn(missing_docs)]
 
 pub mod episode;

@@ -3,6 +3,8 @@
 //! Run without arguments for the blended planning-and-acting demo; `sim-host --help`
 //! lists the subcommands.
 #![forbid(unsafe_code)]
+// Every write goes through `cli::output`, which returns errors; `print!` panics.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
 
 mod cli;
 

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use bt_core::{Node, Tree};
 
-use super::{catalogs, output};
+use super::catalogs;
+use super::output::{self, Content, Target};
 
 /// Most levels a tree may have to be exported.
 /// As deep as the planner makes trees, so every planned image loads.
@@ -33,9 +34,9 @@ pub struct Args {
     /// The notation to write.
     #[arg(long, value_enum, default_value_t = Format::Ascii)]
     pub format: Format,
-    /// Write here instead of stdout.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// Write here instead of stdout (`-`: stdout).
+    #[arg(long, value_name = "FILE", value_parser = Target::parse)]
+    pub out: Option<Target>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -64,11 +65,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
         }
     };
-    match &args.out {
-        Some(out) => output::write_whole(out, text.as_bytes()),
-        None => {
-            print!("{text}");
-            Ok(())
-        }
-    }
+    output::write(args.out.as_ref().unwrap_or(&Target::Stdout), text.as_bytes(), Content::Text)?;
+    Ok(())
 }

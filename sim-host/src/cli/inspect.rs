@@ -6,6 +6,7 @@ use anyhow::Context as _;
 use bt_core::{Node, Tree};
 
 use super::catalogs;
+use super::output::out;
 
 /// Most levels a tree may have to be shown.
 /// As deep as the planner makes trees, so every planned image loads.
@@ -28,15 +29,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut values = vec![0u16; usize::from(u16::MAX)];
     let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    println!("image      {}", path.display());
-    println!("format     version {}", header.version);
-    println!("behaviors  {:#018x} ({})", header.fingerprint, known.name);
-    println!("nodes      {} (depth {})", tree.len(), tree.depth());
-    println!("bytes      {}", header.len);
-    if let Some(note) = &known.note {
-        println!("note       {note}");
-    }
-    println!();
-    print!("{}", tree.display(known.catalog.as_ref()));
+    let note = known.note.as_ref().map(|n| format!("note       {n}\n")).unwrap_or_default();
+    out!(
+        "image      {}\nformat     version {}\nbehaviors  {:#018x} ({})\nnodes      {} (depth {})\nbytes      {}\n{note}\n{}",
+        path.display(),
+        header.version,
+        header.fingerprint,
+        known.name,
+        tree.len(),
+        tree.depth(),
+        header.len,
+        tree.display(known.catalog.as_ref())
+    )?;
     Ok(())
 }

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use sim_host::learn::{self, RunOutcome, RunSpec};
 use sim_host::scenario::WorldKind;
 
-use super::output;
+use super::output::{self, out};
 use super::scenario::World;
 
 pub const LONG_ABOUT: &str = "Learns behavior trees for the brick tasks of seed 003 (Styrud et \
@@ -148,13 +148,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         outcomes.push((o, folder));
     }
     let secs = start.elapsed().as_secs_f64();
-    println!(
-        "{:<10} {:<16} {:<9} {:>5} {:>9} {:>12} {:>9}  folder",
+    let mut table = format!(
+        "{:<10} {:<16} {:<9} {:>5} {:>9} {:>12} {:>9}  folder\n",
         "task", "variant", "world", "seed", "episodes", "best", "planner"
     );
     for (o, folder) in &outcomes {
-        println!(
-            "{:<10} {:<16} {:<9} {:>5} {:>9} {:>12.3} {:>9.3}  {}",
+        table.push_str(&format!(
+            "{:<10} {:<16} {:<9} {:>5} {:>9} {:>12.3} {:>9.3}  {}\n",
             o.spec.task.name(),
             o.spec.variant.name(),
             o.spec.world.name(),
@@ -163,15 +163,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             o.result.best.fitness,
             o.planner_fitness,
             folder.display()
-        );
+        ));
     }
-    println!(
-        "{} runs, {episodes} episodes in {secs:.2} s: {:.0} episodes/s on {} threads",
+    output::stdout(table.as_bytes())?;
+    out!(
+        "{} runs, {episodes} episodes in {secs:.2} s: {:.0} episodes/s on {} threads\nplot them: sim-host plot {}\n",
         outcomes.len(),
         episodes as f64 / secs.max(1e-9),
-        rayon::current_num_threads()
-    );
-    println!("plot them: sim-host plot {}", args.out.display());
+        rayon::current_num_threads(),
+        args.out.display()
+    )?;
     Ok(())
 }
 
@@ -247,13 +248,17 @@ impl Progress {
             Some(t) => t.inc(1),
             None => {
                 let _guard = self.lock.lock();
-                eprintln!(
-                    "done {}: {} episodes, best {:.3} (planner {:.3}), {:.1} s",
-                    o.spec.folder(),
-                    o.result.episodes,
-                    o.result.best.fitness,
-                    o.planner_fitness,
-                    o.seconds
+                // Progress only: a closed or full stderr does not stop the runs.
+                let _ = output::stderr(
+                    format!(
+                        "done {}: {} episodes, best {:.3} (planner {:.3}), {:.1} s\n",
+                        o.spec.folder(),
+                        o.result.episodes,
+                        o.result.best.fitness,
+                        o.planner_fitness,
+                        o.seconds
+                    )
+                    .as_bytes(),
                 );
             }
         }

@@ -1,8 +1,10 @@
 //! The command line: one module per subcommand, each with its clap `Args` and a `run`.
 //!
 //! Every failure is one line on stderr, `error: <what> (<where>)`, and exit code 2;
-//! clap's own argument errors also exit with 2. Output files are written whole or not
-//! at all ([`output::write_whole`]).
+//! clap's own argument errors also exit with 2 ([`message::one_line`] keeps each one
+//! line). Everything written goes through [`output`], which returns every write's error:
+//! no `print!` here (clippy's `print_stdout` and `print_stderr` are denied), so a closed
+//! or full stdout is an error, never a panic.
 
 use std::process::ExitCode;
 
@@ -18,6 +20,7 @@ mod import;
 mod inspect;
 mod learn;
 mod link;
+mod message;
 mod monitor;
 pub mod output;
 mod plan;
@@ -79,14 +82,21 @@ enum Command {
 }
 
 /// Parses the command line, runs it, and turns any error into one line and exit code 2.
+/// A broken pipe on an output (the reader went away, as with `| head`) ends the program
+/// quietly with exit code 0.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        Err(e) if !e.use_stderr() => e.exit(), // --help, --version: stdout, exit 0
-        Err(e) => {
-            eprintln!("{}", one_line(&e));
-            return ExitCode::from(2);
+        // --help, --version: to stdout, exit 0.
+        Err(e) if !e.use_stderr() => {
+            let printed = e.print().and_then(|()| std::io::Write::flush(&mut std::io::stdout()));
+            return match printed {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(io) if io.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(io) => fail(&format!("error: {}", output::WriteError::io("stdout", &io))),
+            };
         }
+        Err(e) => return fail(&clap_line(&e)),
     };
     let result = match cli.command {
         None => scenario::demo(),
@@ -106,16 +116,26 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(2)
-        }
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) => fail(&format!("error: {e:#}")),
     }
+}
+
+/// Whether the error is a write to a pipe whose reader went away.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.downcast_ref::<output::WriteError>().is_some_and(output::WriteError::is_broken_pipe))
+}
+
+/// Prints `line` as one clean line on stderr and returns exit code 2 (also when stderr
+/// itself cannot be written: there is nowhere left to say so).
+fn fail(line: &str) -> ExitCode {
+    let _ = output::stderr(format!("{}\n", message::one_line(line)).as_bytes());
+    ExitCode::from(2)
 }
 
 /// A clap error as one line: its first paragraph (the message and, for bad values, the
 /// possible ones), without the usage and the `--help` tip.
-fn one_line(e: &clap::Error) -> String {
+fn clap_line(e: &clap::Error) -> String {
     let text = e.render().to_string();
     let first = text.split("\n\n").next().unwrap_or("");
     let line: Vec<&str> = first.lines().map(str::trim).filter(|l| !l.is_empty()).collect();

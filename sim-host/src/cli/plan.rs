@@ -1,6 +1,5 @@
 //! `sim-host plan`: backchaining planning (seed 000) of a PDDL problem or a brick task.
 
-use std::io::{IsTerminal as _, Write as _};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -8,9 +7,11 @@ use anyhow::{Context as _, bail};
 use bt_core::{Catalog, Node};
 use planner::duplo::Task;
 use planner::names::NameTable;
-use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement, output};
+use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement};
 
-use super::output::write_whole;
+use super::message::count;
+use super::output::{self, Content, Target, out};
+use planner::output as notation;
 
 /// What to write the tree as.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,7 +49,9 @@ pub enum RefinementArg {
     :negative-preconditions), or one of the four brick tasks of seed 003. Prints the \
     tree, the expansions made, and whether the final tree, run from the initial state \
     in the symbolic world, reaches the goal and in how many ticks.\n\n\
-    The tree goes to stdout or --out FILE (written whole or not at all). Leaves of PDDL \
+    The tree goes to stdout or --out FILE (written whole or not at all; `-` is stdout); \
+    with --out the summary goes to stdout, otherwise (but for ascii) to stderr. An image \
+    is never written to a terminal. Leaves of PDDL \
     trees are behavior ids in the domain's order (predicates, then actions) with \
     object indices as arguments.",
     after_help = "Examples:\n  sim-host plan --domain planner/domains/cube-sphere/domain.pddl \\\n      \
@@ -69,9 +72,9 @@ pub struct Args {
     /// The notation to write the tree in.
     #[arg(long, value_enum, default_value_t = Format::Ascii)]
     pub format: Format,
-    /// Write the tree here instead of stdout.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// Write the tree here instead of stdout (`-`: stdout).
+    #[arg(long, value_name = "FILE", value_parser = Target::parse)]
+    pub out: Option<Target>,
     /// How free action parameters are bound (PDDL only).
     #[arg(long, value_enum, default_value_t = RefinementArg::Cheapest)]
     pub refinement: RefinementArg,
@@ -86,11 +89,11 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
     names: Option<&NameTable>,
 ) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
-        Format::Ascii => output::to_ascii_with(nodes, values, catalog)?.into_bytes(),
-        Format::Dot => output::to_dot_with(nodes, values, catalog).into_bytes(),
+        Format::Ascii => notation::to_ascii_with(nodes, values, catalog)?.into_bytes(),
+        Format::Dot => notation::to_dot_with(nodes, values, catalog).into_bytes(),
         Format::Xml => {
-            let options = output::XmlOptions { values, ..output::XmlOptions::default() };
-            output::to_xml_with(nodes, catalog, ports, &options)?.into_bytes()
+            let options = notation::XmlOptions { values, ..notation::XmlOptions::default() };
+            notation::to_xml_with(nodes, catalog, ports, &options)?.into_bytes()
         }
         Format::Tokens if !values.is_empty() => {
             bail!(
@@ -103,12 +106,12 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
             t.push('\n');
             t.into_bytes()
         }
-        Format::Image => output::to_image_parts(nodes, values, catalog, names)?,
+        Format::Image => notation::to_image_parts(nodes, values, catalog, names)?,
     })
 }
 
 fn summary(expansions: &[Expansion], nodes: usize, verdict: &str) -> String {
-    let mut s = format!("planned: {} expansion(s), {nodes} nodes\n", expansions.len());
+    let mut s = format!("planned: {}, {}\n", count(expansions.len(), "expansion"), count(nodes, "node"));
     for (i, e) in expansions.iter().enumerate() {
         s.push_str(&format!("  {}. {e}\n", i + 1));
     }
@@ -122,9 +125,9 @@ fn read(path: &PathBuf) -> anyhow::Result<String> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    if args.format == Format::Image && args.out.is_none() && std::io::stdout().is_terminal() {
-        bail!("--format image writes binary: give --out FILE (or redirect stdout)");
-    }
+    let target = args.out.clone().unwrap_or(Target::Stdout);
+    let content = if args.format == Format::Image { Content::Binary("a tree image") } else { Content::Text };
+    output::check(&target, content)?;
     let options = Options {
         refinement: match args.refinement {
             RefinementArg::Cheapest => Refinement::Cheapest,
@@ -136,7 +139,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let task = Task::from_name(task).with_context(|| format!("unknown task `{task}`"))?;
         let plan = planner::duplo_plan_with(task, options).with_context(|| format!("planning `{}`", task.name()))?;
         let model = match plan.goal_ticks {
-            Some(t) => format!("the planner's own model of the task reaches the goal in {t} ticks"),
+            Some(t) => format!("the planner's own model of the task reaches the goal in {}", count(t, "tick")),
             None => "the planner's own model of the task does not reach the goal".to_string(),
         };
         let verdict = format!(
@@ -163,7 +166,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let plan =
             planner::plan(g, catalog.clone(), options).with_context(|| format!("planning {}", ppath.display()))?;
         let verdict = match plan.goal_ticks {
-            Some(t) => format!("symbolic world: the tree reaches the goal in {t} ticks from the initial state"),
+            Some(t) => {
+                format!("symbolic world: the tree reaches the goal in {} from the initial state", count(t, "tick"))
+            }
             None => "symbolic world: the tree does NOT reach the goal from the initial state \
                      (planning reached it along another path)"
                 .to_string(),
@@ -181,20 +186,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names))?;
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     };
-    match &args.out {
-        Some(out) => {
-            write_whole(out, &bytes)?;
-            print!("{text}");
-            println!("wrote {} ({} bytes)", out.display(), bytes.len());
+    match &target {
+        Target::File(path) => {
+            output::write_file(path, &bytes, content)?;
+            out!("{text}wrote {} ({} bytes)\n", path.display(), bytes.len())?;
         }
-        None => {
-            let mut stdout = std::io::stdout().lock();
-            stdout.write_all(&bytes)?;
+        Target::Stdout => {
+            output::write(&target, &bytes, content)?;
             if args.format == Format::Ascii {
-                writeln!(stdout)?;
-                write!(stdout, "{text}")?;
+                out!("\n{text}")?;
             } else {
-                eprint!("{text}");
+                output::stderr(text.as_bytes())?;
             }
         }
     }

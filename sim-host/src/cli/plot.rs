@@ -9,7 +9,7 @@ use plotters::style::FontStyle;
 use sim_host::learn::{self, Recorded};
 use sim_host::scenario::WorldKind;
 
-use super::output;
+use super::output::{self, Content, Target};
 
 pub const LONG_ABOUT: &str = "Reads every run folder under DIR (as written by `sim-host learn`, \
 from any number of machines) and draws the learning curves like Figs. 6-11 of seed 003: one \
@@ -24,9 +24,10 @@ variant needed to reach the planner's level.";
 pub struct Args {
     /// The folder holding run folders (searched one level down).
     pub dir: PathBuf,
-    /// The PNG to write (default: DIR/curves.png).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// The PNG to write (default: DIR/curves.png; `-`: stdout, the table then goes to
+    /// stderr).
+    #[arg(long, value_name = "FILE", value_parser = Target::parse)]
+    pub out: Option<Target>,
 }
 
 /// The font every label uses, embedded so the picture needs no system fonts.
@@ -45,11 +46,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut panels: Vec<(planner::duplo::Task, WorldKind)> = runs.iter().map(|r| (r.task, r.world)).collect();
     panels.sort_by_key(|&(t, w)| (t, w.name()));
     panels.dedup();
-    print_table(&runs, &panels);
-    let out = args.out.clone().unwrap_or_else(|| args.dir.join("curves.png"));
+    let out = args.out.clone().unwrap_or_else(|| Target::File(args.dir.join("curves.png")));
+    let content = Content::Binary("a PNG picture");
+    output::check(&out, content)?;
+    let table = table(&runs, &panels);
     let png = draw(&runs, &panels)?;
-    output::write_whole(&out, &png)?;
-    println!("curves: {}", out.display());
+    output::write(&out, &png, content)?;
+    match out {
+        Target::File(path) => output::stdout(format!("{table}curves: {}\n", path.display()).as_bytes())?,
+        Target::Stdout => output::stderr(table.as_bytes())?,
+    }
     Ok(())
 }
 
@@ -90,9 +96,9 @@ fn median(xs: &mut [f64]) -> f64 {
     if n % 2 == 1 { xs[n / 2] } else { (xs[n / 2 - 1] + xs[n / 2]) / 2.0 }
 }
 
-fn print_table(runs: &[Recorded], panels: &[(planner::duplo::Task, WorldKind)]) {
-    println!(
-        "{:<10} {:<9} {:<16} {:>5} {:>10} {:>10} {:>9} {:>22}",
+fn table(runs: &[Recorded], panels: &[(planner::duplo::Task, WorldKind)]) -> String {
+    let mut table = format!(
+        "{:<10} {:<9} {:<16} {:>5} {:>10} {:>10} {:>9} {:>22}\n",
         "task", "world", "variant", "seeds", "median", "mean", "planner", "episodes to planner"
     );
     for &(task, world) in panels {
@@ -115,8 +121,8 @@ fn print_table(runs: &[Recorded], panels: &[(planner::duplo::Task, WorldKind)]) 
                 let m = reached.iter().sum::<u64>() as f64 / reached.len() as f64;
                 format!("{m:.0} ({}/{} seeds)", reached.len(), group.len())
             };
-            println!(
-                "{:<10} {:<9} {:<16} {:>5} {:>10.3} {:>10.3} {:>9.3} {:>22}",
+            table.push_str(&format!(
+                "{:<10} {:<9} {:<16} {:>5} {:>10.3} {:>10.3} {:>9.3} {:>22}\n",
                 task.name(),
                 world.name(),
                 v.name(),
@@ -125,9 +131,10 @@ fn print_table(runs: &[Recorded], panels: &[(planner::duplo::Task, WorldKind)]) 
                 mean,
                 planner,
                 to_planner
-            );
+            ));
         }
     }
+    table
 }
 
 /// Draws the panels into a PNG (through a temporary file: plotters' encoder writes

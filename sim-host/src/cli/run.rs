@@ -12,7 +12,7 @@ use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
 use sim_host::world::BrickWorld;
 
-use super::output;
+use super::output::{self, Content, Target};
 
 /// Most levels a tree may have to be run.
 /// As deep as the planner makes trees, so every planned image loads.
@@ -74,9 +74,10 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub tree: Option<PathBuf>,
     /// Also draw the episode as an SVG picture: paths over the table, heights against
-    /// ticks, the tree's statuses tick by tick (written whole or not at all).
-    #[arg(long, value_name = "FILE")]
-    pub svg: Option<PathBuf>,
+    /// ticks, the tree's statuses tick by tick (written whole or not at all; `-` writes
+    /// it to stdout and the report to stderr).
+    #[arg(long, value_name = "FILE", value_parser = Target::parse)]
+    pub svg: Option<Target>,
     /// Write the run as a Groot2 replay log (BehaviorTree.CPP's FileLogger2 format;
     /// tick k at k x 100 ms of simulated time).
     #[arg(long, value_name = "FILE.btlog")]
@@ -195,7 +196,7 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
     out.push('\n');
     report(&mut out, &spec, &e, runner.tick_limit());
     // The picture first: if it cannot be written, nothing is printed as if all went well.
-    if let Some(path) = &args.svg {
+    if let Some(target) = &args.svg {
         let doc = picture::svg(&picture::Run {
             spec: &spec,
             nodes: tree.nodes(),
@@ -203,14 +204,21 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
             episode: &e,
             world: args.world.name(),
         });
-        output::write_whole(path, doc.as_bytes())?;
-        let _ = writeln!(out, "picture  {}", path.display());
+        output::write(target, doc.as_bytes(), Content::Text)?;
+        if let Target::File(path) = target {
+            let _ = writeln!(out, "picture  {}", path.display());
+        }
     }
     if let (Some(path), Some(bytes)) = (&args.btlog, &log) {
-        output::write_whole(path, bytes)?;
+        output::write_file(path, bytes, Content::Binary("a replay log"))?;
         let _ = writeln!(out, "btlog    {} ({} bytes; open it in Groot2)", path.display(), bytes.len());
     }
-    print!("{out}");
+    if args.svg == Some(Target::Stdout) {
+        // The picture took stdout: the report goes to stderr.
+        output::stderr(out.as_bytes())?;
+    } else {
+        output::stdout(out.as_bytes())?;
+    }
     Ok(())
 }
 

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::bail;
 use sim_host::scenario::{self, Scenario, WorldKind};
 
-use super::output;
+use super::output::{self, Content, Target, out};
 
 /// The world to run in.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,9 +56,9 @@ pub struct Args {
     /// Random external agents from this seed (cube scenario) instead of the scripted story.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Draw the run as an SVG picture.
-    #[arg(long, value_name = "FILE")]
-    pub svg: Option<PathBuf>,
+    /// Draw the run as an SVG picture (`-`: to stdout, the narration then goes to stderr).
+    #[arg(long, value_name = "FILE", value_parser = Target::parse)]
+    pub svg: Option<Target>,
     /// Write the run as a Groot2 replay log (BehaviorTree.CPP's FileLogger2 format, tick
     /// k at k x 100 ms). A log holds one tree: when the planner expanded the tree during
     /// the run, it covers the ticks of the final tree, after the last expansion.
@@ -68,10 +68,12 @@ pub struct Args {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     if args.list {
+        let mut list = String::new();
         for s in Scenario::ALL {
             let worlds: Vec<&str> = s.worlds().iter().map(|w| w.name()).collect();
-            println!("{:<10} [{}]  {}", s.name(), worlds.join(", "), s.about());
+            list.push_str(&format!("{:<10} [{}]  {}\n", s.name(), worlds.join(", "), s.about()));
         }
+        output::stdout(list.as_bytes())?;
         return Ok(());
     }
     let name = args.name.as_deref().unwrap_or_default();
@@ -91,14 +93,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 
 /// `sim-host` without arguments: the blended demo in the physics world.
 pub fn demo() -> anyhow::Result<()> {
-    println!(
+    out!(
         "sim-host: blended planning and acting (Colledanchise, Almeida, Ögren, ICRA 2019).\n\
          A mobile robot must put a cube on a goal region. It starts with a behavior tree that is\n\
          only the goal condition; whenever the tree fails, the planner expands the failed\n\
          condition with the actions that achieve it, and the robot acts on the new tree at once.\n\
          External agents then get in the way and help; watch the tree cope without replanning.\n\
-         (Other scenarios: `sim-host scenario --list`; all commands: `sim-host --help`.)\n"
-    );
+         (Other scenarios: `sim-host scenario --list`; all commands: `sim-host --help`.)\n\n"
+    )?;
     show(Scenario::Cube, WorldKind::Physics, None, None, None)
 }
 
@@ -124,29 +126,29 @@ fn show(
     scenario: Scenario,
     world: WorldKind,
     seed: Option<u64>,
-    svg: Option<&PathBuf>,
+    svg: Option<&Target>,
     btlog_path: Option<&PathBuf>,
 ) -> anyhow::Result<()> {
     let run = scenario::run(scenario, world, seed)?;
     // The files first: if one cannot be written, nothing is printed as if all went well.
-    if let Some(path) = svg {
+    let mut text = run.narration.clone();
+    if let Some(target) = svg {
         let title = format!("sim-host scenario {} ({} world)", scenario.name(), world.name());
-        output::write_whole(path, scenario::svg::svg(&run, &title).as_bytes())?;
-    }
-    let log = match btlog_path {
-        Some(path) => {
-            let (bytes, from, ticks) = btlog(&run)?;
-            output::write_whole(path, &bytes)?;
-            Some((path, from, ticks))
+        output::write(target, scenario::svg::svg(&run, &title).as_bytes(), Content::Text)?;
+        if let Target::File(path) = target {
+            text.push_str(&format!("picture: {}\n", path.display()));
         }
-        None => None,
-    };
-    print!("{}", run.narration);
-    if let Some(path) = svg {
-        println!("picture: {}", path.display());
     }
-    if let Some((path, from, ticks)) = log {
-        println!("btlog: {} ({ticks} ticks of the final tree, from tick {from})", path.display());
+    if let Some(path) = btlog_path {
+        let (bytes, from, ticks) = btlog(&run)?;
+        output::write_file(path, &bytes, Content::Binary("a replay log"))?;
+        text.push_str(&format!("btlog: {} ({ticks} ticks of the final tree, from tick {from})\n", path.display()));
+    }
+    if svg == Some(&Target::Stdout) {
+        // The picture took stdout: the narration goes to stderr.
+        output::stderr(text.as_bytes())?;
+    } else {
+        output::stdout(text.as_bytes())?;
     }
     Ok(())
 }
