@@ -56,12 +56,14 @@ pub mod state;
 pub mod strips;
 pub mod tokens;
 pub mod tree;
+mod wording;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
 pub use offline::{GaveUp, Made, Plan, plan};
 pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
+pub use tree::DEPTH;
 
 /// Plans a brick task with explicit [`Options`] (see [`duplo::plan`]).
 ///

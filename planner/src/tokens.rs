@@ -24,15 +24,46 @@
 //! # Ok::<(), tokens::TokenError>(())
 //! ```
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use bt_core::{Catalog, Leaf, LeafKind, Node, NodeKind};
 
-/// Why a tree could not be written as, or read from, tokens.
+/// Where in a token text: 1-based line and column (in characters).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Location {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column, in characters.
+    pub column: usize,
+}
+
+impl std::fmt::Display for Location {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}", self.line, self.column)
+    }
+}
+
+/// Most characters of a token an error message quotes.
+const QUOTED: usize = 60;
+
+/// `text` cut to [`QUOTED`] characters for a message (`...` and the length after it).
+fn quoted(text: &str) -> String {
+    match text.char_indices().nth(QUOTED) {
+        None => text.to_string(),
+        Some((at, _)) => format!("{}... ({} characters)", &text[..at], text.chars().count()),
+    }
+}
+
+/// Why a tree could not be written as, or read from, tokens. Reading errors start with
+/// the `line:column` of the fault.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TokenError {
     /// A node kind the notation has no token for.
-    #[error("node {node} is a {kind}; the token notation has only s( f( ) and leaves")]
+    #[error(
+        "the token notation cannot express this tree: node {node} is {}; it has only s( f( ) and leaves",
+        crate::wording::article(kind)
+    )]
     NotExpressible {
         /// Index of the node.
         node: usize,
@@ -48,45 +79,73 @@ pub enum TokenError {
         size: u16,
     },
     /// A leaf name that the behavior set does not have.
-    #[error("column {column}: unknown behavior `{name}`")]
+    #[error("{at}: unknown behavior `{name}`")]
     UnknownLeaf {
-        /// 1-based character column where the name starts.
-        column: usize,
-        /// The name as written.
+        /// Where the name starts.
+        at: Location,
+        /// The name as written (cut to 60 characters).
         name: String,
     },
-    /// A leaf name that does not end in `?` or `!`.
-    #[error("column {column}: `{text}` is not a token (leaves end in `?` or `!`, controls are `s(`, `f(`, `)`)")]
+    /// A leaf name that does not end in `?` or `!` on its line.
+    #[error("{at}: `{text}` is not a token (leaves end in `?` or `!` on the same line, controls are `s(`, `f(`, `)`)")]
     BadToken {
-        /// 1-based character column.
-        column: usize,
-        /// The text found.
+        /// Where it starts.
+        at: Location,
+        /// The text found (cut to 60 characters).
         text: String,
     },
     /// A `)` with nothing open.
-    #[error("column {column}: `)` closes nothing")]
+    #[error("{at}: `)` closes nothing")]
     UnbalancedClose {
-        /// 1-based character column.
-        column: usize,
+        /// Where the `)` is.
+        at: Location,
     },
     /// The text ended with control nodes still open.
-    #[error("{open} control node(s) not closed at the end of the text")]
+    #[error("{at}: the text ends with {} not closed", crate::wording::count(*open, "control node"))]
     Unclosed {
+        /// The end of the text.
+        at: Location,
         /// How many are open.
         open: usize,
     },
     /// A control node closed without children.
-    #[error("column {column}: `)` closes a control node with no children")]
+    #[error("{at}: `)` closes a control node with no children")]
     EmptyControl {
-        /// 1-based character column of the `)`.
-        column: usize,
+        /// Where the `)` is.
+        at: Location,
     },
-    /// Nothing, or more than one tree.
-    #[error("{0}")]
-    NotOneTree(&'static str),
+    /// Text after the root closed.
+    #[error("{at}: more than one tree: text continues after the root closed")]
+    SecondTree {
+        /// Where the second tree starts.
+        at: Location,
+    },
+    /// No tokens at all.
+    #[error("no tokens: the text is empty or only whitespace")]
+    Empty,
     /// More nodes than a tree can hold.
-    #[error("more than {} nodes", u16::MAX)]
-    TooLong,
+    #[error("{at}: more than {} nodes, the most a tree holds", u16::MAX)]
+    TooLong {
+        /// Where the node beyond the limit starts.
+        at: Location,
+    },
+}
+
+impl TokenError {
+    /// Where in the text the fault is, for errors of reading.
+    #[must_use]
+    pub fn at(&self) -> Option<Location> {
+        match self {
+            Self::UnknownLeaf { at, .. }
+            | Self::BadToken { at, .. }
+            | Self::UnbalancedClose { at }
+            | Self::Unclosed { at, .. }
+            | Self::EmptyControl { at }
+            | Self::SecondTree { at }
+            | Self::TooLong { at } => Some(*at),
+            Self::NotExpressible { .. } | Self::Malformed { .. } | Self::Empty => None,
+        }
+    }
 }
 
 /// Writes `nodes` (a pre-order array) as tokens, naming leaves by `catalog`.
@@ -144,92 +203,122 @@ fn push_leaf<C: Catalog + ?Sized>(out: &mut String, catalog: &C, leaf: &Leaf, ma
 /// missing) is exactly the token.
 ///
 /// # Errors
-/// A [`TokenError`] naming the column of the first fault.
+/// A [`TokenError`] naming the line and column of the first fault.
 pub fn parse<C: Catalog + ?Sized>(text: &str, catalog: &C) -> Result<Vec<Node>, TokenError> {
-    let mut names: Vec<(String, LeafKind, u16)> = Vec::with_capacity(catalog.len());
+    let mut names: HashMap<String, NodeKind> = HashMap::with_capacity(catalog.len());
     for id in 0..catalog.len() {
         let Ok(id) = u16::try_from(id) else { break };
         if let Some(info) = catalog.info(id)
             && info.arity == 0
         {
             let mut name = info.name.to_string();
-            let mark = if info.kind == LeafKind::Condition { '?' } else { '!' };
+            let (mark, kind) = match info.kind {
+                LeafKind::Condition => ('?', NodeKind::Condition(Leaf::new(id))),
+                LeafKind::Action => ('!', NodeKind::Action(Leaf::new(id))),
+            };
             if !name.ends_with(mark) {
                 name.push(mark);
             }
-            names.push((name, info.kind, id));
+            // The first behavior of a name wins, as a linear search would find it.
+            names.entry(name).or_insert(kind);
         }
     }
-    parse_with(text, |token| {
-        names.iter().find(|(n, ..)| n == token).map(|&(_, kind, id)| match kind {
-            LeafKind::Condition => NodeKind::Condition(Leaf::new(id)),
-            LeafKind::Action => NodeKind::Action(Leaf::new(id)),
-        })
-    })
+    parse_with(text, |token| names.get(token).copied())
+}
+
+/// The reader's place in the text: the rest, and the line and column where it starts.
+/// Every character is counted once, so reading is linear in the text's length.
+struct Cursor<'t> {
+    rest: &'t str,
+    at: Location,
+}
+
+impl<'t> Cursor<'t> {
+    /// Moves past the first `bytes` bytes of the rest (a char boundary).
+    fn advance(&mut self, bytes: usize) {
+        let (done, rest) = self.rest.split_at(bytes);
+        for c in done.chars() {
+            if c == '\n' {
+                self.at.line += 1;
+                self.at.column = 1;
+            } else {
+                self.at.column += 1;
+            }
+        }
+        self.rest = rest;
+    }
+
+    fn skip_whitespace(&mut self) {
+        let n = self.rest.len() - self.rest.trim_start().len();
+        self.advance(n);
+    }
 }
 
 /// Reads tokens, resolving each leaf token (the name with its `?` or `!`) with
-/// `resolve`, which returns the leaf node kind or `None` for an unknown name.
+/// `resolve`, which returns the leaf node kind or `None` for an unknown name. Time and
+/// memory are linear in the text's length.
 ///
 /// # Errors
-/// A [`TokenError`] naming the column of the first fault.
+/// A [`TokenError`] naming the line and column of the first fault.
 pub fn parse_with(text: &str, mut resolve: impl FnMut(&str) -> Option<NodeKind>) -> Result<Vec<Node>, TokenError> {
     let mut nodes: Vec<Node> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
-    let mut rest = text;
-    let column = |rest: &str| text[..text.len() - rest.len()].chars().count() + 1;
+    let mut cur = Cursor { rest: text, at: Location { line: 1, column: 1 } };
     loop {
-        rest = rest.trim_start();
-        if rest.is_empty() {
+        cur.skip_whitespace();
+        if cur.rest.is_empty() {
             break;
         }
-        let col = column(rest);
-        if nodes.len() >= usize::from(u16::MAX) {
-            return Err(TokenError::TooLong);
-        }
+        let at = cur.at;
         if !nodes.is_empty() && open.is_empty() {
-            return Err(TokenError::NotOneTree("more than one tree: text continues after the root closed"));
+            return Err(TokenError::SecondTree { at });
+        }
+        if cur.rest.starts_with(')') {
+            let Some(start) = open.pop() else {
+                return Err(TokenError::UnbalancedClose { at });
+            };
+            let size = nodes.len() - start;
+            if size < 2 {
+                return Err(TokenError::EmptyControl { at });
+            }
+            // size <= nodes.len() <= u16::MAX, checked at every push.
+            if let Some(node) = nodes.get_mut(start) {
+                *node = Node::new(*node.kind(), size as u16);
+            }
+            cur.advance(1);
+            continue;
+        }
+        // Every other token is a node.
+        if nodes.len() >= usize::from(u16::MAX) {
+            return Err(TokenError::TooLong { at });
         }
         let control = ["s(", "f("]
             .into_iter()
-            .find(|c| rest.starts_with(c) && rest[c.len()..].chars().next().is_none_or(char::is_whitespace));
+            .find(|c| cur.rest.starts_with(c) && cur.rest[c.len()..].chars().next().is_none_or(char::is_whitespace));
         if let Some(c) = control {
             open.push(nodes.len());
             let kind = if c == "s(" { NodeKind::Sequence } else { NodeKind::Fallback };
             nodes.push(Node::new(kind, 1));
-            rest = &rest[2..];
+            cur.advance(2);
             continue;
         }
-        if let Some(after) = rest.strip_prefix(')') {
-            let Some(start) = open.pop() else {
-                return Err(TokenError::UnbalancedClose { column: col });
-            };
-            let size = nodes.len() - start;
-            if size < 2 {
-                return Err(TokenError::EmptyControl { column: col });
-            }
-            // size <= nodes.len() < u16::MAX, checked above.
-            let kind = *nodes[start].kind();
-            nodes[start] = Node::new(kind, size as u16);
-            rest = after;
-            continue;
-        }
-        let Some(end) = rest.find(['?', '!']) else {
-            let text = rest.split_whitespace().next().unwrap_or(rest).to_string();
-            return Err(TokenError::BadToken { column: col, text });
+        let end = cur.rest.find(['?', '!', '\n']).filter(|&e| cur.rest.as_bytes().get(e) != Some(&b'\n'));
+        let Some(end) = end else {
+            let word = cur.rest.split_whitespace().next().unwrap_or(cur.rest);
+            return Err(TokenError::BadToken { at, text: quoted(word) });
         };
-        let name = &rest[..=end];
+        let name = &cur.rest[..=end];
         let Some(kind) = resolve(name) else {
-            return Err(TokenError::UnknownLeaf { column: col, name: name.to_string() });
+            return Err(TokenError::UnknownLeaf { at, name: quoted(name) });
         };
         nodes.push(Node::new(kind, 1));
-        rest = &rest[end + 1..];
+        cur.advance(end + 1);
     }
     if !open.is_empty() {
-        return Err(TokenError::Unclosed { open: open.len() });
+        return Err(TokenError::Unclosed { at: cur.at, open: open.len() });
     }
     if nodes.is_empty() {
-        return Err(TokenError::NotOneTree("no tokens"));
+        return Err(TokenError::Empty);
     }
     Ok(nodes)
 }
@@ -260,25 +349,56 @@ mod tests {
         assert_eq!(nodes[2].kind(), &NodeKind::Condition(Leaf::new(spec.id_by_name("0 on 1?").unwrap())));
     }
 
+    fn at(line: usize, column: usize) -> Location {
+        Location { line, column }
+    }
+
     #[test]
-    fn errors_name_the_column() {
+    fn errors_name_the_line_and_column() {
         let spec = Task::Tower.spec();
-        assert_eq!(parse("s( pick 9! )", &spec), Err(TokenError::UnknownLeaf { column: 4, name: "pick 9!".into() }));
-        assert_eq!(
-            parse("s( pick 0! ) )", &spec),
-            Err(TokenError::NotOneTree("more than one tree: text continues after the root closed"))
-        );
-        assert_eq!(
-            parse("pick 0! )", &spec),
-            Err(TokenError::NotOneTree("more than one tree: text continues after the root closed"))
-        );
-        assert_eq!(parse(")", &spec), Err(TokenError::UnbalancedClose { column: 1 }));
-        assert_eq!(parse("s( f( )", &spec), Err(TokenError::EmptyControl { column: 7 }));
-        assert_eq!(parse("s( pick 0!", &spec), Err(TokenError::Unclosed { open: 1 }));
-        assert_eq!(parse("s( hello )", &spec), Err(TokenError::BadToken { column: 4, text: "hello".into() }));
-        assert_eq!(parse("   ", &spec), Err(TokenError::NotOneTree("no tokens")));
+        assert_eq!(parse("s( pick 9! )", &spec), Err(TokenError::UnknownLeaf { at: at(1, 4), name: "pick 9!".into() }));
+        assert_eq!(parse("s( pick 0! ) )", &spec), Err(TokenError::SecondTree { at: at(1, 14) }));
+        assert_eq!(parse("pick 0! )", &spec), Err(TokenError::SecondTree { at: at(1, 9) }));
+        assert_eq!(parse(")", &spec), Err(TokenError::UnbalancedClose { at: at(1, 1) }));
+        assert_eq!(parse("s( f( )", &spec), Err(TokenError::EmptyControl { at: at(1, 7) }));
+        assert_eq!(parse("s( pick 0!", &spec), Err(TokenError::Unclosed { at: at(1, 11), open: 1 }));
+        assert_eq!(parse("s( hello )", &spec), Err(TokenError::BadToken { at: at(1, 4), text: "hello".into() }));
+        assert_eq!(parse("   ", &spec), Err(TokenError::Empty));
         // A condition name written as an action is unknown.
-        assert!(matches!(parse("picked 0!", &spec), Err(TokenError::UnknownLeaf { column: 1, .. })));
+        assert!(matches!(
+            parse("picked 0!", &spec),
+            Err(TokenError::UnknownLeaf { at: Location { line: 1, column: 1 }, .. })
+        ));
+        // Lines and columns, in characters, after line breaks and non-ASCII text.
+        let text = "s(\n  f( picked 0? pick 0! )\n  pick 9!\n)";
+        assert_eq!(parse(text, &spec), Err(TokenError::UnknownLeaf { at: at(3, 3), name: "pick 9!".into() }));
+        assert_eq!(parse("s( é\n  bad )", &spec), Err(TokenError::BadToken { at: at(1, 4), text: "é".into() }));
+        assert_eq!(parse("s(\n\n      x", &spec), Err(TokenError::BadToken { at: at(3, 7), text: "x".into() }));
+        assert_eq!(
+            parse("s( pick 0!\n", &spec).map_err(|e| e.to_string()),
+            Err("2:1: the text ends with 1 control node not closed".into())
+        );
+    }
+
+    #[test]
+    fn long_names_are_cut_in_messages() {
+        let spec = Task::Tower.spec();
+        let long = format!("s( {}! )", "x".repeat(1_000_000));
+        let e = parse(&long, &spec).unwrap_err().to_string();
+        assert!(e.len() < 200, "{e}");
+        assert!(e.starts_with("1:4: unknown behavior `xxxx") && e.ends_with("... (1000001 characters)`"), "{e}");
+    }
+
+    #[test]
+    fn the_largest_tree_a_u16_count_allows_is_read() {
+        let spec = Task::Tower.spec();
+        let most = usize::from(u16::MAX);
+        let text = format!("s( {})", "pick 0! ".repeat(most - 1));
+        let nodes = parse(&text, &spec).unwrap();
+        assert_eq!(nodes.len(), most);
+        assert_eq!(nodes[0].size(), u16::MAX);
+        let over = format!("s( {})", "pick 0! ".repeat(most));
+        assert_eq!(parse(&over, &spec), Err(TokenError::TooLong { at: at(1, 4 + 8 * (most - 1)) }));
     }
 
     #[test]
@@ -286,6 +406,10 @@ mod tests {
         let spec = Task::Tower.spec();
         let nodes = [Node::new(NodeKind::Inverter, 2), Node::new(NodeKind::Condition(Leaf::new(0)), 1)];
         assert_eq!(to_string(&nodes, &spec), Err(TokenError::NotExpressible { node: 0, kind: "Inverter" }));
+        assert_eq!(
+            to_string(&nodes, &spec).unwrap_err().to_string(),
+            "the token notation cannot express this tree: node 0 is an Inverter; it has only s( f( ) and leaves"
+        );
         let bad = [Node::new(NodeKind::Sequence, 3), Node::new(NodeKind::Condition(Leaf::new(0)), 1)];
         assert_eq!(to_string(&bad, &spec), Err(TokenError::Malformed { node: 0, size: 3 }));
     }

@@ -49,7 +49,11 @@ fn leaf_of(
 pub type PlanNode = u32;
 const NONE: u32 = u32::MAX;
 
-/// Deepest tree the planner emits (levels, root included).
+/// The most levels (root and leaves included) of a tree the host tools make, load and
+/// run: the planner emits no deeper tree, and `sim-host` (plan, inspect, export, run,
+/// scenarios, learning) and `gp` load and tick trees up to this depth, so that every
+/// tree one of them makes, the others take. Re-exported as `planner::DEPTH`; a
+/// controller picks its own depth for its own stack.
 pub const DEPTH: usize = 128;
 
 /// What a planner node is.
@@ -246,8 +250,12 @@ impl PlanTree {
         for &n in &order {
             let d = self.parent(n).map_or(0, |p| depth_of[p as usize] + 1);
             depth_of[n as usize] = d;
-            if usize::from(d) >= DEPTH - 1 {
-                return Err(PlanError::TooDeep { levels: usize::from(d) + 2, limit: DEPTH });
+            // Levels down to this node, root included; a negative condition is two
+            // nodes (Inverter over Condition). A tree of exactly DEPTH levels is fine.
+            let negative = matches!(self.kind(n), Kind::Condition(l) if !l.positive);
+            let levels = usize::from(d) + 1 + usize::from(negative);
+            if levels > DEPTH {
+                return Err(PlanError::TooDeep { levels, limit: DEPTH });
             }
             flat.top[n as usize] = flat.nodes.len() as u32;
             let s = size[n as usize] as u16;
@@ -277,7 +285,7 @@ impl PlanTree {
                 }
             }
             flat.of.push(n);
-            flat.depth.push(d + u16::from(matches!(self.kind(n), Kind::Condition(l) if !l.positive)));
+            flat.depth.push(d + u16::from(negative));
         }
         Ok(flat)
     }

@@ -33,8 +33,9 @@ use planner::duplo::Task;
 
 use crate::world::{BrickWorld, MAX_BRICKS};
 
-/// Most levels a tree may have in [`Runner::run_nodes`].
-pub const DEPTH: usize = 64;
+/// Most levels a tree may have in [`Runner::run_nodes`]: the host tools' shared
+/// [`planner::DEPTH`].
+pub const DEPTH: usize = planner::DEPTH;
 
 /// The constants of Eq. (1) and (2), Table I of seed 003.
 #[derive(Clone, Copy, Debug, PartialEq)]

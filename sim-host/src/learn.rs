@@ -248,7 +248,7 @@ pub struct Recorded {
 /// A missing or malformed `run.txt` or `curve.csv`, naming the file and line.
 pub fn read_folder(path: &Path) -> anyhow::Result<Recorded> {
     let run_txt = path.join("run.txt");
-    let text = std::fs::read_to_string(&run_txt).with_context(|| format!("cannot read {}", run_txt.display()))?;
+    let text = crate::input::read_text(&run_txt, crate::input::Limit::RUN_FILE)?;
     let entries = gp::parse_record(&text).map_err(|e| anyhow!("{}: {e}", run_txt.display()))?;
     let get = |key: &str| -> anyhow::Result<&str> {
         entries
@@ -269,7 +269,7 @@ pub fn read_folder(path: &Path) -> anyhow::Result<Recorded> {
         .parse()
         .map_err(|_| anyhow!("{}: planner_fitness is not a number", run_txt.display()))?;
     let csv = path.join("curve.csv");
-    let curve_text = std::fs::read_to_string(&csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let curve_text = crate::input::read_text(&csv, crate::input::Limit::RUN_FILE)?;
     let curve = gp::read_csv(&curve_text).map_err(|e| anyhow!("{}: {e}", csv.display()))?;
     if curve.is_empty() {
         bail!("{}: no rows", csv.display());

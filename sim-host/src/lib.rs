@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod episode;
+pub mod input;
 pub mod learn;
 pub mod physics;
 pub mod picture;

@@ -165,12 +165,12 @@ fn bad_tree_files_are_one_line_and_exit_2_and_leave_no_picture() {
     assert_error(&run(&absent, "tower"), &["cannot read", "absent.txt"]);
     // Bad tokens: the column of the fault.
     let bad = write(dir.path(), "bad.txt", b"s( pick 0! pick 9! )");
-    assert_error(&run(&bad, "tower"), &["bad.txt", "column 12", "unknown behavior `pick 9!`"]);
+    assert_error(&run(&bad, "tower"), &["bad.txt:1:12: unknown behavior `pick 9!`"]);
     let unclosed = write(dir.path(), "unclosed.txt", b"s( pick 0!");
     assert_error(&run(&unclosed, "tower"), &["unclosed.txt", "not closed"]);
     // Neither image nor text.
     let binary = write(dir.path(), "binary.bt", &[0xff, 0xfe, 0x00, 0x01]);
-    assert_error(&run(&binary, "tower"), &["binary.bt", "neither a tree image", "not UTF-8"]);
+    assert_error(&run(&binary, "tower"), &["binary.bt:1:1: not UTF-8", "neither a tree image"]);
     // A corrupted image.
     let mut bytes = image(Task::Tower, planner_trees::TOWER);
     bytes[20] ^= 0xff;
@@ -178,7 +178,7 @@ fn bad_tree_files_are_one_line_and_exit_2_and_leave_no_picture() {
     assert_error(&run(&corrupt, "tower"), &["corrupt.bt", "CRC-32"]);
     // An image of another task's behaviors.
     let croissant = write(dir.path(), "croissant.bt", &image(Task::Croissant, planner_trees::CROISSANT));
-    assert_error(&run(&croissant, "tower"), &["croissant.bt", "behavior set"]);
+    assert_error(&run(&croissant, "tower"), &["croissant.bt", "croissant task"]);
     // A truncated image.
     let whole = image(Task::Tower, planner_trees::TOWER);
     let short = write(dir.path(), "short.bt", &whole[..10]);

@@ -11,7 +11,7 @@ use planner::{Options, PddlCatalog, domains, output};
 use sim_host::episode::{End, Runner};
 use sim_host::symbolic::SymbolicBrickWorld;
 
-const DEPTH: usize = 32;
+const DEPTH: usize = planner::DEPTH;
 
 /// What a controller does with image bytes: load and validate against its behavior set.
 fn load<C: Catalog + ?Sized>(image: &[u8], catalog: &C) -> Vec<Node> {

@@ -2,15 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::Context as _;
 use bt_core::{Node, Tree};
+use planner::DEPTH;
 
 use super::catalogs;
 use super::output::{self, Content, Target};
-
-/// Most levels a tree may have to be exported.
-/// As deep as the planner makes trees, so every planned image loads.
-const DEPTH: usize = planner::tree::DEPTH;
 
 /// What to turn the tree into.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,7 +37,7 @@ pub struct Args {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = sim_host::input::read(path, sim_host::input::Limit::IMAGE)?;
     let (known, header) = catalogs::for_image(path, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
     let mut values = vec![0u16; usize::from(u16::MAX)];
@@ -50,8 +46,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let text = match args.format {
         Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(tree.nodes(), known.catalog.as_ref())
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            let mut t = planner::tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
+                anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
+            })?;
             t.push('\n');
             t
         }

@@ -2,15 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::Context as _;
 use bt_core::{Node, Tree};
+use planner::DEPTH;
 
 use super::catalogs;
 use super::output::out;
-
-/// Most levels a tree may have to be shown.
-/// As deep as the planner makes trees, so every planned image loads.
-const DEPTH: usize = planner::tree::DEPTH;
 
 #[derive(clap::Args, Debug)]
 #[command(long_about = "Loads a tree image exactly as a controller would (envelope, CRC, \
@@ -23,7 +19,7 @@ pub struct Args {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = sim_host::input::read(path, sim_host::input::Limit::IMAGE)?;
     let (known, header) = catalogs::for_image(path, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
     let mut values = vec![0u16; usize::from(u16::MAX)];

@@ -102,7 +102,9 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
             )
         }
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(nodes, catalog)?;
+            let mut t = planner::tokens::to_string(nodes, catalog).map_err(|e| {
+                anyhow::anyhow!("--format tokens: {e}; write it with --format ascii, dot, xml or image")
+            })?;
             t.push('\n');
             t.into_bytes()
         }
@@ -120,8 +122,8 @@ fn summary(expansions: &[Expansion], nodes: usize, verdict: &str) -> String {
     s
 }
 
-fn read(path: &PathBuf) -> anyhow::Result<String> {
-    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+fn read(path: &std::path::Path) -> anyhow::Result<String> {
+    Ok(sim_host::input::read_text(path, sim_host::input::Limit::PDDL)?)
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -148,7 +150,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         );
         // A brick task's behavior set and names are fixed by its fingerprint: no names
         // section needed.
-        let bytes = render(args.format, &plan.nodes, &plan.values, plan.catalog.as_ref(), &NoPorts, None)?;
+        let bytes = render(args.format, &plan.nodes, &plan.values, plan.catalog.as_ref(), &NoPorts, None);
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     } else {
         let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
@@ -183,8 +185,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         // domain has the same fingerprint but other objects.
         let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
         let names = NameTable::of_pddl(&title, &catalog);
-        let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names))?;
+        let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names));
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
+    };
+    let bytes = match bytes {
+        Ok(bytes) => bytes,
+        Err(e) => {
+            // The plan stands; only its notation failed. Keep the summary, then say why.
+            output::stderr(text.as_bytes())?;
+            return Err(e);
+        }
     };
     match &target {
         Target::File(path) => {

@@ -3,8 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context as _, anyhow};
-use bt_core::{Node, Tree};
+use anyhow::{anyhow, bail};
+use bt_core::{Catalog as _, Node, Tree};
+use planner::DEPTH;
 use planner::duplo::{Mode, Spec, Task};
 use sim_host::episode::{End, Episode, Runner, Trace};
 use sim_host::physics::PhysicsBrickWorld;
@@ -12,11 +13,10 @@ use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
 use sim_host::world::BrickWorld;
 
-use super::output::{self, Content, Target};
+use sim_host::input::{self, Limit};
 
-/// Most levels a tree may have to be run.
-/// As deep as the planner makes trees, so every planned image loads.
-const DEPTH: usize = planner::tree::DEPTH;
+use super::catalogs;
+use super::output::{self, Content, Target};
 
 /// Which world plays the episode.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,7 +59,7 @@ pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the 
       s( f( 0 on 1? put 0 on 1! ) apply force 0! )\n\
     with leaves named exactly as the task's behaviors: `picked 0?`, `1 on 0?`,\n\
     `0 at pos (0.0, 0.05, 0.0)?`, `pick 0!`, `place on 1!`, `put 0 at (0.0, 0.0, 0.0)!`, ...\n\
-    (shared/reference/duplo-tasks.md lists them per task).";
+    (docs/brick-tasks.md lists them per task).";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = "Example: sim-host run --task tower --tree tower.txt --svg tower.svg")]
@@ -144,11 +144,17 @@ fn planner_tree(spec: &Spec) -> anyhow::Result<Vec<Node>> {
     Ok(plan.nodes)
 }
 
-/// Reads an image (`BTIM…`) or token text.
+/// Reads an image (`BTIM…`) or token text, each within its size limit.
 fn read_tree(path: &Path, spec: &Spec) -> anyhow::Result<Vec<Node>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = input::read(path, Limit::TOKENS)?;
     if bytes.starts_with(&bt_core::image::MAGIC) {
+        if bytes.len() as u64 > Limit::IMAGE.bytes {
+            return Err(input::InputError::TooLarge { path: path.display().to_string(), limit: Limit::IMAGE }.into());
+        }
         let header = bt_core::image::read_header(&bytes).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        if header.fingerprint != spec.fingerprint() {
+            bail!("{}: {}", path.display(), foreign(header.fingerprint, spec));
+        }
         let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
         let tree: Tree<'_, DEPTH> =
             bt_core::load(&bytes, spec, &mut storage).map_err(|e| anyhow!("{}: {e}", path.display()))?;
@@ -156,10 +162,32 @@ fn read_tree(path: &Path, spec: &Spec) -> anyhow::Result<Vec<Node>> {
         storage.truncate(n);
         return Ok(storage);
     }
-    let text = std::str::from_utf8(&bytes).map_err(|_| {
-        anyhow!("{}: neither a tree image (no `BTIM` magic) nor token text (not UTF-8)", path.display())
-    })?;
-    planner::tokens::parse(text, spec).map_err(|e| anyhow!("{}: {e}", path.display()))
+    let text = input::text(path, bytes)
+        .map_err(|e| anyhow!("{e}; neither a tree image (no `BTIM` at the start) nor token text"))?;
+    planner::tokens::parse(&text, spec).map_err(|e| match e.at() {
+        Some(_) => anyhow!("{}:{e}", path.display()),
+        None => anyhow!("{}: {e}", path.display()),
+    })
+}
+
+/// Whose an image of another behavior set is, when this binary knows.
+fn foreign(fingerprint: u64, spec: &Spec) -> String {
+    let task = spec.task.name();
+    match catalogs::by_fingerprint(fingerprint) {
+        Some(known) => match Task::ALL.into_iter().find(|t| t.spec().fingerprint() == fingerprint) {
+            Some(other) => format!(
+                "an image for the {} task's behaviors, not the {task} task's; run it with --task {}",
+                other.name(),
+                other.name()
+            ),
+            None => format!("an image for {}, not for the {task} task: `run` plays brick tasks only", known.name),
+        },
+        None => format!(
+            "an image for behavior set {fingerprint:#018x}, not the {task} task's ({:#018x}); this binary \
+             knows no behavior set with that fingerprint",
+            spec.fingerprint()
+        ),
+    }
 }
 
 /// Runs one episode in `world` and reports it.

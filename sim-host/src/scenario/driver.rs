@@ -15,7 +15,7 @@ use planner::ground::Grounding;
 use planner::state::State;
 
 /// Deepest tree the driver runs.
-pub const DEPTH: usize = 32;
+pub const DEPTH: usize = planner::DEPTH;
 
 /// Named positions in the plane, metres: what the top view draws.
 pub type Points = Vec<(&'static str, [f32; 2])>;
