@@ -129,7 +129,17 @@ fn show(
     svg: Option<&Target>,
     btlog_path: Option<&PathBuf>,
 ) -> anyhow::Result<()> {
-    let run = scenario::run(scenario, world, seed)?;
+    let run = match scenario::run(scenario, world, seed) {
+        Ok(run) => run,
+        Err(e) => {
+            // What happened up to the error, then the error (which names the tick).
+            if let Some(stopped) = e.downcast_ref::<scenario::Interrupted>() {
+                let narration = stopped.narration.as_bytes();
+                if svg == Some(&Target::Stdout) { output::stderr(narration)? } else { output::stdout(narration)? }
+            }
+            return Err(e);
+        }
+    };
     // The files first: if one cannot be written, nothing is printed as if all went well.
     let mut text = run.narration.clone();
     if let Some(target) = svg {

@@ -35,7 +35,9 @@
 //!   base to l.
 //!
 //! Actions return Running on their first tick and fail after 50 ticks without
-//! completing, as in the brick world.
+//! completing, as in the brick world; `move-to` gets the ticks its straight drive takes
+//! plus [`MOVE_MARGIN_TICKS`] when that is longer (the drive from the start to the goal
+//! alone takes 51).
 //!
 //! # External agents
 //!
@@ -103,6 +105,8 @@ const CUBE_HALF: f32 = 0.05;
 const SPHERE_RADIUS: f32 = 0.15;
 const STEPS_PER_TICK: u32 = 2;
 const REACH_TICKS: u32 = 5;
+/// Ticks a drive may take beyond its straight path's before it fails.
+pub const MOVE_MARGIN_TICKS: u32 = 10;
 /// A move-to has arrived when it is this close to its stopping distance, m.
 const ARRIVED: f32 = 1e-4;
 
@@ -164,6 +168,8 @@ enum Job {
 struct Running {
     node: NodeId,
     ticks: u32,
+    /// Ticks after which it fails if it has not completed.
+    limit: u32,
     job: Job,
     outcome: Option<Status>,
 }
@@ -333,7 +339,12 @@ impl MobileWorld {
         !self.blocked(motion, Some(l))
     }
 
+    /// Holds `item` by a fixed joint; a hand that already holds something is left as it
+    /// is (a second joint would never be released).
     fn attach(&mut self, item: u16) {
+        if self.grasp.is_some() {
+            return;
+        }
         let Some(&h) = self.items.get(usize::from(item)) else { return };
         let hand = self.hand();
         if let Some(b) = self.world.bodies.get_mut(h) {
@@ -480,6 +491,24 @@ impl MobileWorld {
         }
     }
 
+    /// Ticks a job may take before it fails: [`ACTION_TIMEOUT_TICKS`], and for a drive
+    /// the ticks its straight path takes at [`BASE_SPEED`] plus [`MOVE_MARGIN_TICKS`] if
+    /// that is longer. (The start to the goal is 2.55 m, 51 ticks of driving: with a
+    /// flat 50 it timed out whenever an agent handed over the cube before the robot
+    /// had driven anywhere.)
+    ///
+    /// [`ACTION_TIMEOUT_TICKS`]: super::brick_world::ACTION_TIMEOUT_TICKS
+    fn time_limit(&self, job: &Job) -> u32 {
+        let flat = super::brick_world::ACTION_TIMEOUT_TICKS;
+        let Job::MoveTo(l) = *job else { return flat };
+        let Some(to) = self.location(l) else { return flat };
+        let metres = (dist(to, self.base_at) - NEAR * 0.9).max(0.0);
+        let drive = (metres / (BASE_SPEED * super::brick_world::TICK_SECONDS)).ceil();
+        // At most the table's diagonal's worth of ticks; a NaN becomes 0.
+        let drive = drive.min(10_000.0) as u32;
+        flat.max(drive + MOVE_MARGIN_TICKS)
+    }
+
     /// Advances the running job by one tick's worth of motion.
     fn advance(&mut self) {
         let Some(mut r) = self.running.take() else { return };
@@ -509,13 +538,20 @@ impl MobileWorld {
                 },
                 Job::Reach { item, left } => {
                     if left == 0 {
-                        self.attach(item);
-                        self.say(if item == CUBE {
-                            "the robot picks up the cube"
-                        } else {
-                            "the robot picks up the sphere"
-                        });
-                        Some(Status::Success)
+                        match self.held() {
+                            // An agent handed it over while the robot reached for it.
+                            Some(h) if h == item => Some(Status::Success),
+                            Some(_) => Some(Status::Failure),
+                            None => {
+                                self.attach(item);
+                                self.say(if item == CUBE {
+                                    "the robot picks up the cube"
+                                } else {
+                                    "the robot picks up the sphere"
+                                });
+                                Some(Status::Success)
+                            }
+                        }
                     } else {
                         r.job = Job::Reach { item, left: left - 1 };
                         None
@@ -596,7 +632,8 @@ impl BehaviorSet for MobileWorld {
             return match self.start(leaf.behavior(), leaf.args()) {
                 Err(s) => s,
                 Ok(job) => {
-                    self.running = Some(Running { node: ctx.node, ticks: 0, job, outcome: None });
+                    let limit = self.time_limit(&job);
+                    self.running = Some(Running { node: ctx.node, ticks: 0, limit, job, outcome: None });
                     Status::Running
                 }
             };
@@ -605,7 +642,7 @@ impl BehaviorSet for MobileWorld {
         r.ticks += 1;
         let out = match r.outcome {
             Some(s) => s,
-            None if r.ticks >= super::brick_world::ACTION_TIMEOUT_TICKS => Status::Failure,
+            None if r.ticks >= r.limit => Status::Failure,
             None => return Status::Running,
         };
         self.running = None;

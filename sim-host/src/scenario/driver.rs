@@ -164,10 +164,10 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
     record.frames.push((0, world.points()));
     'run: while tick < max_ticks {
         let tree: Tree<'_, DEPTH> =
-            Tree::validate(&nodes, catalog).map_err(|e| anyhow::anyhow!("the tree is not valid: {e}"))?;
+            Tree::validate(&nodes, catalog).map_err(|e| anyhow::anyhow!("tick {tick}: the tree is not valid: {e}"))?;
         states.clear();
         states.resize(nodes.len(), NodeState::IDLE);
-        let mut exec = Executor::new(tree, &mut states)?;
+        let mut exec = Executor::new(tree, &mut states).map_err(|e| anyhow::anyhow!("tick {tick}: {e}"))?;
         loop {
             tick += 1;
             let mut changes = Changes::default();
@@ -193,7 +193,9 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
                         break 'run;
                     };
                     let belief = world.belief(planner.grounding());
-                    let expansion = planner.on_failure(exec.states(), &belief)?;
+                    let expansion = planner
+                        .on_failure(exec.states(), &belief)
+                        .map_err(|e| anyhow::anyhow!("tick {tick}: the planner cannot expand the tree: {e}"))?;
                     narrate_expansion(out, record.expansions.len() + 1, &expansion);
                     record.expansions.push((tick, expansion));
                     nodes = nodes_now(&source);

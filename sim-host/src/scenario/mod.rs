@@ -159,13 +159,29 @@ impl std::fmt::Debug for Run {
     }
 }
 
+/// A scenario that stopped with an error part way: the error (naming the tick) and the
+/// narration up to it, for the reader to see what led there.
+#[derive(Debug, thiserror::Error)]
+#[error("{error:#}")]
+pub struct Interrupted {
+    /// The narration up to the error.
+    pub narration: String,
+    /// What went wrong.
+    pub error: anyhow::Error,
+}
+
+fn interrupted(out: &str, error: anyhow::Error) -> anyhow::Error {
+    anyhow::Error::new(Interrupted { narration: out.to_string(), error })
+}
+
 /// Most ticks of a scenario run.
 pub const MAX_TICKS: u32 = 600;
 
 /// Runs a scenario. `seed` switches the cube scenario to random agents.
 ///
 /// # Errors
-/// A world the scenario does not offer, or a failure of the planner or the tree.
+/// A world the scenario does not offer, or a failure of the planner or the tree (an
+/// [`Interrupted`] with the narration so far, the error naming the tick).
 pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::Result<Run> {
     if !scenario.worlds().contains(&world) {
         anyhow::bail!(
@@ -197,11 +213,13 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let record = match world {
                 WorldKind::Symbolic => {
                     let mut w = cube::SymbolicCube::new(g, agents);
-                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?
+                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
+                        .map_err(|e| interrupted(&out, e))?
                 }
                 WorldKind::Physics => {
                     let mut w = cube::PhysicsCube::new(agents);
-                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?
+                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
+                        .map_err(|e| interrupted(&out, e))?
                 }
             };
             summary(&mut out, &record);
@@ -220,7 +238,8 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                  expanded whenever it fails.\n"
             );
             let mut w = cellphone::Cellphone::new(g);
-            let record = driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)?;
+            let record = driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
+                .map_err(|e| interrupted(&out, e))?;
             summary(&mut out, &record);
             Ok(Run { narration: out, record, catalog, goal_region: None })
         }
@@ -238,12 +257,14 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                 WorldKind::Symbolic => {
                     let mut w = Bricks::new(SymbolicBrickWorld::new(&spec)?);
                     let limit = w.world.tick_limit();
-                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)?
+                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)
+                        .map_err(|e| interrupted(&out, e))?
                 }
                 WorldKind::Physics => {
                     let mut w = Bricks::new(PhysicsBrickWorld::new(&spec)?);
                     let limit = w.world.tick_limit();
-                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)?
+                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)
+                        .map_err(|e| interrupted(&out, e))?
                 }
             };
             brick_summary(&mut out, &spec, &record);
