@@ -12,7 +12,7 @@ use crate::node::{Arity, BehaviorId, LeafError, LeafKind, NodeId};
 #[non_exhaustive]
 pub enum LoadError {
     /// The image is shorter than its envelope, or its node payload ends inside a node.
-    #[error("image truncated: {len} bytes, {}", match .inside_node {
+    #[error("image truncated: {}, {}", Count(*.len, "byte", "bytes"), match .inside_node {
         Some(n) => TruncatedAt::Node(*n),
         None => TruncatedAt::Envelope,
     })]
@@ -57,7 +57,7 @@ pub enum LoadError {
         expected: u64,
     },
     /// More nodes than the storage (or the `u16` node ids) can hold.
-    #[error("tree has {count} nodes, capacity is {capacity}")]
+    #[error("tree has {}, capacity is {capacity}", Count(*.count, "node", "nodes"))]
     TooManyNodes {
         /// Nodes in the image or array.
         count: usize,
@@ -73,7 +73,7 @@ pub enum LoadError {
         offset: usize,
     },
     /// Bytes left between the last node and the CRC (a version-1 image has no sections).
-    #[error("{count} unexpected bytes after the last node")]
+    #[error("{} after the last node", Count(*.count, "unexpected byte", "unexpected bytes"))]
     TrailingBytes {
         /// How many.
         count: usize,
@@ -107,7 +107,7 @@ pub enum LoadError {
     #[error("the tree has no nodes")]
     EmptyTree,
     /// A subtree size that does not fit its parent or the array.
-    #[error("node {node} claims a subtree of {size} nodes, which does not fit inside its parent")]
+    #[error("node {node} claims a subtree of {}, which does not fit inside its parent", Count(usize::from(*.size), "node", "nodes"))]
     SubtreeSizeInconsistent {
         /// Index of the node.
         node: NodeId,
@@ -115,7 +115,7 @@ pub enum LoadError {
         size: u16,
     },
     /// A node with a number of children its kind does not allow.
-    #[error("node {node} ({kind}) has {children} children; {}", match .expected {
+    #[error("node {node} ({kind}) has {}; {}", Count(usize::from(*.children), "child", "children"), match .expected {
         Arity::Leaf => "a leaf has none",
         Arity::One => "a decorator has exactly one",
         Arity::AtLeastOne => "a control node needs at least one",
@@ -131,7 +131,7 @@ pub enum LoadError {
         expected: Arity,
     },
     /// The tree is deeper than the executor's stack allows.
-    #[error("node {node} is deeper than the limit of {limit} levels")]
+    #[error("node {node} is deeper than the limit of {}", Count(*.limit, "level", "levels"))]
     DepthOverLimit {
         /// First node found beyond the limit.
         node: NodeId,
@@ -180,7 +180,7 @@ pub enum LoadError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum ArgumentFault {
     /// The leaf's argument count differs from the behavior's declared arity.
-    #[error("behavior {behavior} takes {expected} arguments, the leaf has {found}")]
+    #[error("behavior {behavior} takes {}, the leaf has {found}", Count(usize::from(*.expected), "argument", "arguments"))]
     Count {
         /// The behavior id.
         behavior: BehaviorId,
@@ -206,7 +206,11 @@ pub enum ArgumentFault {
         table: u16,
     },
     /// `Repeat`, `Retry` or `Timeout` with a count of zero.
-    #[error("{kind}(0): the count must be at least 1")]
+    #[error("`{kind}(0)`: {}", match *.kind {
+        "Timeout" => "a timeout must allow at least 1 tick",
+        "Retry" => "a Retry must allow at least 1 attempt",
+        _ => "a Repeat must run its child at least once",
+    })]
     ZeroCount {
         /// The decorator's name.
         kind: &'static str,
@@ -239,13 +243,13 @@ impl From<LeafError> for ArgumentFault {
 #[non_exhaustive]
 pub enum BuildError {
     /// The caller's node storage is full.
-    #[error("node storage is full ({capacity} nodes)")]
+    #[error("node storage is full ({})", Count(*.capacity, "node", "nodes"))]
     Full {
         /// Capacity of the storage.
         capacity: usize,
     },
     /// More open nodes than the builder's depth.
-    #[error("tree deeper than the builder's limit of {limit} levels")]
+    #[error("tree deeper than the builder's limit of {}", Count(*.limit, "level", "levels"))]
     TooDeep {
         /// The builder's depth limit.
         limit: usize,
@@ -254,7 +258,7 @@ pub enum BuildError {
     #[error("end() without an open node")]
     NothingOpen,
     /// `finish` while nodes are still open.
-    #[error("{open} nodes are still open; close each with end()")]
+    #[error("{} still open; close each with end()", Count(*.open, "node is", "nodes are"))]
     Unclosed {
         /// How many.
         open: usize,
@@ -275,7 +279,7 @@ pub enum BuildError {
 #[non_exhaustive]
 pub enum EncodeError {
     /// The output buffer is too small; [`max_image_len`](crate::image::max_image_len) tells how big.
-    #[error("output buffer of {capacity} bytes is too small for the image")]
+    #[error("output buffer of {} is too small for the image", Count(*.capacity, "byte", "bytes"))]
     BufferTooSmall {
         /// Size of the given buffer.
         capacity: usize,
@@ -381,6 +385,15 @@ impl core::fmt::Display for TruncatedAt {
             ),
             Self::Node(n) => write!(f, "the payload ends inside node {n}"),
         }
+    }
+}
+
+/// A count and its noun, singular for 1 (`1 node`, `2 nodes`), without allocating.
+pub(crate) struct Count(pub(crate) usize, pub(crate) &'static str, pub(crate) &'static str);
+
+impl core::fmt::Display for Count {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} {}", self.0, if self.0 == 1 { self.1 } else { self.2 })
     }
 }
 

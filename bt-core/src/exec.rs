@@ -59,7 +59,11 @@ impl NodeState {
 
 /// The state array is shorter than the tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("state array holds {given} entries, the tree has {needed} nodes")]
+#[error(
+    "state array holds {}, the tree has {}",
+    crate::error::Count(*.given, "entry", "entries"),
+    crate::error::Count(*.needed, "node", "nodes")
+)]
 pub struct StateTooSmall {
     /// Entries needed (the tree's node count).
     pub needed: usize,

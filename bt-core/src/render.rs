@@ -97,7 +97,7 @@ pub fn write_label<C: Catalog + ?Sized>(
         NodeKind::ForceFailure => f.write_str("-^- ForceFailure"),
         NodeKind::Repeat(n) => write!(f, "-^- Repeat({n})"),
         NodeKind::Retry(n) => write!(f, "-^- Retry({n})"),
-        NodeKind::Timeout(n) => write!(f, "-^- Timeout({n} ticks)"),
+        NodeKind::Timeout(n) => write!(f, "-^- Timeout({})", crate::error::Count(usize::from(n), "tick", "ticks")),
         NodeKind::Condition(ref leaf) | NodeKind::Action(ref leaf) => {
             f.write_str("--> ")?;
             write_leaf(f, catalog, leaf, values)

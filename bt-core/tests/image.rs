@@ -355,7 +355,7 @@ fn insta_like(lines: &[String]) {
         "node 7 is deeper than the limit of 4 levels",
         "node 1 uses behavior 99, which the behavior set does not have",
         "node 1 uses behavior 0 as an action, but it is declared as a condition",
-        "node 1: Retry(0): the count must be at least 1",
+        "node 1: `Retry(0)`: a Retry must allow at least 1 attempt",
         "node 1: the leaf's values 4..+5 lie outside the value table of 6 entries",
     ];
     assert_eq!(lines, expected);
@@ -450,4 +450,29 @@ fn validate_accepts_what_the_builder_makes() {
     assert_eq!(tree.parent(0), None);
     assert_eq!(Tree::<2>::validate(nodes, &SET), Err(LoadError::DepthOverLimit { node: 3, limit: 2 }));
     assert_eq!(Tree::<4>::validate(&[], &SET), Err(LoadError::EmptyTree));
+}
+
+#[test]
+fn counts_of_one_are_singular() {
+    use bt_core::{ArgumentFault, LoadError};
+    assert_eq!(LoadError::TrailingBytes { count: 1 }.to_string(), "1 unexpected byte after the last node");
+    assert_eq!(
+        LoadError::Truncated { len: 1, inside_node: None }.to_string(),
+        "image truncated: 1 byte, shorter than the 20 bytes of header and CRC"
+    );
+    assert_eq!(
+        LoadError::SubtreeSizeInconsistent { node: 0, size: 1 }.to_string(),
+        "node 0 claims a subtree of 1 node, which does not fit inside its parent"
+    );
+    let zero = |kind| LoadError::BadArgument { node: 2, fault: ArgumentFault::ZeroCount { kind } }.to_string();
+    assert_eq!(zero("Timeout"), "node 2: `Timeout(0)`: a timeout must allow at least 1 tick");
+    assert_eq!(zero("Repeat"), "node 2: `Repeat(0)`: a Repeat must run its child at least once");
+    assert_eq!(
+        ArgumentFault::Count { behavior: 3, expected: 1, found: 0 }.to_string(),
+        "behavior 3 takes 1 argument, the leaf has 0"
+    );
+    assert_eq!(
+        bt_core::StateTooSmall { needed: 1, given: 0 }.to_string(),
+        "state array holds 0 entries, the tree has 1 node"
+    );
 }

@@ -11,7 +11,7 @@ use crate::genome::Token;
 #[non_exhaustive]
 pub enum AlphabetError {
     /// GP draws argument-less leaves only; this behavior takes arguments.
-    #[error("behavior {id} `{name}` takes {arity} argument(s); GP leaves take none (ground it first)")]
+    #[error("behavior {id} `{name}` takes {}; GP leaves take none (ground it first)", crate::genome::count(*.arity, "argument"))]
     TakesArguments {
         /// Its id.
         id: BehaviorId,
@@ -21,7 +21,7 @@ pub enum AlphabetError {
         arity: u8,
     },
     /// The catalog reports fewer behaviors than it claims to have.
-    #[error("the catalog claims {len} behaviors but has no behavior {id}")]
+    #[error("the catalog claims {} but has no behavior {id}", crate::genome::count(*.len, "behavior"))]
     Missing {
         /// The id it has nothing for.
         id: usize,

@@ -107,6 +107,17 @@ pub enum Invalid {
     },
 }
 
+/// `n` and the noun, singular for 1: `1 node`, `2 nodes`.
+pub(crate) fn count<N: std::fmt::Display + PartialEq + From<u8>>(n: N, noun: &str) -> String {
+    if n == N::from(1) { format!("1 {noun}") } else { format!("{n} {noun}s") }
+}
+
+/// `a` or `an` before a word: `an Inverter`, `an action`, `a condition`.
+fn article(word: &str) -> String {
+    let vowel = word.chars().next().is_some_and(|c| "aeiouAEIOU".contains(c));
+    format!("{} {word}", if vowel { "an" } else { "a" })
+}
+
 /// Why a genome and a node array could not be converted.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
@@ -115,7 +126,7 @@ pub enum GenomeError {
     #[error("the tokens are not one balanced tree ({0})")]
     NotATree(Invalid),
     /// A node kind GP does not use (only reactive Sequence, Fallback and leaves).
-    #[error("node {node} is a {kind}; GP trees have only reactive Sequence, Fallback and leaves")]
+    #[error("node {node} is {}; GP trees have only reactive Sequence, Fallback and leaves", article(kind))]
     Kind {
         /// Node index.
         node: usize,
@@ -129,7 +140,7 @@ pub enum GenomeError {
         node: usize,
     },
     /// A leaf the alphabet does not have, or declared with the other kind.
-    #[error("node {node}: behavior {behavior} is not a {kind} of this task")]
+    #[error("node {node}: behavior {behavior} is not {} of this task", article(kind))]
     UnknownLeaf {
         /// Node index.
         node: usize,

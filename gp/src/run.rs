@@ -80,7 +80,7 @@ pub enum GpError {
     #[error("baseline: {0}")]
     Baseline(GenomeError),
     /// No valid random tree of the initial length could be drawn.
-    #[error("no valid random tree of {0} nodes could be drawn from this alphabet")]
+    #[error("no valid random tree of {} could be drawn from this alphabet", crate::genome::count(*.0, "node"))]
     NoRandomTree(usize),
 }
 

@@ -86,7 +86,7 @@ pub enum PlanError {
     #[error("unresolvable conflict: {0}")]
     Unresolvable(String),
     /// The tree kept running without reaching the goal or failing.
-    #[error("the tree neither reached the goal nor failed within {ticks} ticks")]
+    #[error("the tree neither reached the goal nor failed within {}", crate::wording::count(*.ticks, "tick"))]
     NoProgress {
         /// The tick budget.
         ticks: u32,
@@ -117,7 +117,7 @@ pub enum PlanError {
     #[error("no plan exists: {0}")]
     NoPlan(String),
     /// More expansions than the budget.
-    #[error("gave up after {0} expansions")]
+    #[error("gave up after {}", crate::wording::count(*.0, "expansion"))]
     TooManyExpansions(usize),
     /// The tree outgrew what a bt-core tree can hold.
     #[error("the tree grew beyond {limit} nodes or {depth} levels")]

@@ -126,7 +126,7 @@ impl fmt::Display for Expansion {
                 write!(f, "; conflict: `{}` undoes its precondition `{}`, {how}", c.by, c.precondition)?;
             }
         }
-        write!(f, " ({} nodes)", self.nodes)
+        write!(f, " ({})", crate::wording::count(self.nodes, "node"))
     }
 }
 

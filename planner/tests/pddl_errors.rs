@@ -54,7 +54,7 @@ fn unknown_predicate() {
 fn wrong_arity() {
     let (msg, kind) = domain_err(&DOMAIN.replace("(free ?to))", "(free ?to ?b))"));
     assert_eq!(kind, ErrorKind::Model(ModelError::WrongArity { predicate: "free".into(), expected: 1, found: 2 }));
-    assert!(msg.starts_with("d.pddl:7:38: `free` takes 1 argument(s), given 2"), "{msg}");
+    assert!(msg.starts_with("d.pddl:7:38: `free` takes 1 argument, given 2"), "{msg}");
 }
 
 #[test]

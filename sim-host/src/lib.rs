@@ -13,4 +13,5 @@ pub mod physics;
 pub mod picture;
 pub mod scenario;
 pub mod symbolic;
+pub mod text;
 pub mod world;

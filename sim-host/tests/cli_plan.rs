@@ -152,3 +152,20 @@ fn the_summary_says_which_method_made_the_tree_and_why_others_gave_up() {
     assert!(text.contains("made by "), "{text}");
     assert!(text.contains("the tree reaches the goal in"), "{text}");
 }
+
+#[test]
+fn one_tick_is_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = domains().join("cube-sphere/domain.pddl");
+    // The goal holds at the start: the tree reaches it on its first tick.
+    let text = std::fs::read_to_string(domains().join("cube-sphere/problem.pddl"))
+        .unwrap()
+        .replace("(:goal (and (at cube goal)))", "(:goal (and (hand-empty)))");
+    let p = dir.path().join("p.pddl");
+    std::fs::write(&p, text).unwrap();
+    let out = sim_host(&["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("planned: 0 expansions, 1 node\n"), "{text}");
+    assert!(text.contains("symbolic world: the tree reaches the goal in 1 tick from the initial state"), "{text}");
+}

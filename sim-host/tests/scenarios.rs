@@ -165,6 +165,10 @@ fn random_agents_that_hand_over_the_cube_early_do_not_stop_the_robot() {
     // Seeds 27, 36 and 124 hand the cube over before the robot has driven anywhere; the
     // drive from the start to the goal (51 ticks) outlasted the flat 50-tick action
     // limit, move-to failed and no condition was left to expand (exit 2, no narration).
+    // Seed 27 also reads in the singular where it counts one.
+    let narration = random_cube(27).narration;
+    assert!(narration.contains("the tree at the start (1 node):"), "{narration}");
+    assert!(narration.contains("after 60 ticks, 2 expansions, 1 external event, 2 actions halted"), "{narration}");
     for seed in [27, 36, 124] {
         let run = random_cube(seed);
         assert_eq!(run.record.status, Some(Status::Success), "seed {seed}\n{}", run.narration);

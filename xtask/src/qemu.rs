@@ -302,7 +302,8 @@ fn panic_free(elf: &Path) -> Result {
     if hits.is_empty() {
         Ok(())
     } else {
-        Err(format!("{}: {} panic symbol(s):\n  {}", elf.display(), hits.len(), hits.join("\n  ")))
+        let symbols = if hits.len() == 1 { "symbol" } else { "symbols" };
+        Err(format!("{}: {} panic {symbols}:\n  {}", elf.display(), hits.len(), hits.join("\n  ")))
     }
 }
 

@@ -56,7 +56,7 @@ fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, va
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum XmlError {
     /// A kind without an exact BehaviorTree.CPP equivalent.
-    #[error("node {node} is a {kind}, which BehaviorTree.CPP has no exact equivalent for")]
+    #[error("node {node} is {}, which BehaviorTree.CPP has no exact equivalent for", crate::wording::article(kind))]
     NotExpressible {
         /// Index of the node.
         node: usize,

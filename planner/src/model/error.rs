@@ -50,7 +50,7 @@ pub enum ModelError {
         name: String,
     },
     /// A predicate applied to the wrong number of arguments.
-    #[error("`{predicate}` takes {expected} argument(s), given {found}")]
+    #[error("`{predicate}` takes {}, given {found}", crate::wording::count(*.expected, "argument"))]
     WrongArity {
         /// The predicate.
         predicate: String,

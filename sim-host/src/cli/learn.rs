@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use sim_host::learn::{self, RunOutcome, RunSpec};
 use sim_host::scenario::WorldKind;
 
+use super::message::count;
 use super::output::{self, out};
 use super::scenario::World;
 
@@ -167,10 +168,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     output::stdout(table.as_bytes())?;
     out!(
-        "{} runs, {episodes} episodes in {secs:.2} s: {:.0} episodes/s on {} threads\nplot them: sim-host plot {}\n",
-        outcomes.len(),
+        "{}, {} in {secs:.2} s: {:.0} episodes/s on {}\nplot them: sim-host plot {}\n",
+        count(outcomes.len(), "run"),
+        count(episodes, "episode"),
         episodes as f64 / secs.max(1e-9),
-        rayon::current_num_threads(),
+        count(rayon::current_num_threads(), "thread"),
         args.out.display()
     )?;
     Ok(())
@@ -210,7 +212,7 @@ impl RunBar {
     fn row(&self, row: &gp::GenerationLog) {
         if let Some(b) = &self.bar {
             b.set_position(u64::from(row.generation) + 1);
-            b.set_message(format!("{} episodes, best {:.3}", row.episodes, row.best_fitness));
+            b.set_message(format!("{}, best {:.3}", count(row.episodes, "episode"), row.best_fitness));
         }
     }
 }
@@ -251,9 +253,9 @@ impl Progress {
                 // Progress only: a closed or full stderr does not stop the runs.
                 let _ = output::stderr(
                     format!(
-                        "done {}: {} episodes, best {:.3} (planner {:.3}), {:.1} s\n",
+                        "done {}: {}, best {:.3} (planner {:.3}), {:.1} s\n",
                         o.spec.folder(),
-                        o.result.episodes,
+                        count(o.result.episodes, "episode"),
                         o.result.best.fitness,
                         o.planner_fitness,
                         o.seconds

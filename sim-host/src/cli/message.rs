@@ -52,11 +52,7 @@ pub fn one_line(s: &str) -> String {
     escaped
 }
 
-/// `n` and the noun, singular for 1: `1 tick`, `0 ticks`, `3 expansions`.
-#[must_use]
-pub fn count<N: std::fmt::Display + PartialEq + From<u8>>(n: N, noun: &str) -> String {
-    if n == N::from(1) { format!("1 {noun}") } else { format!("{n} {noun}s") }
-}
+pub use sim_host::text::count;
 
 #[cfg(test)]
 mod tests {

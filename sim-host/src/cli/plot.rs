@@ -217,7 +217,7 @@ fn panel(
         chart.draw_series(std::iter::once(Polygon::new(band, c.mix(0.15))))?;
         chart
             .draw_series(LineSeries::new(pts.iter().map(|&(e, m, _)| (e, m.max(lo))), c.stroke_width(2)))?
-            .label(format!("{} ({} seeds)", v.name(), n))
+            .label(format!("{} ({})", v.name(), sim_host::text::count(*n, "seed")))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
     }
     // The planner's fitness, dotted.

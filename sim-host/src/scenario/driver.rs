@@ -334,7 +334,7 @@ fn show_tree<C: Catalog + ?Sized>(
     states: Option<&[NodeState]>,
 ) {
     let Ok(tree) = Tree::<'_, DEPTH>::validate(nodes, catalog) else { return };
-    let _ = writeln!(out, "          {title} ({} nodes):", nodes.len());
+    let _ = writeln!(out, "          {title} ({}):", crate::text::count(nodes.len(), "node"));
     let text = match states {
         Some(s) => tree.display(catalog).with_states(s).to_string(),
         None => tree.display(catalog).to_string(),

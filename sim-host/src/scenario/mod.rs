@@ -44,6 +44,7 @@ use planner::{Options, PddlCatalog, Planner, domains};
 
 use crate::physics::PhysicsBrickWorld;
 use crate::symbolic::SymbolicBrickWorld;
+use crate::text::count;
 use crate::world::BrickWorld;
 use driver::{Live, Record, Source};
 
@@ -248,9 +249,9 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let spec = task.spec();
             let _ = writeln!(
                 out,
-                "the planner's tree ({} nodes, planned offline from the goal conditions) runs in the \
+                "the planner's tree ({}, planned offline from the goal conditions) runs in the \
                  {} world; episodes end as in seed 003 (first Failure, or the tick limit).\n",
-                plan.nodes.len(),
+                count(plan.nodes.len(), "node"),
                 world.name()
             );
             let record = match world {
@@ -289,20 +290,22 @@ fn summary(out: &mut String, r: &Record) {
     let external: Vec<u32> = r.events.iter().filter(|(_, e)| is_external(e)).map(|(t, _)| *t).collect();
     let _ = writeln!(
         out,
-        "summary: {verdict} after {} ticks, {} expansions, {} external events, {} actions halted",
-        r.ticks,
-        r.expansions.len(),
-        external.len(),
-        r.halts.len()
+        "summary: {verdict} after {}, {}, {}, {} halted",
+        count(r.ticks, "tick"),
+        count(r.expansions.len(), "expansion"),
+        count(external.len(), "external event"),
+        count(r.halts.len(), "action")
     );
     let after_last = r.expansions.last().map_or(0, |e| e.0);
     let coped = external.iter().filter(|&&t| t > after_last).count();
-    if coped > 0 {
-        let _ = writeln!(
-            out,
-            "         {coped} of the external events came after the last expansion: the tree handled them as it was, \
-             without replanning"
-        );
+    let which = match (coped, external.len()) {
+        (0, _) => None,
+        (1, 1) => Some("the external event came after the last expansion: the tree handled it".to_string()),
+        (1, _) => Some("1 of the external events came after the last expansion: the tree handled it".to_string()),
+        (n, _) => Some(format!("{n} of the external events came after the last expansion: the tree handled them")),
+    };
+    if let Some(which) = which {
+        let _ = writeln!(out, "         {which} as it was, without replanning");
     }
 }
 
@@ -313,7 +316,7 @@ fn brick_summary(out: &mut String, spec: &Spec, r: &Record) {
         Some(Status::Failure) => "the tree failed",
         _ => "the tick limit ran out",
     };
-    let _ = writeln!(out, "summary: {verdict} after {} ticks", r.ticks);
+    let _ = writeln!(out, "summary: {verdict} after {}", count(r.ticks, "tick"));
     if let Some((_, last)) = r.frames.last() {
         for (i, goal) in spec.goal.iter().enumerate() {
             if let (Some(g), Some((name, p))) = (goal, last.get(i)) {
