@@ -224,3 +224,14 @@ fn the_largest_tree_a_u16_count_allows_loads() {
     let out = sim_host(&["run", "--task", "tower", "--tree", s(&tokens)]);
     assert_error(&out, &["over.txt:1:", "more than 65535 nodes, the most a tree holds"]);
 }
+
+#[test]
+fn an_ascii_tree_given_as_tokens_is_one_line() {
+    // A leaf name ran to the first `?` or `!` across lines: the error echoed the tree.
+    let dir = tempfile::tempdir().unwrap();
+    let ascii = dir.path().join("tower.txt");
+    let out = sim_host(&["plan", "--task", "tower", "--out", s(&ascii)]);
+    assert!(out.status.success());
+    let out = sim_host(&["run", "--task", "tower", "--tree", s(&ascii)]);
+    assert_error(&out, &["tower.txt:1:1: `{-}` is not a token"]);
+}

@@ -54,9 +54,39 @@ pub fn one_line(s: &str) -> String {
 
 pub use sim_host::text::count;
 
+/// An error and its causes in one line, `what: why: deeper why`, each cause said once:
+/// a cause whose text its parent's message already ends with (`#[error("...: {0}")]`
+/// on a `#[from]` field) is not repeated.
+#[must_use]
+pub fn chain(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.is_empty() {
+            line = text;
+        } else if !line.ends_with(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("tick failed: {0}")]
+    struct Wraps(#[from] std::io::Error);
+
+    #[test]
+    fn each_cause_is_said_once() {
+        let io = std::io::Error::other("the wire broke");
+        let e = anyhow::Error::new(Wraps(io)).context("reading x.bt");
+        assert_eq!(format!("{e:#}"), "reading x.bt: tick failed: the wire broke: the wire broke");
+        assert_eq!(chain(&e), "reading x.bt: tick failed: the wire broke");
+    }
 
     #[test]
     fn escapes_what_would_break_or_hide() {

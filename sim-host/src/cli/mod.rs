@@ -117,7 +117,7 @@ pub fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
-        Err(e) => fail(&format!("error: {e:#}")),
+        Err(e) => fail(&format!("error: {}", message::chain(&e))),
     }
 }
 
