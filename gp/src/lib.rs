@@ -51,7 +51,7 @@
 //!
 //! # Where Table I and the reference leave room
 //!
-//! Seed 003, its Table I and the reference details (`shared/reference/duplo-tasks.md`)
+//! Seed 003, its Table I and the reference details (`docs/brick-tasks.md`)
 //! fix the algorithm; where they are silent, ambiguous or disagree, this crate
 //! decides as follows, following the published reference code where it speaks.
 //!

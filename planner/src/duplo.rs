@@ -1,5 +1,5 @@
 //! The four brick (LEGO DUPLO) tasks of seed 003 (Styrud et al.), exactly as the
-//! reference definitions give them (`shared/reference/duplo-tasks.md`): bricks, start and
+//! reference definitions give them (`docs/brick-tasks.md`): bricks, start and
 //! goal positions, world mode, and the ordered list of behaviors each task uses.
 //!
 //! This is the contract between the planner (which plans over these behaviors, taking

@@ -1,5 +1,5 @@
 //! The planner's model of the brick tasks: the templates of
-//! `shared/reference/duplo-tasks.md`, grounded with the task's behaviors as leaves.
+//! `docs/brick-tasks.md`, grounded with the task's behaviors as leaves.
 //!
 //! Objects are the bricks `b0..` then the position literals `p0..` of the task. The
 //! templates, in the order the planner tries them (the order of the behaviors):

@@ -1,5 +1,5 @@
 //! The brick tasks planned with the reference's templates
-//! (`shared/reference/duplo-tasks.md`): leaves are the task's behaviors.
+//! (`docs/brick-tasks.md`): leaves are the task's behaviors.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use bt_core::{Catalog, Tree};

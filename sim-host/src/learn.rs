@@ -91,7 +91,7 @@ pub fn physics(task: Task) -> anyhow::Result<EpisodeFitness<PhysicsBrickWorld>> 
     EpisodeFitness::new(move || Ok(Runner::new(PhysicsBrickWorld::with_params(&task.spec(), PHYSICS)?)?))
 }
 
-/// The reference's generation counts (seed 003, duplo-tasks.md): physics tower 200,
+/// The reference's generation counts (seed 003, docs/brick-tasks.md): physics tower 200,
 /// croissant 1000, balance 800, blocking 300; the fast symbolic world balance 300,
 /// blocking 1000.
 #[must_use]

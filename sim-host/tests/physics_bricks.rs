@@ -193,7 +193,7 @@ fn croissant_side_bricks_collide_with_the_long_brick_in_place() {
 }
 
 /// The planner's tree for the tower, written by hand from the templates of
-/// `duplo-tasks.md`: the goal conditions in brick order, each expanded to its atomic BT.
+/// `docs/brick-tasks.md`: the goal conditions in brick order, each expanded to its atomic BT.
 pub const TOWER_PLANNER_TREE: &str = "s( \
     f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \
     f( 1 at pos (0.0, 0.05, 0.0192)? s( f( 1 on 0? s( f( picked 1? pick 1! ) place on 0! ) ) apply force 1! ) ) \

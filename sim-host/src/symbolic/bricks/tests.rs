@@ -1,4 +1,4 @@
-//! One test per rule of `shared/reference/duplo-tasks.md`, "The fast symbolic world".
+//! One test per rule of `docs/brick-tasks.md`, "The fast symbolic world".
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
 
 use super::*;
