@@ -1,8 +1,10 @@
 //! `cargo xtask`: the project's automation, the usual Rust way.
 //!
-//! - `cargo xtask ci`: everything CI checks (what `.ci/run` calls): formatting, clippy,
-//!   the test suite, the doc tests, the core-only cross builds of bt-core, the firmware's
-//!   own checks (it is a Cargo project outside the workspace) and `qemu`.
+//! - `cargo xtask ci`: everything CI checks (what `.ci/run` calls): first the
+//!   prerequisites (installed when missing where it may, see `setup.rs`), then
+//!   formatting, clippy, the test suite, the doc tests, the core-only cross builds of
+//!   bt-core, the firmware's own checks (it is a Cargo project outside the workspace)
+//!   and `qemu`.
 //! - `cargo xtask cross`: bt-core and bt-link built with `core` only for Cortex-M4F and
 //!   Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
@@ -13,7 +15,8 @@
 //! Cross builds use rustup's targets where they are installed (`rustup target add
 //! thumbv7em-none-eabihf thumbv6m-none-eabi`), and otherwise Debian's packaged compiler
 //! with its std sources (`apt-get install rustc-web cargo-web rust-web-src`), building
-//! `core` from source. See DEVELOPERS.md.
+//! `core` from source. See DEVELOPERS.md. Build output goes under `$CARGO_TARGET_DIR`
+//! when it is set, `target/` otherwise.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -22,6 +25,7 @@ use clap::{Parser, Subcommand};
 
 mod link;
 mod qemu;
+mod setup;
 
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "Project automation: CI, cross builds, fuzzing", long_about = None)]
@@ -33,7 +37,13 @@ struct Cli {
 #[derive(Subcommand)]
 enum Cmd {
     /// Run every check CI runs: fmt, clippy, tests, doc tests, cross builds, firmware.
-    Ci,
+    /// Checks the prerequisites first and installs missing Debian packages when it runs
+    /// as root or with password-less sudo.
+    Ci {
+        /// Only check the prerequisites: install nothing, name what is missing.
+        #[arg(long)]
+        no_install: bool,
+    },
     /// Build bt-core and bt-link with `core` only for thumbv7em-none-eabihf and thumbv6m-none-eabi.
     Cross,
     /// Build the firmware, run it under QEMU and compare its trace with the host's;
@@ -61,7 +71,7 @@ const CORE_TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "thumbv6m-none-eabi"];
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Cmd::Ci => ci(),
+        Cmd::Ci { no_install } => ci(!no_install),
         Cmd::Cross => cross(),
         Cmd::Qemu { timeout } => qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(timeout) }),
         Cmd::Fuzz { seconds, target } => fuzz(seconds, &target),
@@ -79,6 +89,15 @@ type Result<T = ()> = std::result::Result<T, String>;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+/// Where build output goes: `$CARGO_TARGET_DIR` if set (relative to the current
+/// directory, as cargo takes it), else the workspace's `target/`.
+fn target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR").filter(|d| !d.is_empty()) {
+        Some(d) => std::path::absolute(&d).unwrap_or_else(|_| PathBuf::from(d)),
+        None => root().join("target"),
+    }
 }
 
 fn step(title: &str) {
@@ -102,7 +121,9 @@ fn cargo() -> Command {
     Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
 }
 
-fn ci() -> Result {
+fn ci(install_missing: bool) -> Result {
+    let started = std::time::Instant::now();
+    setup::prerequisites(install_missing)?;
     step("formatting");
     run(cargo().args(["fmt", "--all", "--", "--check"]))?;
     step("clippy (warnings are errors)");
@@ -118,7 +139,8 @@ fn ci() -> Result {
     cross()?;
     firmware_checks()?;
     qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(60) })?;
-    eprintln!("\nxtask ci: all checks passed");
+    let secs = started.elapsed().as_secs();
+    eprintln!("\nxtask ci: all checks passed in {} min {} s", secs / 60, secs % 60);
     Ok(())
 }
 
@@ -130,7 +152,7 @@ fn has_nextest() -> bool {
 /// `cargo test` never links it): its formatting, lints and host tests, on the host.
 fn firmware_checks() -> Result {
     let fw = root().join("firmware-example");
-    let host_dir = root().join("target").join("firmware-host");
+    let host_dir = target_dir().join("firmware-host");
     let host = host_triple()?;
     step("firmware: formatting, clippy and host tests");
     run_in(&fw, cargo().args(["fmt", "--", "--check"]))?;
@@ -154,36 +176,64 @@ fn host_triple() -> Result<String> {
 }
 
 /// How to build for a bare-metal target on this machine.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Toolchain {
-    /// rustup has the target's prebuilt `core`.
-    Rustup,
+    /// rustup's compiler with its `rust-src` component: `core` (and compiler-builtins)
+    /// built from source with the project's profile, as on Debian.
+    RustupSource,
+    /// rustup's prebuilt `core` for the target (`rustup target add`): compiler-builtins
+    /// comes optimised for speed, so the firmware is larger.
+    RustupPrebuilt,
     /// Debian's rustc-web with rust-web-src: `core` built from source.
     Debian,
 }
 
+impl Toolchain {
+    /// Whether `core` is built from source (the size CI gates is measured so).
+    const fn core_from_source(self) -> bool {
+        !matches!(self, Self::RustupPrebuilt)
+    }
+}
+
+/// Whether rustup's active toolchain has the library sources (`rust-src`).
+fn rustup_rust_src() -> bool {
+    Command::new("rustc").args(["--print", "sysroot"]).output().ok().filter(|o| o.status.success()).is_some_and(|o| {
+        let sysroot = String::from_utf8_lossy(&o.stdout).trim().to_owned();
+        Path::new(&sysroot).join("lib/rustlib/src/rust/library/core").exists()
+    })
+}
+
 fn toolchain_for(target: &str) -> Result<Toolchain> {
+    if rustup_rust_src() {
+        return Ok(Toolchain::RustupSource);
+    }
     let installed = Command::new("rustup")
         .args(["target", "list", "--installed"])
         .output()
         .map(|o| String::from_utf8_lossy(&o.stdout).lines().any(|l| l.trim() == target))
         .unwrap_or(false);
-    if installed {
-        return Ok(Toolchain::Rustup);
-    }
     if Path::new("/usr/bin/rustc").exists() && Path::new("/usr/lib/rustlib/src/rust/library/core").exists() {
         return Ok(Toolchain::Debian);
     }
+    if installed {
+        return Ok(Toolchain::RustupPrebuilt);
+    }
     Err(format!(
-        "no toolchain for {target}: run `rustup target add {target}`, or on Debian \
-         `apt-get install -y rustc-web cargo-web rust-web-src` (see DEVELOPERS.md)"
+        "no toolchain for {target}: run `rustup component add rust-src` (or `rustup target add {target}`), \
+         or on Debian `apt-get install -y rustc-web cargo-web rust-web-src` (see DEVELOPERS.md)"
     ))
 }
 
 /// A `cargo build` for a bare-metal target, with `core` from the right place.
 fn cross_cargo(target: &str) -> Result<Command> {
     Ok(match toolchain_for(target)? {
-        Toolchain::Rustup => {
+        Toolchain::RustupSource => {
+            let mut c = cargo();
+            c.env("RUSTC_BOOTSTRAP", "1");
+            c.args(["build", "--release", "--target", target, "-Zbuild-std=core"]);
+            c
+        }
+        Toolchain::RustupPrebuilt => {
             let mut c = cargo();
             c.args(["build", "--release", "--target", target]);
             c
@@ -200,7 +250,7 @@ fn cross_cargo(target: &str) -> Result<Command> {
 fn cross() -> Result {
     for target in CORE_TARGETS {
         step(&format!("bt-core and bt-link with core only for {target}"));
-        let target_dir = root().join("target").join("cross");
+        let target_dir = target_dir().join("cross");
         run(cross_cargo(target)?.args(["-p", "bt-core", "-p", "bt-link", "--target-dir"]).arg(&target_dir))?;
     }
     no_std_leaks()
@@ -231,10 +281,20 @@ fn fuzz(seconds: u64, target: &str) -> Result {
     let (dir, what) = if target == "serve" { ("bt-link", "bt_link::serve") } else { ("bt-core", "bt_core::load") };
     step(&format!("fuzzing {what} for {seconds} s"));
     // The rustup proxy, not $CARGO: `+nightly` selects the toolchain.
+    if !Command::new("cargo").args(["+nightly", "--version"]).output().is_ok_and(|o| o.status.success()) {
+        return Err("fuzzing needs the nightly toolchain: rustup toolchain install nightly".into());
+    }
+    if !Command::new("cargo").args(["+nightly", "fuzz", "--version"]).output().is_ok_and(|o| o.status.success()) {
+        return Err("fuzzing needs cargo-fuzz, which is not installed: cargo install cargo-fuzz".into());
+    }
     let mut c = Command::new("cargo");
     c.current_dir(root().join(dir));
     c.args(["+nightly", "fuzz", "run", target, "--", &format!("-max_total_time={seconds}"), "-print_final_stats=1"]);
     let shown = format!("{c:?}");
-    let status = c.status().map_err(|e| format!("cannot start {shown}: {e} (cargo install cargo-fuzz)"))?;
-    if status.success() { Ok(()) } else { Err(format!("fuzzing failed ({status}): see {dir}/fuzz/artifacts")) }
+    let status = c.status().map_err(|e| format!("cannot start {shown}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("fuzzing stopped ({status}); a crash, if it found one, is in {dir}/fuzz/artifacts/{target}"))
+    }
 }

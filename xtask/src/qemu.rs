@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::{Result, Toolchain, cargo, host_triple, root, step, toolchain_for};
+use crate::{Result, Toolchain, cargo, host_triple, root, step, target_dir, toolchain_for};
 
 /// The firmware's target: Cortex-M4F with hardware floating point.
 const TARGET: &str = "thumbv7em-none-eabihf";
@@ -55,7 +55,7 @@ pub fn qemu(opts: Options) -> Result {
     let corrupt_elf = elf_dir.join(CORRUPT);
 
     step("firmware: host reference run");
-    let host_dir = root().join("target").join("firmware-host");
+    let host_dir = target_dir().join("firmware-host");
     let host = host_triple()?;
     crate::run_in(
         &fw,
@@ -97,6 +97,10 @@ pub fn qemu(opts: Options) -> Result {
         panic_free(path)?;
     }
     eprintln!("no core::panicking symbols in {FIRMWARE} or {CORRUPT}");
+    for path in [&elf, &corrupt_elf] {
+        no_costly_helpers(path)?;
+    }
+    eprintln!("no 64-bit division or double-precision helpers from compiler-builtins");
 
     step("firmware: footprint");
     let hwm = field(&target_run.out, "fw stack_hwm=")
@@ -184,7 +188,7 @@ fn require_tools() -> Result {
 /// Builds both firmware binaries; returns the toolchain used and their directory.
 fn build_firmware(fw: &Path) -> Result<(Toolchain, PathBuf)> {
     let toolchain = toolchain_for(TARGET)?;
-    let target_dir = root().join("target").join("firmware");
+    let target_dir = target_dir().join("firmware");
     let mut build = crate::cross_cargo(TARGET)?;
     build.args(["--bins", "--target-dir"]).arg(&target_dir);
     if matches!(toolchain, Toolchain::Debian) {
@@ -195,7 +199,11 @@ fn build_firmware(fw: &Path) -> Result<(Toolchain, PathBuf)> {
     eprintln!(
         "built with {}",
         match toolchain {
-            Toolchain::Rustup => "rustup's thumbv7em-none-eabihf target (rust-lld)",
+            Toolchain::RustupSource => "rustup's rustc, core built from source (-Zbuild-std=core), rust-lld",
+            Toolchain::RustupPrebuilt => {
+                "rustup's prebuilt thumbv7em-none-eabihf core, rust-lld (compiler-builtins optimised for \
+                 speed: more flash than CI measures; `rustup component add rust-src` builds core from source)"
+            }
             Toolchain::Debian => "Debian's rustc, core built from source (-Zbuild-std=core), arm-none-eabi-ld",
         }
     );
@@ -307,6 +315,64 @@ fn panic_free(elf: &Path) -> Result {
     }
 }
 
+/// compiler-builtins' helpers for 64-bit division and double-precision floats. On the
+/// Cortex-M4F, 32-bit division is one instruction and `f32` has the FPU; these helpers
+/// are library code, and rustup's prebuilt `compiler_builtins` is optimised for speed,
+/// not size: `u64` division alone took 518 B when `core` was built from source at
+/// `opt-level = "z"` and about twice that from rustup's build, enough to cross the flash
+/// line on one toolchain and not the other.
+const COSTLY_HELPERS: [&str; 12] = [
+    "__aeabi_uldivmod",
+    "__aeabi_ldivmod",
+    "__udivmoddi4",
+    "__divmoddi4",
+    "__aeabi_d",
+    "__aeabi_f2d",
+    "__aeabi_i2d",
+    "__aeabi_ui2d",
+    "__aeabi_l2d",
+    "__aeabi_ul2d",
+    "__aeabi_l2f",
+    "__aeabi_ul2f",
+];
+
+/// Fails when the firmware links any of [`COSTLY_HELPERS`].
+fn no_costly_helpers(elf: &Path) -> Result {
+    let out = Command::new("arm-none-eabi-nm").arg(elf).output().map_err(|e| format!("arm-none-eabi-nm: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let hits = costly(&text);
+    if hits.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{} links compiler-builtins helpers it should not need ({}): a u64 division or an f64 \
+         somewhere; use u32 or shifts, f32 (see DEVELOPERS.md, \"Firmware\")",
+        elf.display(),
+        hits.join(", ")
+    ))
+}
+
+/// The symbols of `nm` output that are [`COSTLY_HELPERS`].
+fn costly(nm: &str) -> Vec<&str> {
+    nm.lines()
+        .filter_map(|l| l.split_whitespace().last())
+        .filter(|sym| COSTLY_HELPERS.iter().any(|h| sym.starts_with(h)))
+        .collect()
+}
+
+/// The compiler that built the firmware, as `rustc -V` prints it.
+fn compiler(toolchain: Toolchain) -> String {
+    let rustc = match toolchain {
+        Toolchain::RustupSource | Toolchain::RustupPrebuilt => "rustc",
+        Toolchain::Debian => "/usr/bin/rustc",
+    };
+    Command::new(rustc)
+        .arg("-V")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned())
+        .unwrap_or_else(|e| format!("{rustc}: {e}"))
+}
+
 /// Prints flash and RAM against the targets, bt-core's share of the code, and gates
 /// on both targets.
 fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64, ram_target: u64) -> Result {
@@ -326,6 +392,8 @@ fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64
             format!("OVER the {} KiB target by {} B", target / 1024, used - target)
         }
     };
+    let how = if toolchain.core_from_source() { "core built from source" } else { "rustup's prebuilt core" };
+    eprintln!("compiler: {} ({how})", compiler(toolchain));
     eprintln!("arm-none-eabi-size: text {text_b} B, data {data} B, bss {bss} B");
     eprintln!("flash (text + data):                 {flash:>6} B  {}", verdict(flash, flash_target));
     eprintln!(
@@ -493,6 +561,13 @@ mod tests {
         assert!(check_refused(&run("load error: x\n", 0), "qemu").unwrap_err().contains("exit status 0"));
         assert!(check_refused(&run("load error: x\ntick 0 RUNNING\n", 1), "qemu").unwrap_err().contains("ticked"));
         assert!(check_refused(&run("boot\n", 1), "qemu").unwrap_err().contains("no `load error:`"));
+    }
+
+    #[test]
+    fn costly_helpers_are_found_in_nm_output() {
+        let nm = "0000321c W __aeabi_uldivmod\n000035de W __aeabi_llsl\n00003278 T memcpy\n\
+                  00001000 T __aeabi_dmul\n00002000 T __aeabi_fmul\n";
+        assert_eq!(costly(nm), ["__aeabi_uldivmod", "__aeabi_dmul"]);
     }
 
     #[test]

@@ -1,0 +1,252 @@
+//! What `cargo xtask ci` needs beyond cargo, checked before anything runs: on a fresh
+//! machine it installs what is missing where it may (Debian packages, as root or with
+//! password-less sudo), or fails at once naming every missing piece and the one command
+//! that installs them.
+//!
+//! Needed: rustfmt and clippy; for the bare-metal builds rustup's `rust-src` component
+//! (or its `thumbv7em-none-eabihf` and `thumbv6m-none-eabi` targets) or Debian's
+//! compiler with its std sources (`rustc-web cargo-web rust-web-src`); the ARM binutils
+//! (`binutils-arm-none-eabi`: the linker, nm, size, addr2line, objdump) and QEMU
+//! (`qemu-system-arm`). apt never removes a package to install these: a package it
+//! would remove is upgraded with them instead, and if that does not settle it the
+//! install stops and says which.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+use crate::{CORE_TARGETS, Result, cargo, step};
+
+/// A missing piece: what it is, and how to get it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Missing {
+    what: String,
+    fix: Fix,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Fix {
+    /// A Debian package.
+    Apt(&'static str),
+    /// A command to run by hand.
+    Command(String),
+}
+
+fn works(cmd: &mut Command) -> bool {
+    cmd.stdin(Stdio::null()).stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+}
+
+fn tool(name: &str) -> bool {
+    works(Command::new(name).arg("--version"))
+}
+
+/// Whether rustup has every bare-metal target installed.
+fn rustup_targets() -> bool {
+    Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .map(|o| {
+            let text = String::from_utf8_lossy(&o.stdout);
+            CORE_TARGETS.iter().all(|t| text.lines().any(|l| l.trim() == *t))
+        })
+        .unwrap_or(false)
+}
+
+/// Everything missing, in one pass.
+fn missing() -> Vec<Missing> {
+    let mut out = Vec::new();
+    for (sub, component) in [("fmt", "rustfmt"), ("clippy", "clippy")] {
+        if !works(cargo().args([sub, "--version"])) {
+            out.push(Missing {
+                what: format!("cargo {sub}"),
+                fix: Fix::Command(format!("rustup component add {component}")),
+            });
+        }
+    }
+    if !rustup_targets() && !crate::rustup_rust_src() {
+        for (what, path, package) in [
+            ("Debian's rustc (core for Cortex-M, built from source)", "/usr/bin/rustc", "rustc-web"),
+            ("Debian's cargo", "/usr/bin/cargo", "cargo-web"),
+            ("the Rust library sources", "/usr/lib/rustlib/src/rust/library/core", "rust-web-src"),
+        ] {
+            if !Path::new(path).exists() {
+                out.push(Missing { what: what.into(), fix: Fix::Apt(package) });
+            }
+        }
+    }
+    for t in [
+        "arm-none-eabi-ld",
+        "arm-none-eabi-nm",
+        "arm-none-eabi-size",
+        "arm-none-eabi-addr2line",
+        "arm-none-eabi-objdump",
+    ] {
+        if !tool(t) {
+            out.push(Missing { what: t.into(), fix: Fix::Apt("binutils-arm-none-eabi") });
+        }
+    }
+    if !tool("qemu-system-arm") {
+        out.push(Missing { what: "qemu-system-arm".into(), fix: Fix::Apt("qemu-system-arm") });
+    }
+    out
+}
+
+/// The Debian packages among `missing`, each once, in order.
+fn packages(missing: &[Missing]) -> Vec<&'static str> {
+    let mut p: Vec<&'static str> = Vec::new();
+    for m in missing {
+        if let Fix::Apt(name) = m.fix
+            && !p.contains(&name)
+        {
+            p.push(name);
+        }
+    }
+    p
+}
+
+/// How to run apt as root here: directly, with `sudo -n`, or not at all.
+fn apt_prefix() -> Option<Vec<&'static str>> {
+    if !Path::new("/usr/bin/apt-get").exists() {
+        return None;
+    }
+    let root = Command::new("/usr/bin/id").arg("-u").output().is_ok_and(|o| o.stdout.starts_with(b"0\n"));
+    if root {
+        Some(vec![])
+    } else if works(Command::new("/usr/bin/sudo").args(["-n", "true"])) {
+        Some(vec!["/usr/bin/sudo", "-n"])
+    } else {
+        None
+    }
+}
+
+fn apt(prefix: &[&str], args: &[&str]) -> Command {
+    let mut c = match prefix.split_first() {
+        None => Command::new("/usr/bin/apt-get"),
+        Some((sudo, rest)) => {
+            let mut c = Command::new(sudo);
+            // sudo passes on no environment unless told: name it on its command line.
+            c.args(rest).args(["DEBIAN_FRONTEND=noninteractive", "/usr/bin/apt-get"]);
+            c
+        }
+    };
+    // apt runs dpkg, gpgv and the like: give it the system's PATH, whatever ours is.
+    c.env("DEBIAN_FRONTEND", "noninteractive").env("PATH", "/usr/sbin:/usr/bin:/sbin:/bin").args(args);
+    c
+}
+
+/// The packages `apt-get -s install` would remove (`Remv NAME ...` lines).
+pub(crate) fn removals(simulation: &str) -> Vec<String> {
+    simulation
+        .lines()
+        .filter_map(|l| l.strip_prefix("Remv "))
+        .filter_map(|l| l.split_whitespace().next())
+        .map(str::to_owned)
+        .collect()
+}
+
+/// Installs `wanted` with apt, removing nothing: what apt would remove is upgraded along
+/// with them; if apt would still remove something, nothing is installed.
+fn install(prefix: &[&str], wanted: &[&'static str]) -> Result {
+    let shown = wanted.join(" ");
+    step(&format!("installing Debian packages: {shown}"));
+    crate::run(&mut apt(prefix, &["update", "-qq"]))?;
+    let mut list: Vec<String> = wanted.iter().map(|s| (*s).to_owned()).collect();
+    for _ in 0..3 {
+        let mut sim = apt(prefix, &["-s", "install", "-y"]);
+        sim.args(&list);
+        let out = sim.output().map_err(|e| format!("cannot run apt-get -s: {e}"))?;
+        let gone = removals(&String::from_utf8_lossy(&out.stdout));
+        if gone.is_empty() {
+            let mut c = apt(prefix, &["install", "-y", "-qq", "--no-remove"]);
+            return crate::run(c.args(&list));
+        }
+        if gone.iter().all(|g| list.contains(g)) {
+            break;
+        }
+        // Upgrade, rather than remove, what the machine already has.
+        for g in gone {
+            if !list.contains(&g) {
+                list.push(g);
+            }
+        }
+    }
+    Err(format!(
+        "installing {shown} would remove packages this machine has (apt-get -s install {}); \
+         nothing was installed: resolve the conflict, then run cargo xtask ci again",
+        list.join(" ")
+    ))
+}
+
+/// Checks the prerequisites and installs what is missing when it may (`install`).
+///
+/// # Errors
+/// Something is missing that cannot be installed here: the message names every missing
+/// piece and the command that installs them all.
+pub fn prerequisites(install_missing: bool) -> Result {
+    step("prerequisites");
+    let mut gaps = missing();
+    if gaps.is_empty() {
+        eprintln!("all there: rustfmt, clippy, a Cortex-M toolchain, ARM binutils, QEMU");
+        return Ok(());
+    }
+    let wanted = packages(&gaps);
+    if install_missing
+        && !wanted.is_empty()
+        && let Some(prefix) = apt_prefix()
+    {
+        install(&prefix, &wanted)?;
+        gaps = missing();
+        if gaps.is_empty() {
+            return Ok(());
+        }
+    }
+    let mut fixes: Vec<String> = Vec::new();
+    let still = packages(&gaps);
+    if !still.is_empty() {
+        let sudo = if Command::new("/usr/bin/id").arg("-u").output().is_ok_and(|o| o.stdout.starts_with(b"0\n")) {
+            ""
+        } else {
+            "sudo "
+        };
+        fixes.push(format!("{sudo}apt-get install -y --no-remove {}", still.join(" ")));
+    }
+    for g in &gaps {
+        if let Fix::Command(c) = &g.fix
+            && !fixes.contains(c)
+        {
+            fixes.push(c.clone());
+        }
+    }
+    let whats: Vec<&str> = gaps.iter().map(|g| g.what.as_str()).collect();
+    Err(format!(
+        "missing: {}. Install with: {}{}",
+        whats.join(", "),
+        fixes.join(" && "),
+        if !still.iter().any(|p| p.starts_with("rust")) {
+            String::new()
+        } else {
+            " (or, where rustup can download, `rustup component add rust-src` in place of rustc-web, \
+             cargo-web and rust-web-src)"
+                .to_owned()
+        }
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn apt_simulations_name_what_would_go() {
+        let sim = "Reading package lists...\nRemv qemu-utils [1:7.2+dfsg-7+deb12u15]\n\
+                   Inst qemu-system-arm (1:7.2+dfsg-7+deb12u18)\nRemv foo [1]\n";
+        assert_eq!(removals(sim), ["qemu-utils", "foo"]);
+        assert!(removals("Inst x (1)\nConf x (1)\n").is_empty());
+    }
+
+    #[test]
+    fn each_package_is_named_once() {
+        let m = |p| Missing { what: "x".into(), fix: Fix::Apt(p) };
+        let gaps = [m("a"), m("b"), m("a"), Missing { what: "y".into(), fix: Fix::Command("c".into()) }];
+        assert_eq!(packages(&gaps), ["a", "b"]);
+    }
+}
