@@ -5,10 +5,11 @@
 //!
 //! | input | limit |
 //! |---|---|
-//! | tree image | [`Limit::IMAGE`]: the largest image of the largest tree (65,535 nodes) |
+//! | tree image | [`Limit::IMAGE`]: the largest tree (65,535 nodes) with the largest value table (65,535 values), plus 16 MiB for the names and ports sections, whose size the format leaves open |
 //! | PDDL domain or problem | [`Limit::PDDL`]: 64 MiB |
 //! | tree in the token notation | [`Limit::TOKENS`]: 64 MiB |
 //! | a run folder's `run.txt`, `curve.csv` | [`Limit::RUN_FILE`]: 64 MiB |
+//! | a controller's trace (`btlog --from-trace`) | [`Limit::TRACE`]: 64 MiB |
 
 use std::fs::File;
 use std::io::Read as _;
@@ -17,6 +18,10 @@ use std::path::Path;
 /// The limit on text inputs (PDDL, token text, run records): 64 MiB, far beyond any
 /// real file and small enough to refuse a runaway one at once.
 pub const TEXT_LIMIT: u64 = 64 << 20;
+
+/// Room in an image for its names and ports sections together: 16 MiB, hundreds of
+/// times what a tree of 65,535 nodes with long names needs.
+pub const SECTIONS_LIMIT: u64 = 16 << 20;
 
 /// How much of what an input may be.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,13 +33,21 @@ pub struct Limit {
 }
 
 impl Limit {
-    /// A tree image: as long as the format allows for the most nodes a tree has.
-    pub const IMAGE: Self =
-        Self { bytes: bt_core::image::max_image_len(u16::MAX as usize) as u64, what: "a tree image" };
+    /// A tree image: as long as the format allows for the most nodes and values a tree
+    /// has, plus [`SECTIONS_LIMIT`] for the names and ports sections (the format does not
+    /// bound them).
+    pub const IMAGE: Self = Self {
+        bytes: (bt_core::image::max_image_len_with(u16::MAX as usize, u16::MAX as usize, 0)
+            + 2 * bt_core::image::MAX_SECTION_HEAD_LEN) as u64
+            + SECTIONS_LIMIT,
+        what: "a tree image",
+    };
     /// A PDDL domain or problem.
     pub const PDDL: Self = Self { bytes: TEXT_LIMIT, what: "a PDDL file" };
     /// A tree in the token notation (or a file that may be an image or tokens).
     pub const TOKENS: Self = Self { bytes: TEXT_LIMIT, what: "a tree file" };
+    /// A controller's trace (`sim-host btlog --from-trace`).
+    pub const TRACE: Self = Self { bytes: TEXT_LIMIT, what: "a controller trace" };
     /// A file of a `learn` run folder.
     pub const RUN_FILE: Self = Self { bytes: TEXT_LIMIT, what: "a run folder's file" };
 }
@@ -150,8 +163,9 @@ mod tests {
     fn limits_read_as_people_write_them() {
         assert_eq!(bytes(64 << 20), "64 MiB");
         assert_eq!(bytes(1_114_115), "1,114,115 bytes");
+        assert_eq!(bytes(Limit::IMAGE.bytes), "18,087,957 bytes");
         assert_eq!(bytes(999), "999 bytes");
-        assert_eq!(Limit::IMAGE.bytes, 1_114_115);
+        assert_eq!(Limit::IMAGE.bytes, 1_114_115 + 6 + 3 + 3 * 65_535 + 2 * 6 + (16 << 20));
     }
 
     #[test]

@@ -180,6 +180,31 @@ fn binary_output_is_refused_on_a_terminal() {
     // Text is fine.
     let out = on_terminal("plan --task tower --format tokens");
     assert_eq!(out.status.code(), Some(0));
+    // `import` too, before it reads anything.
+    let dir = tempfile::tempdir().unwrap();
+    let xml = bt_xml(dir.path());
+    for args in [format!("import {}", s(&xml)), format!("import {} --out -", s(&xml))] {
+        let out = on_terminal(&args);
+        assert_eq!(out.status.code(), Some(2), "{args}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("it is a terminal and a tree image is binary"), "{text}");
+    }
+}
+
+#[test]
+fn import_catalog_and_btlog_write_devices_through_and_report_a_full_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = device(dir.path(), "full", 7);
+    let xml = bt_xml(dir.path());
+    let out = sim_host(&["import", s(&xml), "--out", s(&full)]);
+    assert_error(&out, &["cannot write", "No space left on device"]);
+    let out = sim_host(&["catalog", s(&nav2_models()), "--out", s(&full)]);
+    assert_error(&out, &["cannot write", "No space left on device"]);
+    assert!(is_char_device(&full));
+    let null = device(dir.path(), "null", 3);
+    let out = sim_host(&["import", s(&xml), "--out", s(&null)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(is_char_device(&null));
 }
 
 fn tower_image(dir: &Path) -> PathBuf {
@@ -191,6 +216,30 @@ fn tower_image(dir: &Path) -> PathBuf {
     path
 }
 
+/// BehaviorTree.CPP's models of Nav2's nodes (a fixture of btcpp).
+fn nav2_models() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/nav2/nav2_tree_nodes.xml")
+}
+
+/// A small BehaviorTree.CPP tree with its models.
+fn bt_xml(dir: &Path) -> PathBuf {
+    let path = dir.join("tree.xml");
+    std::fs::write(
+        &path,
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <ReactiveFallback><AtGoal/><Sequence><MoveTo/><Dock side="left"/></Sequence></ReactiveFallback>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Condition ID="AtGoal"/><Action ID="MoveTo"/>
+    <Action ID="Dock"><input_port name="side" type="std::string"/></Action>
+  </TreeNodesModel>
+</root>"#,
+    )
+    .unwrap();
+    path
+}
+
 /// Every command that writes to stdout, with what it needs in `dir`.
 fn commands(dir: &Path) -> Vec<Vec<String>> {
     let image = tower_image(dir);
@@ -199,7 +248,12 @@ fn commands(dir: &Path) -> Vec<Vec<String>> {
     assert!(out.status.success(), "{}", stderr(&out));
     let fresh = |name: &str| s(&dir.join(name)).to_string();
     let v = |a: &[&str]| a.iter().map(|x| (*x).to_string()).collect::<Vec<_>>();
+    let models = nav2_models();
+    let xml = bt_xml(dir);
     vec![
+        v(&["catalog", s(&models)]),
+        v(&["catalog", s(&models), "--rust", "--out", "-"]),
+        v(&["import", s(&xml), "--format", "ascii"]),
         v(&["inspect", s(&image)]),
         v(&["export", s(&image), "--format", "dot"]),
         v(&["run", "--task", "tower"]),

@@ -52,11 +52,17 @@ fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, va
     A(catalog, behavior, position, value).to_string()
 }
 
+/// `a` or `an` and the kind's name, by its first letter's sound: `an Inverter`.
+fn article(word: &str) -> String {
+    let vowel = word.chars().next().is_some_and(|c| "aeiouAEIOU".contains(c));
+    format!("{} {word}", if vowel { "an" } else { "a" })
+}
+
 /// Why a tree cannot be written as BehaviorTree.CPP XML.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum XmlError {
     /// A kind without an exact BehaviorTree.CPP equivalent.
-    #[error("node {node} is {}, which BehaviorTree.CPP has no exact equivalent for", crate::wording::article(kind))]
+    #[error("node {node} is {}, which BehaviorTree.CPP has no exact equivalent for", article(kind))]
     NotExpressible {
         /// Index of the node.
         node: usize,

@@ -3,11 +3,15 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context as _, anyhow, bail};
+use anyhow::{anyhow, bail};
 use bt_core::{Node, Tree};
 use btcpp::btlog::{LogTree, RunLog, replay::status};
 
-use super::{catalogs, output};
+use planner::DEPTH;
+use sim_host::input::{self, Limit};
+
+use super::catalogs;
+use super::output::{self, Content};
 
 pub const LONG_ABOUT: &str = "Turns the trace a controller printed (firmware-example's `tick N \
     STATUS ran=...` lines, on QEMU or the board) into a Groot2 replay log: the format \
@@ -52,10 +56,10 @@ fn ran(list: &str) -> Option<Vec<(usize, u8)>> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    let bytes = std::fs::read(&args.image).with_context(|| format!("cannot read {}", args.image.display()))?;
+    let bytes = input::read(&args.image, Limit::IMAGE)?;
     let (known, header) = catalogs::for_image(&args.image, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let tree: Tree<'_, { planner::tree::DEPTH }> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
     let ports: &dyn btcpp::xml::Ports = match &known.ports {
         Some(p) => p.as_ref(),
@@ -63,8 +67,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     };
     let log_tree = LogTree::new(tree.nodes(), known.catalog.as_ref(), ports)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
-    let text = std::fs::read_to_string(&args.from_trace)
-        .with_context(|| format!("cannot read {}", args.from_trace.display()))?;
+    let text = input::read_text(&args.from_trace, Limit::TRACE)?;
     let mut period_usec: i64 = 100_000;
     let mut log = RunLog::new(&log_tree, 0);
     let mut ticks = 0u32;
@@ -99,7 +102,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bail!("{}: no `tick` lines", args.from_trace.display());
     }
     let bytes = log.into_bytes();
-    output::write_whole(&args.out, &bytes)?;
-    eprintln!("wrote {} ({ticks} ticks, {} bytes)", args.out.display(), bytes.len());
+    output::write_file(&args.out, &bytes, Content::Binary("a replay log"))?;
+    output::stderr(format!("wrote {} ({ticks} ticks, {} bytes)\n", args.out.display(), bytes.len()).as_bytes())?;
     Ok(())
 }

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use bt_core::Catalog as _;
 use btcpp::xml::{Models, document};
 
-use super::output;
+use sim_host::text::count;
+
+use super::output::{self, Content, Target};
 
 pub const LONG_ABOUT: &str = "Reads <TreeNodesModel> from the files given (model files such as \
     Nav2's nav2_tree_nodes.xml, Groot2 projects, tree files) and prints the behavior set that \
@@ -26,9 +28,9 @@ pub struct Args {
     /// Print the Rust table instead of the summary.
     #[arg(long)]
     pub rust: bool,
-    /// Write here instead of stdout (written whole or not at all).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// Write here instead of stdout (a file is written whole or not at all; `-`: stdout).
+    #[arg(long, value_parser = Target::parse)]
+    pub out: Option<Target>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -39,9 +41,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         catalog.to_rust(&names.join(", "))
     } else {
         let mut s = format!(
-            "behavior set {:#018x}: {} behaviors from {}\n",
+            "behavior set {:#018x}: {} from {}\n",
             catalog.fingerprint(),
-            catalog.behaviors().len(),
+            count(catalog.behaviors().len(), "behavior"),
             names.join(", ")
         );
         for (i, b) in catalog.behaviors().iter().enumerate() {
@@ -66,12 +68,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         s
     };
-    match &args.out {
-        Some(out) => output::write_whole(out, text.as_bytes()),
-        None => {
-            use std::io::Write as _;
-            std::io::stdout().lock().write_all(text.as_bytes())?;
-            Ok(())
-        }
-    }
+    output::write(args.out.as_ref().unwrap_or(&Target::Stdout), text.as_bytes(), Content::Text)?;
+    Ok(())
 }

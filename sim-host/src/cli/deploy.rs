@@ -1,14 +1,18 @@
 //! `sim-host deploy IMAGE --port PATH|--tcp HOST:PORT`.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context as _, bail};
+use anyhow::bail;
 use bt_link::Reply;
 use bt_link::host::Verdict;
 
+use planner::DEPTH;
+use sim_host::input::{self, Limit};
+
 use super::link::{self, Line, Target};
+use super::output::out;
+use sim_host::text::count;
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -42,7 +46,7 @@ pub struct Args {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
-    let image = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let image = input::read(path, Limit::IMAGE)?;
     let header = bt_core::image::read_header(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let (mut link, name) = link::open(&args.target, &args.line)?;
     let (info, set) = link::hello(&mut link, &name)?;
@@ -61,17 +65,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             info.image_capacity
         );
     }
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "controller {name}: link protocol {}, behavior set {set}", info.version)?;
+    out!("controller {name}: link protocol {}, behavior set {set}", info.version)?;
     let started = Instant::now();
     let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let took = started.elapsed();
     match verdict {
         Verdict::Accepted { crc, nodes, swap_at } => {
             let when = swap_at.map_or_else(|| "at the next tick".to_string(), |t| format!("before tick {t}"));
-            writeln!(
-                out,
-                "accepted: {} ({} bytes, {nodes} nodes, CRC {crc:08x}) in {} ms; swaps in {when}",
+            out!(
+                "accepted: {} ({} bytes, {nodes} nodes, CRC {crc:08x}) in {} ms; swaps in {when}\n",
                 path.display(),
                 image.len(),
                 took.as_millis()
@@ -83,7 +85,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 .and_then(|k| {
                     let mut nodes = vec![bt_core::Node::EMPTY; usize::from(header.node_count)];
                     let mut values = vec![0u16; image.len()];
-                    bt_core::load_with::<_, 64>(&image, k.catalog.as_ref(), &mut nodes, &mut values).err()
+                    bt_core::load_with::<_, DEPTH>(&image, k.catalog.as_ref(), &mut nodes, &mut values).err()
                 })
                 .map(|e| format!(" ({e})"))
                 .unwrap_or_default();
@@ -95,9 +97,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let deadline = Instant::now() + Duration::from_secs(2);
         while let Ok(reply) = link.next(deadline, "Swapped") {
             if let Reply::Swapped { tick, halted, .. } = reply {
-                writeln!(
-                    out,
-                    "swapped in before tick {tick}; {halted} running action(s) of the old tree halted first"
+                out!(
+                    "swapped in before tick {tick}; {} of the old tree halted first\n",
+                    count(halted, "running action")
                 )?;
                 break;
             }
@@ -105,7 +107,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     if args.start {
         let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        writeln!(out, "ticking from tick {tick} every {} ms", args.period)?;
+        out!("ticking from tick {tick} every {} ms\n", args.period)?;
     }
     Ok(())
 }

@@ -1,13 +1,14 @@
 //! `sim-host import TREE.xml`: a BehaviorTree.CPP document to an image (or another
 //! notation).
 
-use std::io::IsTerminal as _;
 use std::path::PathBuf;
 
-use anyhow::bail;
 use btcpp::xml::{ImportOptions, Imported, import};
 
-use super::{catalogs, output};
+use sim_host::text::count;
+
+use super::catalogs;
+use super::output::{self, Content, Target};
 
 /// What to write.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,18 +61,19 @@ pub struct Args {
     /// What to write.
     #[arg(long, value_enum, default_value_t = Format::Image)]
     pub format: Format,
-    /// Write here instead of stdout (written whole or not at all).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// Write here instead of stdout (a file is written whole or not at all; `-`: stdout).
+    #[arg(long, value_parser = Target::parse)]
+    pub out: Option<Target>,
     /// Read leaves against this built-in behavior set instead of the document's models.
     #[arg(long, value_name = "NAME")]
     pub behaviors: Option<String>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    if args.format == Format::Image && args.out.is_none() && std::io::stdout().is_terminal() {
-        bail!("--format image writes binary: give --out FILE (or redirect stdout)");
-    }
+    let target = args.out.clone().unwrap_or(Target::Stdout);
+    let content = if args.format == Format::Image { Content::Binary("a tree image") } else { Content::Text };
+    // Before any work: binary output is refused on a terminal.
+    output::check(&target, content)?;
     let known = match &args.behaviors {
         Some(name) => Some(catalogs::by_name(name).ok_or_else(|| {
             anyhow::anyhow!(
@@ -101,19 +103,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         imported.fingerprint,
         count(known.as_ref().map_or(imported.catalog.behaviors().len(), |k| k.catalog.len()), "behavior"),
     );
-    match &args.out {
-        Some(out) => {
-            output::write_whole(out, &bytes)?;
-            eprintln!("{summary}\nwrote {} ({} bytes)", out.display(), bytes.len());
-            Ok(())
+    output::write(&target, &bytes, content)?;
+    match &target {
+        Target::File(path) => {
+            output::stderr(format!("{summary}\nwrote {} ({} bytes)\n", path.display(), bytes.len()).as_bytes())?
         }
-        None => {
-            use std::io::Write as _;
-            std::io::stdout().lock().write_all(&bytes)?;
-            eprintln!("{summary}");
-            Ok(())
-        }
+        Target::Stdout => output::stderr(format!("{summary}\n").as_bytes())?,
     }
+    Ok(())
 }
 
 /// `1 node`, `2 nodes`.

@@ -14,9 +14,9 @@ use rayon::prelude::*;
 use sim_host::learn::{self, RunOutcome, RunSpec};
 use sim_host::scenario::WorldKind;
 
-use super::message::count;
 use super::output::{self, out};
 use super::scenario::World;
+use sim_host::text::count;
 
 pub const LONG_ABOUT: &str = "Learns behavior trees for the brick tasks of seed 003 (Styrud et \
 al.) with its genetic programming: population 16, Table I's operators and selection, the \

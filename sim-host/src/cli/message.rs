@@ -52,8 +52,6 @@ pub fn one_line(s: &str) -> String {
     escaped
 }
 
-pub use sim_host::text::count;
-
 /// An error and its causes in one line, `what: why: deeper why`, each cause said once:
 /// a cause whose text its parent's message already ends with (`#[error("...: {0}")]`
 /// on a `#[from]` field) is not repeated.

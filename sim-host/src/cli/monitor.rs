@@ -15,10 +15,9 @@ use crossterm::{cursor, terminal};
 
 use super::link::{self, Io, Line, Target};
 use super::{catalogs, output};
+use sim_host::text::count;
 
-/// Most levels a tree may have to be shown.
-/// As deep as the planner makes trees, so every planned image loads.
-const DEPTH: usize = planner::tree::DEPTH;
+use planner::DEPTH;
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -181,6 +180,15 @@ fn letter(s: NodeStatus) -> char {
     }
 }
 
+/// Writes what `out` gathered to stdout and empties it.
+fn flush(out: &mut Vec<u8>) -> Result<(), output::WriteError> {
+    if !out.is_empty() {
+        output::stdout(out)?;
+        out.clear();
+    }
+    Ok(())
+}
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let (mut link, name) = link::open(&args.target, &args.line)?;
     let (info, set) = link::hello(&mut link, &name)?;
@@ -195,7 +203,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         None => None,
     };
     let mut logs_written: u32 = 0;
-    let mut out = std::io::stdout().lock();
+    // Lines are gathered here and written through `output` after each message, so a
+    // closed or full stdout is an error like anywhere else (a broken pipe ends quietly).
+    let mut out: Vec<u8> = Vec::new();
     let tty = std::io::stdout().is_terminal();
     let mut trace = String::new();
     writeln!(out, "controller {name}: behavior set {set}, image {:08x}, {} nodes", live.crc, live.nodes.len())?;
@@ -204,6 +214,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         writeln!(out, "ticking from tick {tick} every {} ms", args.period)?;
     }
+    flush(&mut out)?;
     let mut drawn = 0usize;
     let mut changes: Vec<(u16, NodeStatus)> = Vec::new();
     let mut ticks = 0u32;
@@ -240,7 +251,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                         writeln!(out, "{l}")?;
                     }
                     drawn = lines.len() + 1;
-                    out.flush()?;
                 } else {
                     let list: Vec<String> = changes.iter().map(|(n, s)| format!("{n}:{}", letter(*s))).collect();
                     let list = if list.is_empty() { "-".to_string() } else { list.join(" ") };
@@ -262,8 +272,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 writeln!(
                     out,
-                    "swap before tick {tick}: image {:08x}, {} nodes ({halted} action(s) of the old tree halted)",
-                    image.crc, image.nodes
+                    "swap before tick {tick}: image {:08x}, {} nodes ({} of the old tree halted)",
+                    image.crc,
+                    image.nodes,
+                    count(halted, "action")
                 )?;
                 drawn = 0;
             }
@@ -272,6 +284,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             }
             _ => {}
         }
+        flush(&mut out)?;
     }
     if let Some(path) = &args.trace {
         output::write_whole(path, trace.as_bytes())?;
@@ -279,13 +292,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if let (Some(path), Some(g)) = (&args.btlog, groot) {
         write_log(&mut out, path, logs_written + 1, g)?;
     }
+    flush(&mut out)?;
     Ok(())
 }
 
 fn write_log(out: &mut impl Write, path: &Path, n: u32, g: Groot) -> anyhow::Result<()> {
     let file = numbered(path, n);
     let bytes = g.writer.into_bytes();
-    output::write_whole(&file, &bytes)?;
+    output::write_file(&file, &bytes, output::Content::Binary("a replay log"))?;
     writeln!(out, "btlog {} ({} bytes; open it in Groot2)", file.display(), bytes.len())?;
     Ok(())
 }

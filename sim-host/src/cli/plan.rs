@@ -9,9 +9,9 @@ use planner::duplo::Task;
 use planner::names::NameTable;
 use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement};
 
-use super::message::count;
 use super::output::{self, Content, Target, out};
 use planner::output as notation;
+use sim_host::text::count;
 
 /// What to write the tree as.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
