@@ -61,6 +61,10 @@ fn endless_inputs_stop_at_their_limit_naming_it_and_the_file() {
     assert_error(&out, &["/dev/zero: larger than 64 MiB, the most a tree file may be"]);
     let out = sim_host(&["btlog", "--from-trace", "x.txt", "--image", "/dev/zero", "--out", "x.btlog"]);
     assert_error(&out, &["/dev/zero: larger than 18,087,957 bytes, the most a tree image may be"]);
+    let out = sim_host(&["import", "/dev/zero", "--format", "ascii"]);
+    assert_error(&out, &["cannot read /dev/zero: larger than 64 MiB, the most an XML file may be"]);
+    let out = sim_host(&["catalog", "/dev/zero"]);
+    assert_error(&out, &["cannot read /dev/zero: larger than 64 MiB"]);
     let dir = tempfile::tempdir().unwrap();
     let tower = write(dir.path(), "tower.bt", &image(Task::Tower, &planner::duplo::plan(Task::Tower).unwrap().nodes));
     let out = sim_host(&["btlog", "--from-trace", "/dev/zero", "--image", s(&tower), "--out", "x.btlog"]);

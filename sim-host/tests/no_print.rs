@@ -21,7 +21,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 fn no_print_macros_in_the_cli_or_the_libraries_it_calls() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut files = Vec::new();
-    for krate in ["sim-host/src", "planner/src", "gp/src", "bt-core/src"] {
+    for krate in ["sim-host/src", "planner/src", "gp/src", "bt-core/src", "btcpp/src", "bt-link/src"] {
         rust_files(&root.join(krate), &mut files);
     }
     assert!(files.len() > 40, "found the sources: {}", files.len());

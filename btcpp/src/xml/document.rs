@@ -133,12 +133,36 @@ fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: b
         return Ok(());
     }
     doc.seen.push(key.clone());
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ImportError::nowhere(Fault::Read { path: path.to_path_buf(), message: e.to_string() }))?;
+    let text = read_bounded(path)?;
     stack.push(key);
     let r = read_source(&Source::new(path, text), doc, stack, first);
     stack.pop();
     r
+}
+
+/// Most bytes an XML file may have: 64 MiB, far beyond any real tree or model file (Nav2's
+/// largest is tens of kilobytes), and small enough to refuse `/dev/zero` at once.
+pub const MAX_FILE_LEN: u64 = 64 << 20;
+
+/// Reads `path` as text of at most [`MAX_FILE_LEN`] bytes.
+fn read_bounded(path: &Path) -> Result<String> {
+    use std::io::Read as _;
+    let fault = |message: String| ImportError::nowhere(Fault::Read { path: path.to_path_buf(), message });
+    let file = std::fs::File::open(path).map_err(|e| fault(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_LEN + 1).read_to_end(&mut bytes).map_err(|e| fault(e.to_string()))?;
+    if bytes.len() as u64 > MAX_FILE_LEN {
+        return Err(fault(format!(
+            "larger than {} MiB, the most an XML file may be (read no further)",
+            MAX_FILE_LEN >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let offset = e.utf8_error().valid_up_to();
+        let good = e.as_bytes().get(..offset).unwrap_or_default();
+        let line = 1 + good.iter().filter(|&&b| b == b'\n').count();
+        fault(format!("not UTF-8 at line {line} (byte offset {offset})"))
+    })
 }
 
 /// Deepest element nesting read (BehaviorTree.CPP refuses more than 256 levels too).
