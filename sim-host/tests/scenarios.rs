@@ -215,3 +215,55 @@ fn a_planner_that_gives_up_names_the_tick() {
     assert_eq!(format!("{e:#}"), "tick 1: the planner cannot expand the tree: no action achieves `obstacle(cube)`");
     assert!(out.contains("tick   1  the root fails"), "{out}");
 }
+
+/// The labels of the top view: (x, baseline y, text) of the bold mark numbers and the goal
+/// region's label.
+fn top_view_labels(svg: &str) -> Vec<(f32, f32, String)> {
+    let attr = |tag: &str, name: &str| -> f32 {
+        let from = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        tag[from..from + tag[from..].find('"').unwrap()].parse().unwrap()
+    };
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let (tag, rest) = t.split_once('>')?;
+            let text = rest.split_once("</text>")?.0.to_string();
+            let mark =
+                tag.contains("font-weight=\"bold\"") && text.chars().all(|c| c.is_ascii_digit() || ", ".contains(c));
+            (mark || text == "goal region").then(|| (attr(tag, "x"), attr(tag, "y"), text))
+        })
+        .collect()
+}
+
+#[test]
+fn the_top_views_labels_do_not_overlap() {
+    // Events and expansions where the robot stood still were drawn on one spot, their
+    // numbers over each other and over the goal region's label.
+    for seed in [None, Some(7), Some(27)] {
+        let run = scenario::run(Scenario::Cube, WorldKind::Physics, seed).unwrap();
+        let svg = scenario::svg::svg(&run, "test");
+        let labels = top_view_labels(&svg);
+        assert!(labels.iter().any(|l| l.2 == "goal region"), "{seed:?}");
+        let marks: usize = labels.iter().filter(|l| l.2 != "goal region").map(|l| l.2.split(", ").count()).sum();
+        assert_eq!(marks, run.record.events.len() + run.record.expansions.len(), "{seed:?}: every mark numbered");
+        // Boxes: each label from its start and baseline, each ring around its centre.
+        let width = |t: &str| if t == "goal region" { 70.0 } else { 7.0 * t.len() as f32 };
+        let mut boxes: Vec<([f32; 4], String)> =
+            labels.iter().map(|(x, y, t)| ([*x, y - 10.0, x + width(t), y + 2.0], format!("label {t}"))).collect();
+        for ring in svg.split("<circle").skip(1).filter(|c| c.contains(" r=\"7\"")) {
+            let num = |name: &str| -> f32 {
+                let from = ring.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+                ring[from..from + ring[from..].find('"').unwrap()].parse().unwrap()
+            };
+            let (x, y) = (num("cx"), num("cy"));
+            boxes.push(([x - 7.0, y - 7.0, x + 7.0, y + 7.0], format!("ring at {x},{y}")));
+        }
+        for (i, (a, an)) in boxes.iter().enumerate() {
+            for (b, bn) in boxes.iter().skip(i + 1) {
+                let rings = an.starts_with("ring") && bn.starts_with("ring");
+                let overlap = a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3];
+                assert!(rings || !overlap, "{seed:?}: {an} and {bn} overlap");
+            }
+        }
+    }
+}

@@ -209,18 +209,17 @@ fn top_view(s: &mut String, run: &Run<'_>, left: f64, top: f64, w: f64, h: f64) 
             fy * scale
         );
     };
+    // Goal labels: above their goal, clear of each other and of the legend (top right).
+    let legend_h = 20.0 + 15.0 * spec.bricks.len() as f64;
+    let mut taken: Vec<[f64; 4]> = vec![[left + w - 210.0, top, left + w, top + legend_h]];
     for (b, goal) in spec.goal.iter().enumerate() {
         if let Some(g) = *goal {
             let c = color(b);
             rect(s, b, g, &format!(r#"fill="none" stroke="{c}" stroke-width="2" stroke-dasharray="6 3""#));
             let (x, y) = view.px(f64::from(g[0]), f64::from(g[1]));
-            let _ = writeln!(
-                s,
-                r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{c}">goal {b} (z {:.1} mm)</text>"#,
-                x + 2.0,
-                y - 4.0 - 11.0 * b as f64,
-                g[2] * 1000.0
-            );
+            let text = format!("goal {b} (z {:.1} mm)", g[2] * 1000.0);
+            let (lx, ly) = place_label(&mut taken, x + 2.0, y - 4.0, 5.6 * text.len() as f64, (top, top + h));
+            let _ = writeln!(s, r#"<text x="{lx:.1}" y="{ly:.1}" font-size="10" fill="{c}">{text}</text>"#);
         }
     }
     let mut labels = String::new();
@@ -277,6 +276,23 @@ fn top_view(s: &mut String, run: &Run<'_>, left: f64, top: f64, w: f64, h: f64) 
         r##"<text x="{}" y="{y}" font-size="10" fill="#555">dotted: start · filled: end · dashed: goal</text>"##,
         left + w - 205.0
     );
+}
+
+/// Where a 10-pixel label of `width` wants to start (`x`, baseline `y`): there if that is
+/// free of every box in `taken`, else the nearest free baseline 11 pixels further up or
+/// down (within `rows`, the panel's top and bottom). Takes the box it returns.
+fn place_label(taken: &mut Vec<[f64; 4]>, x: f64, y: f64, width: f64, rows: (f64, f64)) -> (f64, f64) {
+    let boxed = |ly: f64| [x, ly - 9.0, x + width, ly + 2.0];
+    let free = |b: [f64; 4], taken: &[[f64; 4]]| {
+        !taken.iter().any(|t| b[0] < t[2] && t[0] < b[2] && b[1] < t[3] && t[1] < b[3])
+    };
+    let ly = (0..40)
+        .flat_map(|k| [y - 11.0 * f64::from(k), y + 11.0 * f64::from(k)])
+        .filter(|ly| *ly - 9.0 >= rows.0 && *ly + 2.0 <= rows.1)
+        .find(|ly| free(boxed(*ly), taken))
+        .unwrap_or(y);
+    taken.push(boxed(ly));
+    (x, ly)
 }
 
 /// A grid coordinate without rounding noise or a negative zero.
@@ -417,6 +433,46 @@ mod tests {
         assert!(doc.contains(">place on 0!</text>"));
         assert_eq!(doc.matches(r#"rx="2""#).count(), nodes.len() * trace.ticks.len());
         assert!(doc.contains("fitness"));
+    }
+
+    #[test]
+    fn goal_labels_clear_each_other_and_the_legend() {
+        // Croissant: goals 0 and 1 share a spot, goal 3's label hit the legend.
+        for task in Task::ALL {
+            let spec = task.spec();
+            let plan = planner::duplo::plan(task).unwrap();
+            let tree: bt_core::Tree<'_, 64> = bt_core::Tree::validate(&plan.nodes, &spec).unwrap();
+            let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
+            let mut trace = Trace::default();
+            let episode = runner.run_recorded(tree, &mut trace).unwrap();
+            let doc =
+                svg(&Run { spec: &spec, nodes: &plan.nodes, trace: &trace, episode: &episode, world: "symbolic" });
+            // Boxes of the goal labels and the legend's texts: x, baseline, text.
+            let num = |tag: &str, name: &str| -> f64 {
+                let from = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+                tag[from..from + tag[from..].find('"').unwrap()].parse().unwrap()
+            };
+            let boxes: Vec<([f64; 4], String)> = doc
+                .split("<text")
+                .skip(1)
+                .filter_map(|t| {
+                    let (tag, rest) = t.split_once('>')?;
+                    let text = rest.split_once("</text>")?.0.to_string();
+                    let legend = text.starts_with("brick ") || text.starts_with("dotted:");
+                    (text.starts_with("goal ") && text.contains("(z") || legend).then(|| {
+                        let (x, y) = (num(tag, "x"), num(tag, "y"));
+                        ([x, y - 9.0, x + 5.6 * text.chars().count() as f64, y + 2.0], text)
+                    })
+                })
+                .collect();
+            assert!(boxes.iter().filter(|b| b.1.starts_with("goal ")).count() >= 1, "{task:?}");
+            for (i, (a, an)) in boxes.iter().enumerate() {
+                for (b, bn) in boxes.iter().skip(i + 1) {
+                    let overlap = a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3];
+                    assert!(!overlap, "{task:?}: `{an}` and `{bn}` overlap");
+                }
+            }
+        }
     }
 
     #[test]

@@ -71,6 +71,17 @@ pub fn svg(run: &Run, title: &str) -> String {
     doc
 }
 
+/// Marks closer than this (pixels) share one ring and one label.
+const SPOT: f32 = 8.0;
+
+/// Where one or more marks fall in the top view.
+struct Spot<'a> {
+    x: f32,
+    y: f32,
+    colour: &'a str,
+    numbers: Vec<usize>,
+}
+
 /// Paths of every named point, start and end marked, events and expansions annotated.
 fn top_view(out: &mut String, run: &Run, x0: f32, y0: f32) {
     let frames = &run.record.frames;
@@ -155,16 +166,48 @@ fn top_view(out: &mut String, run: &Run, x0: f32, y0: f32) {
             .map(|(i, (t, e))| (*t, format!("expansion {}: {}", i + 1, e.condition), "#6a1b9a")),
     );
     marks.sort_by_key(|m| m.0);
-    for (n, (tick, text, colour)) in marks.iter().enumerate() {
-        if let Some((x, y)) = at(*tick) {
-            let _ = writeln!(
-                out,
-                r#"<circle cx="{x:.1}" cy="{y:.1}" r="7" fill="none" stroke="{colour}" stroke-width="2"/><text x="{:.1}" y="{:.1}" font-size="11" font-weight="bold" fill="{colour}">{}</text>"#,
-                x + 8.0,
-                y - 6.0,
-                n + 1
-            );
+    // Marks where the robot stood still fall on one spot: one ring there, and their
+    // numbers side by side ("1, 2, 5") in one label, placed clear of other labels.
+    let mut spots: Vec<Spot<'_>> = Vec::new();
+    for (n, (tick, _, colour)) in marks.iter().enumerate() {
+        let Some((x, y)) = at(*tick) else { continue };
+        match spots.iter_mut().find(|s| (s.x - x).abs() < SPOT && (s.y - y).abs() < SPOT) {
+            Some(spot) => spot.numbers.push(n + 1),
+            None => spots.push(Spot { x, y, colour, numbers: vec![n + 1] }),
         }
+    }
+    // Boxes already taken (left, top, right, bottom): the rings, the goal region's label.
+    let mut taken: Vec<[f32; 4]> = spots.iter().map(|s| [s.x - 8.0, s.y - 8.0, s.x + 8.0, s.y + 8.0]).collect();
+    if let Some((corner, size)) = run.goal_region {
+        let (ax, ay) = map([corner[0], corner[1] + size[1]]);
+        taken.push([ax, ay - 15.0, ax + 70.0, ay - 2.0]);
+    }
+    for spot in &spots {
+        let text: Vec<String> = spot.numbers.iter().map(ToString::to_string).collect();
+        let text = text.join(", ");
+        let width = 7.0 * text.len() as f32;
+        // A label's box from its text's start and baseline.
+        let boxed = |lx: f32, ly: f32| [lx, ly - 10.0, lx + width, ly + 2.0];
+        let free = |b: [f32; 4], taken: &[[f32; 4]]| {
+            !taken.iter().any(|t| b[0] < t[2] && t[0] < b[2] && b[1] < t[3] && t[1] < b[3])
+        };
+        // Right of the ring, above or below; left of it; then further down the right.
+        let (x, y) = (spot.x, spot.y);
+        let candidates =
+            [(x + 9.0, y - 6.0), (x + 9.0, y + 14.0), (x - 9.0 - width, y - 6.0), (x - 9.0 - width, y + 14.0)];
+        let (lx, ly) = candidates
+            .into_iter()
+            .chain((1..40).map(|k| (x + 9.0, y + 14.0 + 12.0 * k as f32)))
+            .find(|&(lx, ly)| free(boxed(lx, ly), &taken))
+            .unwrap_or((x + 9.0, y - 6.0));
+        taken.push(boxed(lx, ly));
+        let _ = writeln!(
+            out,
+            r#"<circle cx="{:.1}" cy="{:.1}" r="7" fill="none" stroke="{}" stroke-width="2"/><text x="{lx:.1}" y="{ly:.1}" font-size="11" font-weight="bold" fill="{}">{text}</text>"#,
+            spot.x, spot.y, spot.colour, spot.colour
+        );
+    }
+    for (n, (tick, text, colour)) in marks.iter().enumerate() {
         let _ = writeln!(
             out,
             r#"<text x="{}" y="{}" font-size="12" fill="{colour}">{}. tick {tick}: {}</text>"#,
