@@ -113,11 +113,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `1 node`, `2 nodes`.
-fn count(n: usize, what: &str) -> String {
-    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
-}
-
 /// Text that ends its last line (the view has none after its last node).
 fn lines(mut text: String) -> Vec<u8> {
     if !text.ends_with('\n') {
