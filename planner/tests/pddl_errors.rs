@@ -174,3 +174,21 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_byte_order_mark_is_skipped_and_every_line_ending_counts() {
+    // A UTF-8 BOM was read as part of the first symbol (an invisible character in
+    // backquotes); CR-only line endings made a comment swallow the rest of the file.
+    let d = parse_domain("d.pddl", &format!("\u{feff}{DOMAIN}")).unwrap();
+    assert_eq!(d.actions.len(), 1);
+    let cr = format!("; a comment\r{}", DOMAIN.replace('\n', "\r"));
+    assert_eq!(parse_domain("d.pddl", &cr).unwrap().actions.len(), 1);
+    let crlf = format!("; a comment\r\n{}", DOMAIN.replace('\n', "\r\n"));
+    assert_eq!(parse_domain("d.pddl", &crlf).unwrap().actions.len(), 1);
+    // Places count lines the same way with every ending: `(frees ?to)` on line 8.
+    for nl in ["\n", "\r", "\r\n"] {
+        let text = format!("; c{nl}{}", DOMAIN.replace("(free ?to)", "(frees ?to)").replace('\n', nl));
+        let (msg, _) = domain_err(&text);
+        assert!(msg.starts_with("d.pddl:8:"), "{nl:?}: {msg}");
+    }
+}
