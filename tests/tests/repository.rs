@@ -52,3 +52,23 @@ fn nothing_points_outside_the_repository() {
     assert!(hits.is_empty(), "pointers outside the repository:\n{}", hits.join("\n"));
     assert!(root.join("docs/brick-tasks.md").exists());
 }
+
+#[test]
+fn the_documented_commands_are_the_ones_that_run() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    // `cargo run --release` in firmware-example (its README, DEVELOPERS.md) needs to know
+    // which of its binaries to run.
+    let manifest = std::fs::read_to_string(root.join("firmware-example/Cargo.toml")).unwrap();
+    let default = manifest
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("default-run = "))
+        .expect("firmware-example has a default-run")
+        .trim_matches('"');
+    assert!(manifest.contains(&format!("name = \"{default}\"")), "default-run `{default}` is one of its binaries");
+    // CI runs the README's test command and nothing else: the set-up is in it.
+    let ci = std::fs::read_to_string(root.join(".ci/run")).unwrap();
+    let commands: Vec<&str> = ci.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')).collect();
+    assert_eq!(commands, ["set -euo pipefail", "cd \"$(dirname \"$0\")/..\"", "exec cargo xtask ci"]);
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    assert!(readme.contains("cargo xtask ci"));
+}
