@@ -85,7 +85,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let instance =
             Instance { domain: String::new(), domain_file: domain_file.clone(), problem_file: problem_file.clone() };
         let r = coverage::run(&instance, &settings);
-        std::io::stdout().lock().write_all(r.encode().as_bytes())?;
+        super::output::stdout(r.encode().as_bytes())?;
         return Ok(());
     }
     if args.timeout == 0 {
@@ -99,7 +99,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bail!("no PDDL problems with a domain file under {}", args.dir.display());
     }
     let exe = std::env::current_exe().context("cannot find this program's path")?;
-    let mut out = std::io::stdout().lock();
+    // Gathered here, written through `output` row by row (a closed pipe ends quietly).
+    let mut out: Vec<u8> = Vec::new();
     writeln!(
         out,
         "{} instances, timeout {} s, {} disturbed episodes each (seed {})",
@@ -108,6 +109,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         args.episodes,
         args.seed
     )?;
+    super::output::stdout(&out)?;
+    out.clear();
     let mut rows = Vec::with_capacity(list.len());
     for instance in list {
         let ours = child(&exe, &instance, args)?;
@@ -130,11 +133,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 writeln!(out, "    {l}")?;
             }
         }
-        out.flush()?;
+        super::output::stdout(&out)?;
+        out.clear();
         rows.push(row);
     }
     let table = table(&rows, args);
     writeln!(out, "\n{table}")?;
+    super::output::stdout(&out)?;
     if let Some(path) = &args.out {
         super::output::write_whole(path, table.as_bytes())?;
     }

@@ -159,7 +159,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let (domain, dwarn) = planner::pddl::read_domain(&dpath.display().to_string(), &read(dpath)?)?;
         let (problem, pwarn) = planner::pddl::read_problem(&ppath.display().to_string(), &read(ppath)?, &domain)?;
         for w in dwarn.iter().chain(&pwarn) {
-            let _ = writeln!(std::io::stderr().lock(), "{w}");
+            let _ = output::stderr(format!("{w}\n").as_bytes());
         }
         let g = Arc::new(
             planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?,
