@@ -39,7 +39,9 @@
 //!
 //! The modules, in the paper's order: [`genome`] (the token view and validity rules),
 //! [`operators`] (random trees, mutation, crossover), [`selection`], [`fitness`], and
-//! [`run`](mod@run) (the generation loop, with the baseline and the boosting variants).
+//! [`run`](mod@run) (the generation loop, with the baseline and the boosting variants);
+//! beyond the paper, [`islands`] (several populations with migration and restarts, for
+//! a solved tree every time).
 //!
 //! # A run's record
 //!
@@ -106,6 +108,7 @@ mod alphabet;
 mod edit;
 pub mod fitness;
 pub mod genome;
+pub mod islands;
 mod log;
 pub mod operators;
 mod params;

@@ -21,14 +21,21 @@ pub enum Variant {
     BoostCrossover,
     /// As `BoostCrossover`, for mutation parents too.
     BoostAll,
+    /// The baseline replaces the first random individual of the initial population
+    /// only; once it drops out it is gone (the reference implementation's `nokeep`).
+    NoKeep,
 }
 
 impl Variant {
-    /// All four, in the paper's order.
+    /// The paper's four, in its order (what `all` means on the command line).
     pub const ALL: [Variant; 4] = [Variant::None, Variant::Baseline, Variant::BoostCrossover, Variant::BoostAll];
 
+    /// Every variant: the paper's four, then the reference implementation's `nokeep`.
+    pub const EVERY: [Variant; 5] =
+        [Variant::None, Variant::Baseline, Variant::BoostCrossover, Variant::BoostAll, Variant::NoKeep];
+
     /// The name on the command line and in records: `none`, `baseline`,
-    /// `boost-crossover`, `boost-all`.
+    /// `boost-crossover`, `boost-all`, `nokeep`.
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -36,19 +43,26 @@ impl Variant {
             Self::Baseline => "baseline",
             Self::BoostCrossover => "boost-crossover",
             Self::BoostAll => "boost-all",
+            Self::NoKeep => "nokeep",
         }
     }
 
     /// The variant with that name.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|v| v.name() == name)
+        Self::EVERY.into_iter().find(|v| v.name() == name)
     }
 
-    /// Whether the variant inserts the baseline and keeps it in the population.
+    /// Whether the variant inserts the baseline into the initial population.
     #[must_use]
     pub const fn uses_baseline(self) -> bool {
         !matches!(self, Self::None)
+    }
+
+    /// Whether the variant puts the baseline back whenever it drops out.
+    #[must_use]
+    pub const fn keeps_baseline(self) -> bool {
+        !matches!(self, Self::None | Self::NoKeep)
     }
 
     /// Whether the baseline is boosted while crossover parents are selected.
@@ -72,7 +86,7 @@ impl fmt::Display for Variant {
 
 /// A variant name that is none of the four.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown variant `{0}` (expected none, baseline, boost-crossover or boost-all)")]
+#[error("unknown variant `{0}` (expected none, baseline, boost-crossover, boost-all or nokeep)")]
 pub struct UnknownVariant(pub String);
 
 impl FromStr for Variant {
@@ -427,12 +441,14 @@ mod tests {
 
     #[test]
     fn variants_by_name() {
-        for v in Variant::ALL {
+        for v in Variant::EVERY {
             assert_eq!(v.name().parse::<Variant>(), Ok(v));
         }
         assert!("boost".parse::<Variant>().is_err());
         assert!(!Variant::Baseline.boosts_crossover() && Variant::BoostCrossover.boosts_crossover());
         assert!(!Variant::BoostCrossover.boosts_mutation() && Variant::BoostAll.boosts_mutation());
+        assert!(Variant::NoKeep.uses_baseline() && !Variant::NoKeep.keeps_baseline());
+        assert!(!Variant::NoKeep.boosts_crossover() && Variant::Baseline.keeps_baseline());
     }
 
     #[test]

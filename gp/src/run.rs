@@ -2,7 +2,7 @@
 //!
 //! One generation, in this order, every random draw from the run's one ChaCha8
 //! generator:
-//! 1. **Baseline** (variants other than `none`): the planner's tree is in the
+//! 1. **Baseline** (variants other than `none` and `nokeep`): the planner's tree is in the
 //!    population — it was put back at the end of the previous generation if it had
 //!    dropped out, so the population then has `population_size + 1` members (the
 //!    reference appends it at the start of the next generation; no random draw comes
@@ -82,6 +82,9 @@ pub enum GpError {
     /// No valid random tree of the initial length could be drawn.
     #[error("no valid random tree of {} could be drawn from this alphabet", crate::genome::count(*.0, "node"))]
     NoRandomTree(usize),
+    /// Island settings that cannot run ([`crate::islands::IslandParams`]).
+    #[error("{0}")]
+    Islands(&'static str),
 }
 
 /// What a run leaves behind.
@@ -329,13 +332,45 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         &self.alphabet
     }
 
-    /// Puts the baseline back at the end of the population if it dropped out, and
-    /// returns where it is.
+    /// The fitness the run scores trees with.
+    #[must_use]
+    pub fn fitness(&self) -> &'f F {
+        self.fitness
+    }
+
+    /// Takes in an individual from elsewhere (a migrant of [`crate::islands`]): it
+    /// replaces the worst member of the population, unless it is already a member.
+    /// The baseline is never replaced; ties for the worst go to the later member. Its
+    /// fitness comes with it: nothing is simulated and the episode count is unchanged.
+    /// Returns whether it was taken in.
+    pub fn immigrate(&mut self, migrant: &Individual) -> bool {
+        if self.population.iter().any(|i| i.genome == migrant.genome) {
+            return false;
+        }
+        let baseline = self.baseline.as_ref();
+        let survivors = self.population.get(..self.survivors).unwrap_or(&self.population);
+        let worst = survivors.iter().enumerate().filter(|(_, i)| baseline != Some(&i.genome)).fold(
+            None::<(usize, f64)>,
+            |w, (k, i)| match w {
+                Some((_, f)) if f < i.fitness => w,
+                _ => Some((k, i.fitness)),
+            },
+        );
+        let Some((at, _)) = worst else { return false };
+        self.population[at] = migrant.clone();
+        true
+    }
+
+    /// Puts the baseline back at the end of the population if it dropped out (unless
+    /// the variant is `nokeep`), and returns where it is.
     fn keep_baseline(&mut self) -> Option<usize> {
         self.survivors = self.population.len();
         let b = self.baseline.as_ref()?;
         if let Some(at) = self.population.iter().position(|i| i.genome == *b) {
             return Some(at);
+        }
+        if !self.params.variant.keeps_baseline() {
+            return None;
         }
         let fitness = self.cache.get(b).unwrap_or(f64::NEG_INFINITY);
         self.population.push(Individual { genome: b.clone(), fitness });

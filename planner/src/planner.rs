@@ -61,6 +61,11 @@ pub struct Options {
     /// Offline: give up at this instant (grounding is the caller's; see
     /// [`crate::ground::Limits`]).
     pub deadline: Option<Instant>,
+    /// Keep the goal Sequence at the root even for a single goal condition, as seed
+    /// 003's reference planner does (its balance tree is `s( f( ... ) )`, one node
+    /// more). Off by default: a Sequence of one child ticks exactly as the child does,
+    /// so the shorter tree behaves the same and costs a node less.
+    pub goal_sequence: bool,
 }
 
 impl Default for Options {
@@ -72,6 +77,7 @@ impl Default for Options {
             record_steps: false,
             method: Method::Auto,
             deadline: None,
+            goal_sequence: false,
         }
     }
 }
@@ -158,7 +164,8 @@ impl Planner {
     /// # Errors
     /// [`PlanError::NoLeaf`] when a goal condition has no leaf.
     pub fn new(g: Arc<Grounding>, options: Options) -> Result<Self, PlanError> {
-        let tree = PlanTree::from_goal(g.goal());
+        let tree =
+            if options.goal_sequence { PlanTree::goal_sequence(g.goal()) } else { PlanTree::from_goal(g.goal()) };
         Self::from_tree(g, tree, options)
     }
 
@@ -169,7 +176,8 @@ impl Planner {
     /// As [`Planner::new`].
     pub fn guided(g: Arc<Grounding>, trace: Arc<Trace>, options: Options) -> Result<Self, PlanError> {
         let goal = trace.ordered(g.goal(), trace.goal_step());
-        let tree = PlanTree::from_goal(&goal);
+        let tree =
+            if options.goal_sequence { PlanTree::goal_sequence(&goal) } else { PlanTree::from_goal(&goal) };
         let mut p = Self::from_tree(g, tree, options)?;
         p.steps = vec![trace.goal_step() as u32; p.tree.capacity()];
         p.guide = Some(trace);

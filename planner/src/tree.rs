@@ -126,6 +126,19 @@ impl PlanTree {
         t
     }
 
+    /// The initial tree with the goal conditions always under a Sequence, even a
+    /// single one ([`crate::Options::goal_sequence`]).
+    #[must_use]
+    pub fn goal_sequence(goal: &[Lit]) -> Self {
+        let mut t = Self { slots: Vec::new(), root: 0 };
+        t.root = t.add(Kind::Sequence);
+        for &g in goal {
+            let c = t.add(Kind::Condition(g));
+            t.push_child(t.root, c);
+        }
+        t
+    }
+
     /// A new detached node.
     pub fn add(&mut self, kind: Kind) -> PlanNode {
         self.slots.push(Slot { kind, parent: NONE, children: Vec::new() });
