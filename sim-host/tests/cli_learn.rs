@@ -117,7 +117,7 @@ fn bad_arguments_are_one_line_and_leave_nothing_behind() {
     assert_eq!(after.lines().count(), 1 + 3, "--force replaced the run");
 
     let empty = tempfile::tempdir().unwrap();
-    one_line_error(&sim_host(&["plot", empty.path().to_str().unwrap()]), "no run folders");
+    one_line_error(&sim_host(&["plot", empty.path().to_str().unwrap()]), "no finished run folders");
     let nowhere = dir.path().join("missing").join("c.png");
     one_line_error(&sim_host(&["plot", out, "--out", nowhere.to_str().unwrap()]), "missing");
 }

@@ -26,6 +26,7 @@ pub mod output;
 mod plan;
 mod plot;
 mod run;
+mod run_strips;
 mod scenario;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
@@ -66,7 +67,7 @@ enum Command {
     /// Run a scenario of the papers, narrated tick by tick (`--list` shows them).
     #[command(long_about = scenario::LONG_ABOUT)]
     Scenario(scenario::Args),
-    /// Learn trees for the brick tasks with the GP of seed 003; one folder per run.
+    /// Learn trees with the GP of seed 003 (brick tasks or a PDDL problem); one folder per run.
     #[command(long_about = learn::LONG_ABOUT)]
     Learn(learn::Args),
     /// Draw learning curves (PNG) and a results table from `learn`'s run folders.

@@ -59,14 +59,22 @@ pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the 
       s( f( 0 on 1? put 0 on 1! ) apply force 0! )\n\
     with leaves named exactly as the task's behaviors: `picked 0?`, `1 on 0?`,\n\
     `0 at pos (0.0, 0.05, 0.0)?`, `pick 0!`, `place on 1!`, `put 0 at (0.0, 0.0, 0.0)!`, ...\n\
-    (docs/brick-tasks.md lists them per task).";
+    (docs/brick-tasks.md lists them per task).\n\n\
+    With --domain D.pddl --problem P.pddl instead of --task: runs the tree (the planner's, \
+    or a FILE that `learn` wrote: best.bt or best.tokens) in the problem's symbolic STRIPS \
+    world, once, or with --disturb RATE over --episodes seeded episodes in which external \
+    agents do or undo actions, and prints how often it reached the goal, its ticks and its \
+    fitness (the fitness `learn` uses for PDDL problems).";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = "Example: sim-host run --task tower --tree tower.txt --svg tower.svg")]
 pub struct Args {
     /// The task: tower, croissant, balance or blocking.
-    #[arg(long, value_parser = parse_task)]
-    pub task: Task,
+    #[arg(long, value_parser = parse_task, required_unless_present = "domain", conflicts_with = "domain")]
+    pub task: Option<Task>,
+    /// The PDDL options: run episodes of a PDDL problem in its STRIPS world instead.
+    #[command(flatten)]
+    pub strips: super::run_strips::Args,
     /// The world that plays the episode.
     #[arg(long, value_enum, default_value_t = WorldKind::Symbolic)]
     pub world: WorldKind,
@@ -125,7 +133,8 @@ fn parse_task(s: &str) -> Result<Task, String> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    let spec = args.task.spec();
+    let Some(task) = args.task else { return super::run_strips::run(&args.strips, args.tree.as_deref()) };
+    let spec = task.spec();
     let (nodes, source) = match &args.tree {
         Some(path) => (read_tree(path, &spec)?, path.display().to_string()),
         None => (planner_tree(&spec)?, "the planner's tree".to_string()),

@@ -1,0 +1,630 @@
+//! Learning on any PDDL problem the planner reads: GP's leaves are the problem's
+//! grounded conditions and actions, episodes run in the symbolic STRIPS world, the
+//! planner's tree is the baseline, and external agents may disturb every episode.
+//!
+//! # Leaves
+//!
+//! GP draws argument-less leaves ([`gp::Alphabet`]), so each grounded literal and each
+//! ground action is one leaf of a [`FlatCatalog`]: the conditions are the literals that
+//! some ground action needs or the goal asks for (`holding(cube)`, and
+//! `not hand-empty` for a negative one), then every ground action
+//! (`move-to(goal)`). Trees are converted both ways to the PDDL leaf contract
+//! (predicate or action id with object arguments; a negative condition is an
+//! `Inverter` over the condition), which is what images, XML and ASCII output use.
+//!
+//! # Episodes
+//!
+//! An action leaf runs its ground action as [`planner::strips::StripsWorld`] does: it
+//! fails if its preconditions do not hold when it starts, else returns Running, and on
+//! its next tick applies its effects and succeeds; a halted action has no effect. An
+//! episode ticks the tree from the initial state until the root fails, succeeds on two
+//! ticks in a row, or the tick limit is reached (a timeout).
+//!
+//! With disturbances (seed 000, Problem 1), before every tick an external agent acts
+//! with probability `rate`: with even odds it *does* a ground action whose
+//! preconditions hold (a helper: the tree should skip what is done), or *undoes* one
+//! whose effects all hold (its add effects become false and its delete effects true:
+//! the cube taken from the hand, the sphere rolled back into the path), each drawn
+//! uniformly among those that change the state. The agents of episode `k` draw from a
+//! generator seeded by the disturbance seed and `k`, so a tree always meets the same
+//! `episodes` disturbed episodes and its fitness is a function of the tree.
+//!
+//! # Fitness
+//!
+//! In the spirit of seed 003's Eq. (1), with goal literals in place of brick distances:
+//!
+//! ```text
+//! F = - G U - λ L - κ T - ϕ F - τ O
+//! ```
+//!
+//! U: goal literals that do not hold at the end of the episode (G = 100 each); L: nodes
+//! of the tree as GP counts them, a negative condition one node (λ = 0.1); T: ticks
+//! the episode ran (κ = 0.1: a node must save a tick to pay for itself); F: 1 if the
+//! root returned Failure (ϕ = 50); O: 1 if the episode hit the tick limit (τ = 10).
+//! With disturbances the fitness is the mean over the episodes, summed in episode
+//! order.
+
+use std::collections::BTreeSet;
+use std::sync::{Arc, Mutex};
+
+use anyhow::{Context as _, anyhow, bail};
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Catalog, Context, Executor, Leaf, LeafKind, Node, NodeId, NodeKind, NodeState, Status,
+    Tree,
+};
+use planner::ground::{ActionId, Grounding, Lit};
+use planner::strips::StripsWorld;
+use planner::{Options, PddlCatalog};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Most levels a tree may have in an episode: as many as the planner makes.
+pub const DEPTH: usize = planner::tree::DEPTH;
+
+/// Argument-less leaves named after grounded literals and actions.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FlatCatalog {
+    leaves: Vec<(String, LeafKind)>,
+}
+
+impl Catalog for FlatCatalog {
+    fn len(&self) -> usize {
+        self.leaves.len()
+    }
+
+    fn info(&self, id: bt_core::BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.leaves.get(usize::from(id)).map(|(name, kind)| BehaviorInfo { name, kind: *kind, arity: 0 })
+    }
+}
+
+/// What a leaf of the [`FlatCatalog`] stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Letter {
+    /// A literal to check.
+    Condition(Lit),
+    /// A ground action to run.
+    Action(ActionId),
+}
+
+/// The constants of the fitness (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StripsFitnessParams {
+    /// G: cost of each goal literal that does not hold at the end.
+    pub unmet_goal: f64,
+    /// λ: cost per node.
+    pub length: f64,
+    /// κ: cost per tick.
+    pub tick: f64,
+    /// ϕ: cost of ending in Failure.
+    pub failure: f64,
+    /// τ: cost of ending by timeout.
+    pub timeout: f64,
+}
+
+impl Default for StripsFitnessParams {
+    fn default() -> Self {
+        Self { unmet_goal: 100.0, length: 0.1, tick: 0.1, failure: 50.0, timeout: 10.0 }
+    }
+}
+
+/// External agents that disturb every episode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disturbance {
+    /// Chance per tick that an agent acts, in `[0, 1]`.
+    pub rate: f64,
+    /// Seed of the episodes' agents.
+    pub seed: u64,
+    /// How many disturbed episodes score a tree.
+    pub episodes: u32,
+}
+
+/// A PDDL problem ready to learn on: grounded, with its leaves and the planner's tree.
+#[derive(Debug)]
+pub struct StripsProblem {
+    /// The domain file's text, as read (copied into run folders).
+    pub domain_text: String,
+    /// The problem file's text, as read.
+    pub problem_text: String,
+    g: Arc<Grounding>,
+    pddl: PddlCatalog,
+    catalog: FlatCatalog,
+    letters: Vec<Letter>,
+    planner_tree: Vec<Node>,
+    planner_ticks: Option<u32>,
+}
+
+impl StripsProblem {
+    /// Reads, grounds and plans a problem; `domain_file` and `problem_file` name the
+    /// texts in errors. With `goal_sequence` the planner keeps the goal Sequence at the
+    /// root for a single goal ([`planner::Options::goal_sequence`]).
+    ///
+    /// # Errors
+    /// PDDL errors (file:line:column), grounding and planning errors, a problem with
+    /// more leaves than 16-bit ids name, or names GP's token notation cannot carry.
+    pub fn new(
+        domain_file: &str,
+        domain_text: String,
+        problem_file: &str,
+        problem_text: String,
+        goal_sequence: bool,
+    ) -> anyhow::Result<Self> {
+        let domain = planner::pddl::parse_domain(domain_file, &domain_text)?;
+        let problem = planner::pddl::parse_problem(problem_file, &problem_text, &domain)?;
+        let g = Arc::new(Grounding::new(&problem).with_context(|| format!("grounding {problem_file}"))?);
+        let pddl = PddlCatalog::new(&problem);
+        let options = Options { goal_sequence, ..Options::default() };
+        let plan = planner::plan(g.clone(), Arc::new(pddl.clone()), options)
+            .with_context(|| format!("planning {problem_file} (the baseline)"))?;
+
+        let mut conditions: BTreeSet<Lit> = g.goal().iter().copied().collect();
+        for a in g.actions() {
+            conditions.extend(a.pre.iter().copied());
+        }
+        let mut letters: Vec<Letter> = conditions.into_iter().map(Letter::Condition).collect();
+        letters.extend((0..g.actions().len() as ActionId).map(Letter::Action));
+        if letters.len() > usize::from(u16::MAX) {
+            bail!("{problem_file}: {} grounded conditions and actions; learning handles at most 65535", letters.len());
+        }
+        let leaves: Vec<(String, LeafKind)> = letters
+            .iter()
+            .map(|&l| match l {
+                Letter::Condition(lit) => (g.lit_name(lit), LeafKind::Condition),
+                Letter::Action(a) => (g.action_name(a), LeafKind::Action),
+            })
+            .collect();
+        if let Some((name, _)) = leaves.iter().find(|(n, _)| n.contains(['?', '!'])) {
+            bail!(
+                "{problem_file}: `{name}` contains `?` or `!`, which the token notation of learned trees cannot carry"
+            );
+        }
+        let mut p = Self {
+            domain_text,
+            problem_text,
+            g,
+            pddl,
+            catalog: FlatCatalog { leaves },
+            letters,
+            planner_tree: Vec::new(),
+            planner_ticks: plan.goal_ticks,
+        };
+        p.planner_tree = p.from_pddl(&plan.nodes).context("the planner's tree")?;
+        Ok(p)
+    }
+
+    /// The problem's name, from its `(define (problem NAME))`.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.g.problem().name
+    }
+
+    /// The domain's name.
+    #[must_use]
+    pub fn domain_name(&self) -> &str {
+        &self.g.problem().domain.name
+    }
+
+    /// GP's leaves.
+    #[must_use]
+    pub fn catalog(&self) -> &FlatCatalog {
+        &self.catalog
+    }
+
+    /// The behavior set of the PDDL leaf contract (images, XML).
+    #[must_use]
+    pub fn pddl_catalog(&self) -> &PddlCatalog {
+        &self.pddl
+    }
+
+    /// The grounded problem.
+    #[must_use]
+    pub fn grounding(&self) -> &Arc<Grounding> {
+        &self.g
+    }
+
+    /// What leaf `id` of the [`FlatCatalog`] stands for.
+    #[must_use]
+    pub fn letter(&self, id: bt_core::BehaviorId) -> Option<Letter> {
+        self.letters.get(usize::from(id)).copied()
+    }
+
+    /// The planner's tree in GP's leaves (the baseline).
+    #[must_use]
+    pub fn planner_tree(&self) -> &[Node] {
+        &self.planner_tree
+    }
+
+    /// Ticks the planner's tree takes to the goal in the undisturbed world, if it
+    /// reaches it.
+    #[must_use]
+    pub fn planner_ticks(&self) -> Option<u32> {
+        self.planner_ticks
+    }
+
+    /// The default tick limit of an episode: room for the planner's tree three times
+    /// over and 30 ticks more (200 if the planner's tree does not reach the goal).
+    #[must_use]
+    pub fn default_tick_limit(&self) -> u32 {
+        self.planner_ticks.map_or(200, |t| t.saturating_mul(3).saturating_add(30))
+    }
+
+    /// A tree in GP's leaves as a tree of the PDDL leaf contract: a negative condition
+    /// becomes an Inverter over the condition.
+    ///
+    /// # Errors
+    /// A leaf GP's catalog does not have, or a node kind GP does not use.
+    pub fn to_pddl(&self, flat: &[Node]) -> anyhow::Result<Vec<Node>> {
+        // Sizes grow by one per negative condition inside a subtree: rebuild them.
+        let extra: Vec<u16> = flat
+            .iter()
+            .map(|n| match n.kind() {
+                NodeKind::Condition(l) => match self.letter(l.behavior()) {
+                    Some(Letter::Condition(lit)) => u16::from(!lit.positive),
+                    _ => 0,
+                },
+                _ => 0,
+            })
+            .collect();
+        let mut out = Vec::with_capacity(flat.len() + extra.iter().map(|&e| usize::from(e)).sum::<usize>());
+        for (i, n) in flat.iter().enumerate() {
+            let end = i + usize::from(n.size());
+            let grown: usize = extra
+                .get(i..end)
+                .ok_or_else(|| anyhow!("node {i}: malformed tree"))?
+                .iter()
+                .map(|&e| usize::from(e))
+                .sum();
+            let size = u16::try_from(usize::from(n.size()) + grown).map_err(|_| anyhow!("tree too large"))?;
+            match n.kind() {
+                NodeKind::Sequence | NodeKind::Fallback => out.push(Node::new(*n.kind(), size)),
+                NodeKind::Condition(l) => {
+                    let Some(Letter::Condition(lit)) = self.letter(l.behavior()) else {
+                        bail!("node {i}: behavior {} is not a condition of this problem", l.behavior());
+                    };
+                    let leaf = self
+                        .g
+                        .condition_leaf(lit.atom)
+                        .ok_or_else(|| anyhow!("node {i}: `{}` has no leaf", self.g.lit_name(lit)))?;
+                    if !lit.positive {
+                        out.push(Node::new(NodeKind::Inverter, 2));
+                    }
+                    out.push(Node::new(NodeKind::Condition(leaf), 1));
+                }
+                NodeKind::Action(l) => {
+                    let Some(Letter::Action(a)) = self.letter(l.behavior()) else {
+                        bail!("node {i}: behavior {} is not an action of this problem", l.behavior());
+                    };
+                    let leaf = self
+                        .g
+                        .action_leaf(a)
+                        .ok_or_else(|| anyhow!("node {i}: `{}` has no leaf", self.g.action_name(a)))?;
+                    out.push(Node::new(NodeKind::Action(leaf), 1));
+                }
+                other => bail!("node {i}: a {}; learned trees have only Sequence, Fallback and leaves", other.name()),
+            }
+        }
+        Ok(out)
+    }
+
+    /// A tree of the PDDL leaf contract (as the planner makes it) in GP's leaves.
+    ///
+    /// # Errors
+    /// Node kinds other than reactive Sequence, Fallback, leaves and an Inverter over a
+    /// condition; leaves that are not grounded conditions or actions of the problem.
+    pub fn from_pddl(&self, nodes: &[Node]) -> anyhow::Result<Vec<Node>> {
+        // Inverters are dropped (their condition becomes a negative one): `kept[i]`
+        // counts the nodes kept before node i, to rebuild subtree sizes.
+        let inverter = |n: &Node| matches!(n.kind(), NodeKind::Inverter);
+        let mut kept = Vec::with_capacity(nodes.len() + 1);
+        kept.push(0usize);
+        for n in nodes {
+            kept.push(kept.last().copied().unwrap_or(0) + usize::from(!inverter(n)));
+        }
+        let mut flat = Vec::with_capacity(nodes.len());
+        for (i, n) in nodes.iter().enumerate() {
+            let end = i + usize::from(n.size());
+            if end > nodes.len() || n.size() == 0 {
+                bail!("node {i}: malformed tree");
+            }
+            let size = u16::try_from(kept[end] - kept[i]).map_err(|_| anyhow!("tree too large"))?;
+            let kind = match n.kind() {
+                NodeKind::Inverter => {
+                    if n.size() != 2 || !nodes.get(i + 1).is_some_and(|c| matches!(c.kind(), NodeKind::Condition(_))) {
+                        bail!("node {i}: an Inverter over something other than a condition");
+                    }
+                    continue;
+                }
+                NodeKind::Sequence | NodeKind::Fallback => *n.kind(),
+                NodeKind::Condition(leaf) => {
+                    let atom = self.g.leaf_atom(leaf).ok_or_else(|| anyhow!("node {i}: unknown condition"))?;
+                    let negated = i > 0 && nodes.get(i - 1).is_some_and(inverter);
+                    let lit = Lit { atom, positive: !negated };
+                    let id = self.letter_of(Letter::Condition(lit)).ok_or_else(|| {
+                        anyhow!("node {i}: `{}` is not a precondition or goal of this problem", self.g.lit_name(lit))
+                    })?;
+                    NodeKind::Condition(Leaf::new(id))
+                }
+                NodeKind::Action(leaf) => {
+                    let mut candidates = Vec::new();
+                    self.g.leaf_actions(leaf, &mut candidates);
+                    let &[a] = candidates.as_slice() else { bail!("node {i}: unknown action") };
+                    let id = self.letter_of(Letter::Action(a)).ok_or_else(|| anyhow!("node {i}: unknown action"))?;
+                    NodeKind::Action(Leaf::new(id))
+                }
+                other => bail!("node {i}: a {}; learning uses only Sequence, Fallback and leaves", other.name()),
+            };
+            flat.push(Node::new(kind, size));
+        }
+        Ok(flat)
+    }
+
+    fn letter_of(&self, letter: Letter) -> Option<u16> {
+        self.letters.iter().position(|&l| l == letter).and_then(|i| u16::try_from(i).ok())
+    }
+}
+
+/// How one episode ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StripsEnd {
+    /// The root returned Failure.
+    Failure,
+    /// The root returned Success on two ticks in a row.
+    Success,
+    /// The tick limit was reached.
+    Timeout,
+}
+
+/// One episode's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StripsEpisode {
+    /// How it ended.
+    pub end: StripsEnd,
+    /// Ticks run.
+    pub ticks: u32,
+    /// Goal literals that did not hold at the end.
+    pub unmet: usize,
+    /// External agents' acts during the episode.
+    pub disturbances: u32,
+    /// The fitness of this episode alone.
+    pub fitness: f64,
+}
+
+impl StripsEpisode {
+    /// Whether the goal held at the end.
+    #[must_use]
+    pub fn goal_reached(&self) -> bool {
+        self.unmet == 0
+    }
+}
+
+/// The world of one episode, as the tree's behavior set: the STRIPS state and the
+/// actions the tree has running.
+struct Behaviors<'a> {
+    p: &'a StripsProblem,
+    world: &'a mut StripsWorld,
+    running: &'a mut Vec<(NodeId, ActionId)>,
+}
+
+impl BehaviorSet for Behaviors<'_> {
+    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+        match self.p.letter(leaf.behavior()) {
+            Some(Letter::Condition(l)) if self.world.holds(l.atom) == l.positive => Status::Success,
+            _ => Status::Failure,
+        }
+    }
+
+    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+        if !ctx.starting
+            && let Some(i) = self.running.iter().position(|r| r.0 == ctx.node)
+        {
+            let (_, a) = self.running.swap_remove(i);
+            if let Some(ga) = self.p.g.action(a) {
+                for &d in &ga.del {
+                    self.world.set(d, false);
+                }
+                for &x in &ga.add {
+                    self.world.set(x, true);
+                }
+            }
+            return Status::Success;
+        }
+        let Some(Letter::Action(a)) = self.p.letter(leaf.behavior()) else { return Status::Failure };
+        match self.p.g.action(a) {
+            Some(ga) if ga.applicable(self.world.state()) => {
+                self.running.retain(|r| r.0 != ctx.node);
+                self.running.push((ctx.node, a));
+                Status::Running
+            }
+            _ => Status::Failure,
+        }
+    }
+
+    fn halt(&mut self, _: &Leaf, node: NodeId) {
+        self.running.retain(|r| r.0 != node);
+    }
+}
+
+/// The generator of episode `k`'s agents.
+fn agents(seed: u64, k: u32) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(gp::islands::island_seed(seed, 1 + k as usize, 0))
+}
+
+/// An external agent's act, maybe: see the module docs.
+fn disturb(
+    p: &StripsProblem,
+    world: &mut StripsWorld,
+    rate: f64,
+    rng: &mut ChaCha8Rng,
+    scratch: &mut Vec<ActionId>,
+) -> bool {
+    if rng.random::<f64>() >= rate {
+        return false;
+    }
+    let undo = rng.random_range(0..2u32) == 1;
+    scratch.clear();
+    let state = world.state();
+    for (i, a) in p.g.actions().iter().enumerate() {
+        let ok = if undo {
+            a.add.iter().all(|&x| state.holds(x))
+                && a.del.iter().all(|&x| !state.holds(x))
+                && !(a.add.is_empty() && a.del.is_empty())
+        } else {
+            a.applicable(state) && (a.add.iter().any(|&x| !state.holds(x)) || a.del.iter().any(|&x| state.holds(x)))
+        };
+        if ok {
+            scratch.push(i as ActionId);
+        }
+    }
+    if scratch.is_empty() {
+        return false;
+    }
+    let pick = scratch[rng.random_range(0..scratch.len() as u32) as usize];
+    let Some(a) = p.g.action(pick) else { return false };
+    let (on, off) = if undo { (&a.del, &a.add) } else { (&a.add, &a.del) };
+    for &x in off {
+        world.set(x, false);
+    }
+    for &x in on {
+        world.set(x, true);
+    }
+    true
+}
+
+/// Runs episodes of trees in GP's leaves.
+#[derive(Debug)]
+pub struct StripsRunner {
+    p: Arc<StripsProblem>,
+    world: StripsWorld,
+    running: Vec<(NodeId, ActionId)>,
+    states: Vec<NodeState>,
+    scratch: Vec<ActionId>,
+    params: StripsFitnessParams,
+    tick_limit: u32,
+}
+
+impl StripsRunner {
+    /// A runner with the default fitness constants and tick limit `tick_limit`.
+    #[must_use]
+    pub fn new(p: Arc<StripsProblem>, tick_limit: u32) -> Self {
+        let world = StripsWorld::new(p.g.clone());
+        Self {
+            p,
+            world,
+            running: Vec::new(),
+            states: Vec::new(),
+            scratch: Vec::new(),
+            params: StripsFitnessParams::default(),
+            tick_limit: tick_limit.max(1),
+        }
+    }
+
+    /// One episode: undisturbed with `agents = None`, else disturbed with that rate by
+    /// the agents of episode `k` of `seed`.
+    ///
+    /// # Errors
+    /// A tree that does not validate against GP's leaves within [`DEPTH`] levels.
+    pub fn episode(&mut self, nodes: &[Node], agents_of: Option<(f64, u64, u32)>) -> anyhow::Result<StripsEpisode> {
+        let tree: Tree<'_, DEPTH> = Tree::validate(nodes, &self.p.catalog).map_err(|e| anyhow!("{e}"))?;
+        let length = nodes.len();
+        let Self { p, world, running, states, scratch, params, tick_limit } = self;
+        world.reset();
+        running.clear();
+        states.clear();
+        states.resize(nodes.len(), NodeState::IDLE);
+        let mut exec = Executor::new(tree, states).map_err(|_| anyhow!("no room for the tree's state"))?;
+        let mut rng = agents_of.map(|(_, seed, k)| agents(seed, k));
+        let rate = agents_of.map_or(0.0, |a| a.0);
+        let (mut end, mut ticks, mut acts, mut succeeded) = (StripsEnd::Timeout, 0, 0, false);
+        while ticks < *tick_limit {
+            ticks += 1;
+            if let Some(rng) = rng.as_mut() {
+                acts += u32::from(disturb(p, world, rate, rng, scratch));
+            }
+            let mut b = Behaviors { p, world, running };
+            let root = exec.tick(&mut b, ticks).map_err(|e| anyhow!("{e}"))?;
+            match root {
+                Status::Failure => {
+                    end = StripsEnd::Failure;
+                    break;
+                }
+                Status::Success if succeeded => {
+                    end = StripsEnd::Success;
+                    break;
+                }
+                Status::Success => succeeded = true,
+                Status::Running => succeeded = false,
+            }
+        }
+        if end == StripsEnd::Timeout {
+            exec.halt_all(&mut Behaviors { p, world, running });
+        }
+        let unmet = p.g.goal().iter().filter(|l| world.holds(l.atom) != l.positive).count();
+        let mut cost = params.unmet_goal * unmet as f64;
+        cost += params.length * length as f64;
+        cost += params.tick * f64::from(ticks);
+        if end == StripsEnd::Failure {
+            cost += params.failure;
+        }
+        if end == StripsEnd::Timeout {
+            cost += params.timeout;
+        }
+        Ok(StripsEpisode { end, ticks, unmet, disturbances: acts, fitness: -cost })
+    }
+}
+
+/// GP's fitness on a PDDL problem: one episode undisturbed, or the mean over the
+/// disturbed episodes. A tree that cannot run scores `-inf`.
+pub struct StripsFitness {
+    p: Arc<StripsProblem>,
+    tick_limit: u32,
+    disturbance: Option<Disturbance>,
+    pool: Mutex<Vec<StripsRunner>>,
+}
+
+impl std::fmt::Debug for StripsFitness {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StripsFitness")
+            .field("tick_limit", &self.tick_limit)
+            .field("disturbance", &self.disturbance)
+            .finish_non_exhaustive()
+    }
+}
+
+impl StripsFitness {
+    /// The fitness of `p` with that tick limit and those disturbances.
+    #[must_use]
+    pub fn new(p: Arc<StripsProblem>, tick_limit: u32, disturbance: Option<Disturbance>) -> Self {
+        Self { p, tick_limit, disturbance, pool: Mutex::new(Vec::new()) }
+    }
+
+    /// Every episode that scores `tree`, in order.
+    ///
+    /// # Errors
+    /// As [`StripsRunner::episode`].
+    pub fn episodes(&self, tree: &[Node]) -> anyhow::Result<Vec<StripsEpisode>> {
+        let runner = self.pool.lock().ok().and_then(|mut p| p.pop());
+        let mut runner = runner.unwrap_or_else(|| StripsRunner::new(self.p.clone(), self.tick_limit));
+        let result = match self.disturbance {
+            None => runner.episode(tree, None).map(|e| vec![e]),
+            Some(d) => (0..d.episodes).map(|k| runner.episode(tree, Some((d.rate, d.seed, k)))).collect(),
+        };
+        if let Ok(mut p) = self.pool.lock() {
+            p.push(runner);
+        }
+        result
+    }
+
+    /// The fitness: the mean of the episodes' fitness, summed in order.
+    #[must_use]
+    pub fn score(&self, tree: &[Node]) -> f64 {
+        match self.episodes(tree) {
+            Ok(e) if !e.is_empty() => e.iter().map(|x| x.fitness).sum::<f64>() / e.len() as f64,
+            _ => f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl gp::Fitness for StripsFitness {
+    fn fitness(&self, tree: &[Node]) -> f64 {
+        self.score(tree)
+    }
+}
