@@ -101,7 +101,11 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
             );
             let nodes = problem.to_pddl(&best)?;
             let pddl = problem.pddl_catalog();
-            files.push(("best.bt", output::to_image(&nodes, pddl)?));
+            // The problem's own names travel with the image (another problem of the
+            // same domain has the same fingerprint but other objects).
+            let title = format!("PDDL problem `{}` of domain `{}`", problem.name(), problem.domain_name());
+            let names = planner::names::NameTable::of_pddl(&title, pddl);
+            files.push(("best.bt", output::to_image_named(&nodes, pddl, &names)?));
             files.push(("best.txt", output::to_ascii(&nodes, pddl)?.into_bytes()));
             files.push(("best.xml", output::to_xml(&nodes, pddl, pddl)?.into_bytes()));
             files.push(("domain.pddl", problem.domain_text.clone().into_bytes()));
@@ -290,7 +294,7 @@ fn check_curve(csv: &Path, curve: &[GenerationLog]) -> anyhow::Result<()> {
             bail!("{at}: generation {} where {i} was expected (rows count generations from 0)", row.generation);
         }
         let best = row.best_fitness;
-        check_fitness(best).map_err(|why| anyhow!("{at}: best_fitness `{best}` {why}"))?;
+        check_fitness(best).map_err(|why| anyhow!("{at}: best_fitness `{best:?}` {why}"))?;
         if row.best_length == 0 || row.best_length > usize::from(u16::MAX) {
             bail!("{at}: best_length {} is not a tree's length (1 to 65535 nodes)", row.best_length);
         }

@@ -405,14 +405,14 @@ struct Behaviors<'a> {
 }
 
 impl BehaviorSet for Behaviors<'_> {
-    fn condition(&mut self, leaf: &Leaf, _: Context) -> Status {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         match self.p.letter(leaf.behavior()) {
             Some(Letter::Condition(l)) if self.world.holds(l.atom) == l.positive => Status::Success,
             _ => Status::Failure,
         }
     }
 
-    fn action(&mut self, leaf: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         if !ctx.starting
             && let Some(i) = self.running.iter().position(|r| r.0 == ctx.node)
         {

@@ -1,0 +1,155 @@
+//! `sim-host plot` on results folders as they are found in practice: temporaries of
+//! runs being written or interrupted, incomplete and copied run folders, damaged
+//! curves, and --out targets it must not write.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn sim_host(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
+}
+
+fn ok(out: &Output) -> String {
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+fn one_line_error(out: &Output, part: &str) {
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(part), "{err} lacks {part}");
+    assert!(out.stdout.is_empty(), "nothing reported as done: {}", String::from_utf8_lossy(&out.stdout));
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+/// Two seeds of croissant, baseline, 8 generations.
+fn results() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    ok(&sim_host(&["learn", "--task", "croissant", "--seeds", "1..2", "--generations", "8", "--out", out]));
+    dir
+}
+
+fn seeds_in_table(table: &str) -> &str {
+    let row = table.lines().find(|l| l.starts_with("croissant")).unwrap();
+    row.split_whitespace().nth(3).unwrap()
+}
+
+#[test]
+fn temporaries_incomplete_folders_and_copies_are_skipped_and_counted() {
+    let dir = results();
+    let out = dir.path().to_str().unwrap();
+    let seed1 = dir.path().join("croissant-baseline-symbolic-seed1");
+    // A run being written (or interrupted): a hidden temporary with a whole record.
+    copy_dir(&seed1, &dir.path().join(".croissant-baseline-symbolic-seed3-Ab12Cd"));
+    // A run folder that lost a file, and a plain copy of a run under another name.
+    let broken = dir.path().join("croissant-baseline-symbolic-seed4");
+    copy_dir(&seed1, &broken);
+    std::fs::remove_file(broken.join("best.xml")).unwrap();
+    copy_dir(&seed1, &dir.path().join("backup-of-seed1"));
+    let done = sim_host(&["plot", out]);
+    let table = ok(&done);
+    assert_eq!(seeds_in_table(&table), "2", "{table}");
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert!(err.contains("skipping"), "{err}");
+    assert!(
+        err.contains("skipped 1 hidden temporary folder(s)")
+            && err.contains("1 incomplete run folder(s)")
+            && err.contains("1 copy(ies) of a run already read"),
+        "{err}"
+    );
+    // A copy that differs is two results for one run: refused, naming both.
+    let record = dir.path().join("backup-of-seed1/run.txt");
+    let text = std::fs::read_to_string(&record).unwrap();
+    std::fs::write(&record, format!("# edited by hand\n{text}")).unwrap();
+    one_line_error(&sim_host(&["plot", out]), "with different results; keep one");
+}
+
+#[test]
+fn damaged_records_are_refused_with_the_file_and_line() {
+    let dir = results();
+    let out = dir.path().to_str().unwrap();
+    let run = dir.path().join("croissant-baseline-symbolic-seed2");
+    let csv = run.join("curve.csv");
+    let good = std::fs::read_to_string(&csv).unwrap();
+    let row = |i: usize| good.lines().nth(i).unwrap().to_string();
+    let with = |line: usize, new: &str| {
+        let mut lines: Vec<String> = good.lines().map(String::from).collect();
+        lines[line - 1] = new.to_string();
+        std::fs::write(&csv, lines.join("\n") + "\n").unwrap();
+    };
+    let fields = |i: usize| row(i).split(',').map(String::from).collect::<Vec<_>>();
+    let f3 = fields(3);
+    for (bad, part) in [
+        ("NaN", "curve.csv:4: best_fitness `NaN` is not a finite number"),
+        ("inf", "curve.csv:4: best_fitness `inf` is not a finite number"),
+        ("0.5", "curve.csv:4: best_fitness `0.5` is positive"),
+        ("-1e300", "curve.csv:4: best_fitness `-1e300` is below -1e9"),
+    ] {
+        with(4, &format!("{},{},{bad},{}", f3[0], f3[1], f3[3]));
+        one_line_error(&sim_host(&["plot", out]), part);
+    }
+    with(4, &format!("{},{},-9999,{}", f3[0], f3[1], f3[3]));
+    one_line_error(&sim_host(&["plot", out]), "curve.csv:4: the best fitness drops");
+    with(4, &format!("7,{},{},{}", f3[1], f3[2], f3[3]));
+    one_line_error(&sim_host(&["plot", out]), "curve.csv:4: generation 7 where 2 was expected");
+    std::fs::write(&csv, &good).unwrap();
+
+    let run_txt = run.join("run.txt");
+    let record = std::fs::read_to_string(&run_txt).unwrap();
+    let line = record.lines().position(|l| l.starts_with("task = ")).unwrap() + 1;
+    std::fs::write(&run_txt, record.replace("task = croissant", "task = croisant")).unwrap();
+    one_line_error(&sim_host(&["plot", out]), &format!("run.txt:{line}: unknown task `croisant`"));
+    std::fs::write(&run_txt, record.replace("planner_fitness = ", "planner_fitness = NaN#")).unwrap();
+    one_line_error(&sim_host(&["plot", out]), "planner_fitness `NaN#");
+}
+
+#[test]
+fn the_picture_goes_only_where_a_picture_belongs() {
+    let dir = results();
+    let out = dir.path().to_str().unwrap();
+    let run_txt = dir.path().join("croissant-baseline-symbolic-seed1/run.txt");
+    let before = std::fs::read(&run_txt).unwrap();
+    one_line_error(&sim_host(&["plot", out, "--out", run_txt.to_str().unwrap()]), "give a name ending in .png or .svg");
+    assert_eq!(std::fs::read(&run_txt).unwrap(), before);
+    // SVG by name.
+    let svg = dir.path().join("c.SVG");
+    ok(&sim_host(&["plot", out, "--out", svg.to_str().unwrap()]));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("croissant (symbolic world)"), "{}", &text[..100]);
+    // A picture that cannot be written: an error, and no table printed as if done.
+    let nowhere = dir.path().join("missing").join("c.png");
+    let failed = sim_host(&["plot", out, "--out", nowhere.to_str().unwrap()]);
+    one_line_error(&failed, "missing");
+}
+
+#[test]
+fn fitness_labels_differ_on_small_ranges() {
+    // Tower with the baseline: every curve between -3.0 and -2.3, a tenth of a decade.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    ok(&sim_host(&["learn", "--task", "tower", "--seeds", "1", "--generations", "40", "--out", out]));
+    let svg = dir.path().join("c.svg");
+    ok(&sim_host(&["plot", out, "--out", svg.to_str().unwrap()]));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    // The axis labels are the <text> elements that read as a fitness.
+    let labels: Vec<&str> = text
+        .split("<text")
+        .filter_map(|t| Some(t.split('>').nth(1)?.split('<').next()?.trim()))
+        .filter(|t| t.starts_with('-') && t[1..].parse::<f64>().is_ok())
+        .collect();
+    assert!(labels.len() >= 3, "{labels:?}");
+    let mut unique = labels.clone();
+    unique.sort_unstable();
+    unique.dedup();
+    assert_eq!(unique.len(), labels.len(), "repeated labels: {labels:?}");
+}
