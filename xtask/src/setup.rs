@@ -87,6 +87,10 @@ fn missing() -> Vec<Missing> {
     if !tool("qemu-system-arm") {
         out.push(Missing { what: "qemu-system-arm".into(), fix: Fix::Apt("qemu-system-arm") });
     }
+    // sim-host's `learn --list` test runs the listed commands through GNU parallel.
+    if !tool("parallel") {
+        out.push(Missing { what: "GNU parallel".into(), fix: Fix::Apt("parallel") });
+    }
     out
 }
 
