@@ -28,8 +28,9 @@ use planner::{NoPorts, output};
 
 use super::{RunOutcome, Subject, bricks, strips::StripsFitnessParams};
 
-/// The files every finished run folder holds.
-pub const FILES: [&str; 6] = ["run.txt", "curve.csv", "best.bt", "best.txt", "best.tokens", "best.xml"];
+/// The files every finished run folder holds (folders of earlier versions have no
+/// `best.xml`; they still count as finished).
+pub const FILES: [&str; 5] = ["run.txt", "curve.csv", "best.bt", "best.txt", "best.tokens"];
 
 /// Fitness values a run can record: the cost is never negative, and no task's cost
 /// comes near a billion.

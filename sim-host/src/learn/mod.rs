@@ -197,6 +197,9 @@ fn drive<F: gp::Fitness>(
     evaluation: Evaluation,
     on_generation: impl FnMut(&GenerationLog),
 ) -> anyhow::Result<RunOutcome> {
+    if !planner_fitness.is_finite() {
+        anyhow::bail!("the planner's tree cannot run in this world (too deep for its episodes?)");
+    }
     let (log, best, episodes, restarts, reached) = match spec.islands {
         None => {
             let r = gp::run(alphabet, fitness, params, evaluation, on_generation)?;
