@@ -54,7 +54,7 @@ fn temporaries_incomplete_folders_and_copies_are_skipped_and_counted() {
     // A run folder that lost a file, and a plain copy of a run under another name.
     let broken = dir.path().join("croissant-baseline-symbolic-seed4");
     copy_dir(&seed1, &broken);
-    std::fs::remove_file(broken.join("best.xml")).unwrap();
+    std::fs::remove_file(broken.join("best.bt")).unwrap();
     copy_dir(&seed1, &dir.path().join("backup-of-seed1"));
     let done = sim_host(&["plot", out]);
     let table = ok(&done);
