@@ -72,10 +72,10 @@ pub struct IslandParams {
 }
 
 impl Default for IslandParams {
-    /// 8 islands, migration every 10 generations, restart after 100 generations
+    /// 16 islands, migration every 10 generations, restart after 100 generations
     /// without improvement, no early stop (see `docs/results` for how these were chosen).
     fn default() -> Self {
-        Self { islands: 8, migration_interval: 10, stagnation: Some(100), stop_at: None }
+        Self { islands: 16, migration_interval: 10, stagnation: Some(100), stop_at: None }
     }
 }
 

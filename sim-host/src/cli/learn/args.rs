@@ -84,7 +84,7 @@ pub struct Args {
     #[arg(long, value_name = "N", requires = "disturb", default_value_t = 0)]
     pub disturb_seed: u64,
     /// PDDL with --disturb: disturbed episodes that score each tree.
-    #[arg(long, value_name = "E", requires = "disturb", default_value_t = 20)]
+    #[arg(long, value_name = "E", requires = "disturb", default_value_t = 100)]
     pub disturb_episodes: u32,
     /// PDDL: ticks an episode may last (default: three times the planner's tree's
     /// ticks to the goal, plus 30).
