@@ -153,3 +153,55 @@ fn fitness_labels_differ_on_small_ranges() {
     unique.dedup();
     assert_eq!(unique.len(), labels.len(), "repeated labels: {labels:?}");
 }
+
+/// The `points` of every `<polyline>` of one stroke colour and width, in drawing order,
+/// with the element's position among all polylines.
+fn polylines(svg: &str, stroke: &str) -> Vec<(usize, Vec<(i32, i32)>)> {
+    svg.split("<polyline")
+        .skip(1)
+        .enumerate()
+        .filter(|(_, p)| p.contains(stroke))
+        .map(|(i, p)| {
+            let pts = p.split("points=\"").nth(1).unwrap().split('"').next().unwrap();
+            let xy = pts
+                .split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect();
+            (i, xy)
+        })
+        .collect()
+}
+
+#[test]
+fn curves_are_drawn_over_the_planners_level_and_the_legend_beside_them() {
+    // Tower with the baseline starts exactly at the planner's level: its curve lies on
+    // the planner's dashed line, and must be drawn after (over) it.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    ok(&sim_host(&["learn", "--task", "tower", "--seeds", "1", "--generations", "8", "--out", out]));
+    let svg_path = dir.path().join("c.svg");
+    ok(&sim_host(&["plot", out, "--out", svg_path.to_str().unwrap()]));
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    // The legend's labels: the text elements that name a variant and its seeds.
+    let legend_x: Vec<i32> = svg
+        .split("<text")
+        .filter(|t| t.contains("seed)") || t.contains("planner ("))
+        .map(|t| t.split("x=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(legend_x.len(), 2, "one variant and the planner");
+    let legend_left = *legend_x.iter().min().unwrap();
+    // The baseline's curve (blue, 2 px) and the planner's level (grey, 2 px dashes).
+    let curve = polylines(&svg, "stroke=\"#1F77B4\" stroke-width=\"2\"");
+    let planner = polylines(&svg, "stroke=\"#5A5A5A\" stroke-width=\"2\"");
+    assert_eq!(curve.len(), 1, "one curve");
+    let in_chart = |pts: &[(i32, i32)]| pts.iter().all(|&(x, _)| x < legend_left);
+    let dashes: Vec<_> = planner.iter().filter(|(_, pts)| in_chart(pts)).collect();
+    assert!(!dashes.is_empty(), "the planner's level is drawn in the chart");
+    assert!(dashes.iter().all(|(i, _)| *i < curve[0].0), "the planner's dashes are drawn over the curve");
+    assert!(in_chart(&curve[0].1), "the legend starts right of every curve point");
+    // The curve lies on the planner's level at its start: the test is about overlap.
+    assert_eq!(curve[0].1[0].1, dashes[0].1[0].1, "the tower's baseline starts at the planner's level");
+}
