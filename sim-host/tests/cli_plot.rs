@@ -192,16 +192,21 @@ fn curves_are_drawn_over_the_planners_level_and_the_legend_beside_them() {
         .map(|t| t.split("x=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap())
         .collect();
     assert_eq!(legend_x.len(), 2, "one variant and the planner");
-    let legend_left = *legend_x.iter().min().unwrap();
-    // The baseline's curve (blue, 2 px) and the planner's level (grey, 2 px dashes).
+    // The baseline's curve (blue, 2 px), its legend sample (blue, 3 px) and the
+    // planner's level (grey, 2 px dashes, in the chart and in the legend).
     let curve = polylines(&svg, "stroke=\"#1F77B4\" stroke-width=\"2\"");
+    let sample = polylines(&svg, "stroke=\"#1F77B4\" stroke-width=\"3\"");
     let planner = polylines(&svg, "stroke=\"#5A5A5A\" stroke-width=\"2\"");
-    assert_eq!(curve.len(), 1, "one curve");
-    let in_chart = |pts: &[(i32, i32)]| pts.iter().all(|&(x, _)| x < legend_left);
-    let dashes: Vec<_> = planner.iter().filter(|(_, pts)| in_chart(pts)).collect();
+    assert_eq!((curve.len(), sample.len()), (1, 1), "one curve, one legend entry");
+    let right_of_curve = curve[0].1.iter().map(|&(x, _)| x).max().unwrap();
+    let legend_left = sample[0].1.iter().map(|&(x, _)| x).chain(legend_x).min().unwrap();
+    assert!(
+        legend_left > right_of_curve,
+        "the legend ({legend_left}) starts right of every curve point ({right_of_curve})"
+    );
+    let dashes: Vec<_> = planner.iter().filter(|(_, pts)| pts.iter().all(|&(x, _)| x <= right_of_curve)).collect();
     assert!(!dashes.is_empty(), "the planner's level is drawn in the chart");
-    assert!(dashes.iter().all(|(i, _)| *i < curve[0].0), "the planner's dashes are drawn over the curve");
-    assert!(in_chart(&curve[0].1), "the legend starts right of every curve point");
+    assert!(dashes.iter().all(|(i, _)| *i < curve[0].0), "a dash of the planner's level is drawn over the curve");
     // The curve lies on the planner's level at its start: the test is about overlap.
     assert_eq!(curve[0].1[0].1, dashes[0].1[0].1, "the tower's baseline starts at the planner's level");
 }
