@@ -73,7 +73,8 @@ pub struct IslandParams {
 
 impl Default for IslandParams {
     /// 16 islands, migration every 10 generations, restart after 100 generations
-    /// without improvement, no early stop (see `docs/results` for how these were chosen).
+    /// without improvement, no early stop (`docs/results` measures this setting on the
+    /// brick tasks; other settings were not compared there).
     fn default() -> Self {
         Self { islands: 16, migration_interval: 10, stagnation: Some(100), stop_at: None }
     }
