@@ -176,8 +176,7 @@ impl Planner {
     /// As [`Planner::new`].
     pub fn guided(g: Arc<Grounding>, trace: Arc<Trace>, options: Options) -> Result<Self, PlanError> {
         let goal = trace.ordered(g.goal(), trace.goal_step());
-        let tree =
-            if options.goal_sequence { PlanTree::goal_sequence(&goal) } else { PlanTree::from_goal(&goal) };
+        let tree = if options.goal_sequence { PlanTree::goal_sequence(&goal) } else { PlanTree::from_goal(&goal) };
         let mut p = Self::from_tree(g, tree, options)?;
         p.steps = vec![trace.goal_step() as u32; p.tree.capacity()];
         p.guide = Some(trace);
