@@ -51,7 +51,40 @@ pub fn image() -> Result<Vec<u8>, String> {
             catalog.fingerprint()
         ));
     }
-    let plan = planner::plan(grounding, catalog.clone(), planner::Options::default())
+    let mut plan = planner::plan(grounding.clone(), catalog.clone(), planner::Options::default())
         .map_err(|e| format!("planning the cube/sphere problem: {e}"))?;
-    planner::output::to_image(&plan.nodes, catalog.as_ref()).map_err(|e| format!("encoding the image: {e}"))
+    // Planned from the initial state, the hand is empty whenever the tree checks
+    // `hand-empty`, so Algorithm 1 never expands it. The firmware's plant puts the cube in
+    // the hand (its `help` event) while the sphere blocks the path: expand as the planner
+    // does at run time when the tree fails in that state (Algorithm 1, lines 9-12), which
+    // gives `hand-empty` its atomic BT with `drop(cube)`: the tree of Fig. 4.
+    let mut world = planner::strips::StripsWorld::new(grounding);
+    if !(world.set_named("hand-empty", &[], false) && world.set_named("holding", &["cube"], true)) {
+        return Err("the cube/sphere domain has no hand-empty or holding(cube)".into());
+    }
+    let nodes = plan.planner.nodes().to_vec();
+    let values = plan.planner.values().to_vec();
+    let tree: bt_core::Tree<'_, { planner::DEPTH }> = bt_core::Tree::validate_with(&nodes, &values, catalog.as_ref())
+        .map_err(|e| format!("the planned tree: {e}"))?;
+    let mut states = vec![bt_core::NodeState::IDLE; nodes.len()];
+    let mut exec = bt_core::Executor::new(tree, &mut states).map_err(|e| format!("the planned tree: {e:?}"))?;
+    let mut failed = false;
+    for now in 0..1000 {
+        match exec.tick(&mut world, now).map_err(|e| format!("ticking the planned tree: {e:?}"))? {
+            bt_core::Status::Failure => {
+                failed = true;
+                break;
+            }
+            bt_core::Status::Success => break,
+            _ => {}
+        }
+    }
+    if !failed {
+        return Err("the planned tree does not fail with the cube in the hand and the path blocked".into());
+    }
+    let belief = world.state().clone();
+    plan.planner
+        .on_failure(exec.states(), &belief)
+        .map_err(|e| format!("expanding the planned tree for the cube in the hand: {e}"))?;
+    planner::output::to_image(plan.planner.nodes(), catalog.as_ref()).map_err(|e| format!("encoding the image: {e}"))
 }

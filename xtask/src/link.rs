@@ -67,8 +67,15 @@ fn actions(nodes: &[bt_core::Node]) -> Vec<u16> {
 /// A and B from the planner, and B for the tower task's behavior set.
 pub fn images() -> Result<Images> {
     let blocked = planner::domains::cube_sphere_blocked().map_err(|e| e.to_string())?;
-    let fingerprint = planner::PddlCatalog::new(blocked.problem()).fingerprint();
-    let (a, a_nodes) = plan(blocked)?;
+    let catalog = planner::PddlCatalog::new(blocked.problem());
+    let fingerprint = catalog.fingerprint();
+    // A is the firmware's boot tree: the planner's, expanded for the cube in the hand.
+    let a = crate::firmware_tree::image()?;
+    let header = bt_core::image::read_header(&a).map_err(|e| e.to_string())?;
+    let mut a_nodes = vec![bt_core::Node::EMPTY; usize::from(header.node_count)];
+    let a_tree: bt_core::Tree<'_, { planner::DEPTH }> =
+        bt_core::load(&a, &catalog, &mut a_nodes).map_err(|e| e.to_string())?;
+    let a_nodes = a_tree.nodes().to_vec();
     let (b, b_nodes) = plan(planner::domains::cube_sphere().map_err(|e| e.to_string())?)?;
     let tower = planner::duplo::Task::Tower.spec().fingerprint();
     let mut foreign = vec![0u8; bt_core::image::max_image_len(b_nodes.len())];

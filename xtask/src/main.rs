@@ -27,6 +27,15 @@ mod link;
 mod qemu;
 mod setup;
 
+// The firmware's tree A, made exactly as its build script makes it (the link scenario
+// boots the controller with it and must recognise it).
+#[allow(dead_code, unreachable_pub)]
+#[path = "../../firmware-example/src/catalog.rs"]
+mod catalog;
+#[allow(dead_code)]
+#[path = "../../firmware-example/gen/tree.rs"]
+mod firmware_tree;
+
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "Project automation: CI, cross builds, fuzzing", long_about = None)]
 struct Cli {
