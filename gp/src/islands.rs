@@ -38,7 +38,7 @@
 //! let pick_0 = spec.id_by_name("pick 0!").unwrap();
 //! let fitness = |tree: &[bt_core::Node]| {
 //!     let picks = tree.iter().any(|n| matches!(n.kind(), bt_core::NodeKind::Action(l) if l.behavior() == pick_0));
-//!     if picks { 0.0 } else { -10.0 } - 0.1 * tree.len() as f64
+//!     (if picks { 0.0 } else { -10.0 }) - 0.1 * tree.len() as f64
 //! };
 //! let mut params = Params::new(1, Variant::None, None);
 //! params.generations = 50;
