@@ -62,29 +62,23 @@ pub fn image() -> Result<Vec<u8>, String> {
     if !(world.set_named("hand-empty", &[], false) && world.set_named("holding", &["cube"], true)) {
         return Err("the cube/sphere domain has no hand-empty or holding(cube)".into());
     }
-    let nodes = plan.planner.nodes().to_vec();
-    let values = plan.planner.values().to_vec();
-    let tree: bt_core::Tree<'_, { planner::DEPTH }> = bt_core::Tree::validate_with(&nodes, &values, catalog.as_ref())
-        .map_err(|e| format!("the planned tree: {e}"))?;
-    let mut states = vec![bt_core::NodeState::IDLE; nodes.len()];
-    let mut exec = bt_core::Executor::new(tree, &mut states).map_err(|e| format!("the planned tree: {e:?}"))?;
-    let mut failed = false;
-    for now in 0..1000 {
-        match exec.tick(&mut world, now).map_err(|e| format!("ticking the planned tree: {e:?}"))? {
-            bt_core::Status::Failure => {
-                failed = true;
-                break;
-            }
-            bt_core::Status::Success => break,
-            _ => {}
-        }
-    }
-    if !failed {
+    let mut states = Vec::new();
+    let outcome = planner::strips::run_with(
+        plan.planner.nodes(),
+        plan.planner.values(),
+        catalog.as_ref(),
+        &mut world,
+        1000,
+        |_, _| {},
+        &mut states,
+    )
+    .map_err(|e| format!("ticking the planned tree: {e}"))?;
+    if outcome.status != bt_core::Status::Failure {
         return Err("the planned tree does not fail with the cube in the hand and the path blocked".into());
     }
     let belief = world.state().clone();
     plan.planner
-        .on_failure(exec.states(), &belief)
+        .on_failure(&states, &belief)
         .map_err(|e| format!("expanding the planned tree for the cube in the hand: {e}"))?;
     planner::output::to_image(plan.planner.nodes(), catalog.as_ref()).map_err(|e| format!("encoding the image: {e}"))
 }

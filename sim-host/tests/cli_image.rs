@@ -2,16 +2,14 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use bt_core::{Catalog, encode, image::max_image_len};
 use planner::duplo::Task;
 
-const TOWER: &str = "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) )";
+mod cli_common;
+use cli_common::sim_host;
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+const TOWER: &str = "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) )";
 
 fn tower_image(dir: &Path) -> std::path::PathBuf {
     let spec = Task::Tower.spec();

@@ -4,14 +4,13 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use bt_core::{Catalog, encode, image::max_image_len};
 use planner::duplo::Task;
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+mod cli_common;
+use cli_common::sim_host;
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

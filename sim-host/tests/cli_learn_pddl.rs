@@ -6,27 +6,14 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+mod cli_common;
+use cli_common::{ok, one_line_error, sim_host};
+
 const DOMAIN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/domain.pddl");
 const BLOCKED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/problem-blocked.pddl");
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
-
 fn sim_host_threads(threads: &str, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_sim-host")).env("RAYON_NUM_THREADS", threads).args(args).output().unwrap()
-}
-
-fn ok(out: &Output) -> String {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn one_line_error(out: &Output, part: &str) {
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains(part), "{err} lacks {part}");
 }
 
 fn record(dir: &Path, key: &str) -> String {

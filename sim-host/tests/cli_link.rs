@@ -5,7 +5,6 @@
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
@@ -13,9 +12,8 @@ use std::time::Instant;
 use bt_core::{BehaviorSet, Catalog as _, Context, Leaf, NodeId, Status};
 use bt_link::{App, Board, Storage};
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+mod cli_common;
+use cli_common::sim_host;
 
 struct Tcp {
     stream: TcpStream,

@@ -8,9 +8,8 @@ use std::os::unix::fs::{FileTypeExt as _, PermissionsExt as _};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+mod cli_common;
+use cli_common::sim_host;
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

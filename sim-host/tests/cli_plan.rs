@@ -1,11 +1,8 @@
 //! `sim-host plan`, and `inspect`/`export` on planner images, through the real binary.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::process::{Command, Output};
-
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+mod cli_common;
+use cli_common::sim_host;
 
 fn domains() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/domains")

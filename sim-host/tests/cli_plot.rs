@@ -4,22 +4,14 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
-}
+mod cli_common;
+use cli_common::{ok, sim_host};
 
-fn ok(out: &Output) -> String {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
+/// As [`cli_common::one_line_error`], and nothing reported as done.
 fn one_line_error(out: &Output, part: &str) {
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains(part), "{err} lacks {part}");
+    cli_common::one_line_error(out, part);
     assert!(out.stdout.is_empty(), "nothing reported as done: {}", String::from_utf8_lossy(&out.stdout));
 }
 

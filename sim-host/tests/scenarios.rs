@@ -3,11 +3,14 @@
 //! world it offers, deterministically; the `scenario` command's errors.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use bt_core::Status;
 use planner::duplo::Task;
 use sim_host::scenario::{self, Scenario, WorldKind, is_external};
+
+mod cli_common;
+use cli_common::sim_host;
 
 fn expanded(run: &scenario::Run) -> Vec<String> {
     run.record.expansions.iter().map(|(_, e)| e.condition.clone()).collect()
@@ -110,10 +113,6 @@ fn the_brick_scenarios_show_the_planners_tree_as_the_paper_reports() {
             assert_eq!(solved, task == Task::Tower, "{task:?} {world:?}\n{}", run.narration);
         }
     }
-}
-
-fn sim_host(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
 }
 
 fn one_line_error(out: &Output, parts: &[&str]) {
