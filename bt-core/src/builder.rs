@@ -108,6 +108,26 @@ impl<'a, const DEPTH: usize> Builder<'a, DEPTH> {
         self.push(NodeKind::Action(leaf))
     }
 
+    /// Adds a leaf of any leaf kind ([`NodeKind::AlwaysSuccess`], ...).
+    ///
+    /// # Errors
+    /// [`BuildError::NotALeaf`] for other kinds, or as [`Builder::condition`].
+    pub fn leaf(&mut self, kind: NodeKind) -> Result<&mut Self, BuildError> {
+        if kind.arity() != Arity::Leaf {
+            return Err(BuildError::NotALeaf);
+        }
+        self.push(kind)
+    }
+
+    /// Opens a [`NodeKind::Gate`] asking `behavior` (an action of the set).
+    ///
+    /// # Errors
+    /// As [`Builder::condition`] and [`Builder::sequence`].
+    pub fn gate(&mut self, behavior: BehaviorId, args: &[u16]) -> Result<&mut Self, BuildError> {
+        let leaf = Leaf::with_args(behavior, args)?;
+        self.push(NodeKind::Gate(leaf))
+    }
+
     /// Opens a reactive [`NodeKind::Sequence`].
     ///
     /// # Errors
@@ -145,7 +165,7 @@ impl<'a, const DEPTH: usize> Builder<'a, DEPTH> {
     /// # Errors
     /// As [`Builder::sequence`].
     pub fn parallel(&mut self, success_threshold: u16, failure_threshold: u16) -> Result<&mut Self, BuildError> {
-        self.push(NodeKind::Parallel { success_threshold, failure_threshold })
+        self.push(NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: false })
     }
 
     /// Opens an [`NodeKind::Inverter`].

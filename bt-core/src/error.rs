@@ -119,6 +119,8 @@ pub enum LoadError {
         Arity::Leaf => "a leaf has none",
         Arity::One => "a decorator has exactly one",
         Arity::AtLeastOne => "a control node needs at least one",
+        Arity::Two => "this kind has exactly two",
+        Arity::TwoOrThree => "this kind has two or three",
     })]
     WrongArity {
         /// Index of the node.
@@ -225,6 +227,30 @@ pub enum ArgumentFault {
         /// Number of children.
         children: u16,
     },
+    /// A `ParallelAll` whose `max_failures` exceeds its number of children.
+    #[error("ParallelAll max_failures {max_failures} is above its {children} children")]
+    MaxFailures {
+        /// The threshold.
+        max_failures: u16,
+        /// Number of children.
+        children: u16,
+    },
+    /// A kind with more children than it can keep track of.
+    #[error("{kind} has {children} children, at most {limit} are allowed")]
+    TooManyChildren {
+        /// The kind's name.
+        kind: &'static str,
+        /// Number of children.
+        children: u16,
+        /// The limit.
+        limit: u16,
+    },
+    /// A time span above [`Span::MAX`](crate::Span::MAX).
+    #[error("a span of {units} units of `now` is above the limit of 16777215")]
+    SpanTooLong {
+        /// The span.
+        units: u32,
+    },
 }
 
 impl From<LeafError> for ArgumentFault {
@@ -269,6 +295,9 @@ pub enum BuildError {
     /// `open` with a leaf kind; use `condition` or `action`.
     #[error("open() takes a control node or decorator; leaves are added with condition() or action()")]
     LeafOpened,
+    /// `leaf` with a control node or decorator kind; use `open`.
+    #[error("leaf() takes a leaf kind; control nodes and decorators are opened with open()")]
+    NotALeaf,
     /// A leaf's arguments are not valid.
     #[error(transparent)]
     Leaf(#[from] LeafError),

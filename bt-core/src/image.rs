@@ -35,6 +35,25 @@
 //! | 12 | `Action` | behavior id `u16`, values: list of at most 3 `u16` |
 //! | 13 | `Condition`, extended (version 2) | behavior id `u16`, then the list `[start, length]` of its values in the value table |
 //! | 14 | `Action`, extended (version 2) | behavior id `u16`, then the list `[start, length]` of its values in the value table |
+//! | 15 | `SequenceStar` (version 2, as all tags below) | — |
+//! | 16 | `IfThenElse` | — |
+//! | 17 | `WhileDoElse` | — |
+//! | 18 | `ParallelAll` | max failures `u16` |
+//! | 19 | `PipelineSequence` | — |
+//! | 20 | `Recovery` | retries `u16` |
+//! | 21 | `RoundRobin` | — |
+//! | 22 | `RepeatCycles` | count `u16` (65535: no limit) |
+//! | 23 | `RetryUntilSuccessful` | attempts `u16` (65535: no limit) |
+//! | 24 | `KeepRunningUntilFailure` | — |
+//! | 25 | `RunOnce` | then skip, one byte 0 or 1 |
+//! | 26 | `TimeLimit` | span: low `u16`, high `u16` (at most 255) |
+//! | 27 | `Delay` | span as `TimeLimit` |
+//! | 28 | `RateController` | span as `TimeLimit` |
+//! | 29 | `Gate` | as `Action` |
+//! | 30 | `AlwaysSuccess` | — |
+//! | 31 | `AlwaysFailure` | — |
+//! | 32 | `Parallel` whose skipped children count towards success | as tag 4 |
+//! | 33 | `Gate`, extended | as tag 14 |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -81,7 +100,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::catalog::Catalog;
 use crate::error::{ArgumentFault, EncodeError, LoadError};
-use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind};
+use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind, Span};
 use crate::port::PortTable;
 use crate::tree::Tree;
 
@@ -216,6 +235,12 @@ struct WireLeaf {
     args: heapless::Vec<u16, { crate::node::MAX_ARGS }>,
 }
 
+#[derive(Serialize, Deserialize)]
+struct WireSpan {
+    lo: u16,
+    hi: u16,
+}
+
 // Tags are the variant indices: never reorder, only append (with a version bump).
 #[derive(Serialize, Deserialize)]
 enum WireKind {
@@ -223,7 +248,10 @@ enum WireKind {
     Fallback,
     SequenceWithMemory,
     FallbackWithMemory,
-    Parallel { success_threshold: u16, failure_threshold: u16 },
+    Parallel {
+        success_threshold: u16,
+        failure_threshold: u16,
+    },
     Inverter,
     ForceSuccess,
     ForceFailure,
@@ -236,13 +264,64 @@ enum WireKind {
     // the value table (the same wire struct, so that no second decoder is linked).
     ConditionExt(WireLeaf),
     ActionExt(WireLeaf),
+    // Version 2: the kinds for BehaviorTree.CPP's and Nav2's nodes.
+    SequenceStar,
+    IfThenElse,
+    WhileDoElse,
+    ParallelAll {
+        max_failures: u16,
+    },
+    PipelineSequence,
+    Recovery {
+        retries: u16,
+    },
+    RoundRobin,
+    RepeatCycles(u16),
+    RetryUntilSuccessful(u16),
+    KeepRunningUntilFailure,
+    RunOnce {
+        then_skip: bool,
+    },
+    TimeLimit(WireSpan),
+    Delay(WireSpan),
+    RateController(WireSpan),
+    Gate(WireLeaf),
+    AlwaysSuccess,
+    AlwaysFailure,
+    /// A `Parallel` whose skipped children count towards success.
+    ParallelCountSkipped {
+        success_threshold: u16,
+        failure_threshold: u16,
+    },
+    GateExt(WireLeaf),
 }
 
 impl WireKind {
-    /// Whether version `version` has this tag.
+    /// Whether version `version` has this tag: version 1 has tags 0 to 12.
     fn in_version(&self, version: u16) -> bool {
-        version >= 2 || !matches!(self, Self::ConditionExt(_) | Self::ActionExt(_))
+        version >= 2
+            || matches!(
+                self,
+                Self::Sequence
+                    | Self::Fallback
+                    | Self::SequenceWithMemory
+                    | Self::FallbackWithMemory
+                    | Self::Parallel { .. }
+                    | Self::Inverter
+                    | Self::ForceSuccess
+                    | Self::ForceFailure
+                    | Self::Repeat(_)
+                    | Self::Retry(_)
+                    | Self::Timeout(_)
+                    | Self::Condition(_)
+                    | Self::Action(_)
+            )
     }
+}
+
+fn span(d: Span) -> WireSpan {
+    let units = d.get();
+    WireSpan { lo: units as u16, hi: (units >> 16) as u16 }
 }
 
 fn to_wire(node: &Node) -> WireNode {
@@ -251,8 +330,11 @@ fn to_wire(node: &Node) -> WireNode {
         NodeKind::Fallback => WireKind::Fallback,
         NodeKind::SequenceWithMemory => WireKind::SequenceWithMemory,
         NodeKind::FallbackWithMemory => WireKind::FallbackWithMemory,
-        &NodeKind::Parallel { success_threshold, failure_threshold } => {
+        &NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: false } => {
             WireKind::Parallel { success_threshold, failure_threshold }
+        }
+        &NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: true } => {
+            WireKind::ParallelCountSkipped { success_threshold, failure_threshold }
         }
         NodeKind::Inverter => WireKind::Inverter,
         NodeKind::ForceSuccess => WireKind::ForceSuccess,
@@ -268,6 +350,26 @@ fn to_wire(node: &Node) -> WireNode {
             Ok(w) => WireKind::Action(w),
             Err(x) => WireKind::ActionExt(x),
         },
+        NodeKind::SequenceStar => WireKind::SequenceStar,
+        NodeKind::IfThenElse => WireKind::IfThenElse,
+        NodeKind::WhileDoElse => WireKind::WhileDoElse,
+        &NodeKind::ParallelAll { max_failures } => WireKind::ParallelAll { max_failures },
+        NodeKind::PipelineSequence => WireKind::PipelineSequence,
+        &NodeKind::Recovery { retries } => WireKind::Recovery { retries },
+        NodeKind::RoundRobin => WireKind::RoundRobin,
+        &NodeKind::RepeatCycles(n) => WireKind::RepeatCycles(n),
+        &NodeKind::RetryUntilSuccessful(n) => WireKind::RetryUntilSuccessful(n),
+        NodeKind::KeepRunningUntilFailure => WireKind::KeepRunningUntilFailure,
+        &NodeKind::RunOnce { then_skip } => WireKind::RunOnce { then_skip },
+        &NodeKind::TimeLimit(d) => WireKind::TimeLimit(span(d)),
+        &NodeKind::Delay(d) => WireKind::Delay(span(d)),
+        &NodeKind::RateController(d) => WireKind::RateController(span(d)),
+        NodeKind::Gate(l) => match wire_leaf(l) {
+            Ok(w) => WireKind::Gate(w),
+            Err(x) => WireKind::GateExt(x),
+        },
+        NodeKind::AlwaysSuccess => WireKind::AlwaysSuccess,
+        NodeKind::AlwaysFailure => WireKind::AlwaysFailure,
     };
     WireNode { size: node.size(), kind }
 }
@@ -280,6 +382,11 @@ fn wire_leaf(l: &Leaf) -> Result<WireLeaf, WireLeaf> {
         Some((start, len)) => Err(wire(&[start, len])),
         None => Ok(wire(l.args())),
     }
+}
+
+fn from_span(id: NodeId, d: WireSpan) -> Result<Span, LoadError> {
+    let units = u32::from(d.hi) << 16 | u32::from(d.lo);
+    Span::new(units).ok_or(LoadError::BadArgument { node: id, fault: ArgumentFault::SpanTooLong { units } })
 }
 
 fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
@@ -295,7 +402,10 @@ fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
         WireKind::SequenceWithMemory => NodeKind::SequenceWithMemory,
         WireKind::FallbackWithMemory => NodeKind::FallbackWithMemory,
         WireKind::Parallel { success_threshold, failure_threshold } => {
-            NodeKind::Parallel { success_threshold, failure_threshold }
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: false }
+        }
+        WireKind::ParallelCountSkipped { success_threshold, failure_threshold } => {
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: true }
         }
         WireKind::Inverter => NodeKind::Inverter,
         WireKind::ForceSuccess => NodeKind::ForceSuccess,
@@ -307,6 +417,24 @@ fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
         WireKind::Action(l) => NodeKind::Action(leaf(l)?),
         WireKind::ConditionExt(l) => NodeKind::Condition(extended(l)?),
         WireKind::ActionExt(l) => NodeKind::Action(extended(l)?),
+        WireKind::SequenceStar => NodeKind::SequenceStar,
+        WireKind::IfThenElse => NodeKind::IfThenElse,
+        WireKind::WhileDoElse => NodeKind::WhileDoElse,
+        WireKind::ParallelAll { max_failures } => NodeKind::ParallelAll { max_failures },
+        WireKind::PipelineSequence => NodeKind::PipelineSequence,
+        WireKind::Recovery { retries } => NodeKind::Recovery { retries },
+        WireKind::RoundRobin => NodeKind::RoundRobin,
+        WireKind::RepeatCycles(n) => NodeKind::RepeatCycles(n),
+        WireKind::RetryUntilSuccessful(n) => NodeKind::RetryUntilSuccessful(n),
+        WireKind::KeepRunningUntilFailure => NodeKind::KeepRunningUntilFailure,
+        WireKind::RunOnce { then_skip } => NodeKind::RunOnce { then_skip },
+        WireKind::TimeLimit(d) => NodeKind::TimeLimit(from_span(id, d)?),
+        WireKind::Delay(d) => NodeKind::Delay(from_span(id, d)?),
+        WireKind::RateController(d) => NodeKind::RateController(from_span(id, d)?),
+        WireKind::Gate(l) => NodeKind::Gate(leaf(l)?),
+        WireKind::GateExt(l) => NodeKind::Gate(extended(l)?),
+        WireKind::AlwaysSuccess => NodeKind::AlwaysSuccess,
+        WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
     };
     Ok(Node::new(kind, w.size))
 }

@@ -71,7 +71,7 @@ pub use catalog::{Behavior, BehaviorInfo, Catalog, fingerprint, fingerprint_with
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};
 pub use exec::{Executor, NodeState, StateTooSmall};
 pub use image::{encode, encode_with, load, load_with, load_with_ports};
-pub use node::{Arity, BehaviorId, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind};
+pub use node::{Arity, BehaviorId, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind, Span};
 pub use port::{Port, PortDirection, PortInfo, PortTable, PortType, PortValue};
 pub use render::Render;
 pub use status::{NodeStatus, Status};

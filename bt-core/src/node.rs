@@ -194,9 +194,45 @@ pub enum LeafKind {
     Action,
 }
 
+/// A span of the caller's clock: a number of units of the `now` given to
+/// [`Executor::tick`](crate::Executor::tick), at most [`Span::MAX`] (2^24 - 1).
+///
+/// Trees imported from BehaviorTree.CPP count `now` in milliseconds, so a span is then
+/// at most 16,777,215 ms (4 h 39 min). Stored as two `u16` so that a [`Node`] stays 12
+/// bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Span {
+    lo: u16,
+    hi: u16,
+}
+
+impl Span {
+    /// The longest span: the executor keeps a start time in 24 bits of a node's state.
+    pub const MAX: u32 = (1 << 24) - 1;
+
+    /// A span of `units`, or `None` above [`Span::MAX`].
+    #[must_use]
+    pub const fn new(units: u32) -> Option<Span> {
+        if units > Self::MAX {
+            return None;
+        }
+        Some(Span { lo: units as u16, hi: (units >> 16) as u16 })
+    }
+
+    /// The span in units of `now`.
+    #[inline]
+    #[must_use]
+    pub const fn get(self) -> u32 {
+        (self.hi as u32) << 16 | self.lo as u32
+    }
+}
+
 /// What a node is and does.
 ///
-/// Control nodes have one or more children, decorators exactly one, leaves none.
+/// Control nodes have one or more children (`IfThenElse` and `WhileDoElse` two or
+/// three, `Recovery` two), decorators exactly one, leaves none. The tick rules of every
+/// kind are in [`exec`](crate::exec); which BehaviorTree.CPP and Nav2 node each kind
+/// stands for is in `docs/behaviortree-cpp.md`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum NodeKind {
     /// Reactive sequence: ticks children from the first on every tick; returns the first
@@ -219,6 +255,10 @@ pub enum NodeKind {
         success_threshold: u16,
         /// Children whose failure makes the whole node fail.
         failure_threshold: u16,
+        /// Children that return Skipped in a tick count towards `success_threshold` in
+        /// that tick (BehaviorTree.CPP does so when its `success_count` is negative, i.e.
+        /// counted from the number of children).
+        count_skipped: bool,
     },
     /// Swaps Success and Failure.
     Inverter,
@@ -239,6 +279,81 @@ pub enum NodeKind {
     Condition(Leaf),
     /// An action leaf.
     Action(Leaf),
+    /// BehaviorTree.CPP's `SequenceWithMemory` (`SequenceStar` in its version 3): a
+    /// sequence that keeps its place. After a Failure it resumes at the child that
+    /// failed; a halt does not move it either. Only finishing with Success sends it back
+    /// to the first child. When a child that had not been Running succeeds and more
+    /// follow, it returns Running and asks to be ticked again at once.
+    SequenceStar,
+    /// `IfThenElse`: ticks the first child (the condition) when it starts; on Success
+    /// ticks the second child, on Failure the third (or fails with two children), and
+    /// stays with that branch while it runs.
+    IfThenElse,
+    /// `WhileDoElse`: ticks the first child (the condition) on every tick; on Success
+    /// halts the third child and ticks the second, on Failure halts the second and ticks
+    /// the third (or fails with two children).
+    WhileDoElse,
+    /// `ParallelAll`: ticks every child that has not finished until all have; then
+    /// Failure if at least `max_failures` of them failed, else Success.
+    ParallelAll {
+        /// Failures that make it fail (0: it always fails).
+        max_failures: u16,
+    },
+    /// Nav2's `PipelineSequence`: ticks its children in order on every tick; a child that
+    /// returns Running before the furthest child reached so far does not stop it.
+    PipelineSequence,
+    /// Nav2's `RecoveryNode`: two children. Ticks the first; when it fails, ticks the
+    /// second (the recovery) and, if that succeeds, the first again, at most `retries`
+    /// times.
+    Recovery {
+        /// Recoveries before giving up.
+        retries: u16,
+    },
+    /// Nav2's `RoundRobin`: ticks one child at a time, going on to the next after each
+    /// one finishes, wrapping around; Success at the first child that succeeds (the next
+    /// activation starts after it), Failure when all have failed in turn.
+    RoundRobin,
+    /// BehaviorTree.CPP's `Repeat(num_cycles)`: ticks its child until it has succeeded
+    /// `n` times ([`NodeKind::FOREVER`]: no limit); fails as soon as the child fails.
+    /// After a Success of a child that had not been Running, it returns Running and asks
+    /// to be ticked again at once ([`Executor::woken`](crate::Executor::woken)); after a
+    /// Success of a child that had been Running, it ticks the child again in the same
+    /// tick.
+    RepeatCycles(u16),
+    /// BehaviorTree.CPP's `RetryUntilSuccessful(num_attempts)`: ticks its child until it
+    /// succeeds, at most `n` times ([`NodeKind::FOREVER`]: no limit); after a Failure it
+    /// goes on as [`NodeKind::RepeatCycles`] does after a Success.
+    RetryUntilSuccessful(u16),
+    /// `KeepRunningUntilFailure`: Running while the child succeeds or runs; Failure when
+    /// it fails.
+    KeepRunningUntilFailure,
+    /// `RunOnce`: ticks its child until it finishes once, ever; from then on returns
+    /// Skipped (`then_skip`) or what the child returned that once.
+    RunOnce {
+        /// Skipped after the one run, instead of the child's result.
+        then_skip: bool,
+    },
+    /// BehaviorTree.CPP's `Timeout(msec)`: if the child is still Running once the span
+    /// has passed since the node started, the child is halted and the node fails. A span
+    /// of 0 never expires.
+    TimeLimit(Span),
+    /// `Delay(delay_msec)`: Running until the span has passed since the node started,
+    /// then ticks its child.
+    Delay(Span),
+    /// Nav2's `RateController(hz)`: ticks its child when it starts, while the child runs,
+    /// and once the span has passed since the child last succeeded; Running otherwise.
+    RateController(Span),
+    /// A decorator gated by a behavior of the set (Nav2's `DistanceController`,
+    /// `SpeedController`, `GoalUpdater`, `SingleTrigger`, ...): the gate is asked on every
+    /// tick through [`BehaviorSet::action`](crate::BehaviorSet::action), with `starting`
+    /// set when the node starts. While the child runs, it is ticked whatever the gate
+    /// says; otherwise Success ticks it, Failure and Running are returned as they are.
+    /// The gate's behavior is declared as an action and is never halted.
+    Gate(Leaf),
+    /// `AlwaysSuccess`: a leaf that succeeds.
+    AlwaysSuccess,
+    /// `AlwaysFailure`: a leaf that fails.
+    AlwaysFailure,
 }
 
 /// How many children a kind of node takes.
@@ -250,9 +365,17 @@ pub enum Arity {
     One,
     /// A control node: one or more children.
     AtLeastOne,
+    /// Exactly two children.
+    Two,
+    /// Two or three children.
+    TwoOrThree,
 }
 
 impl NodeKind {
+    /// The count of [`NodeKind::RepeatCycles`] and [`NodeKind::RetryUntilSuccessful`]
+    /// that sets no limit (BehaviorTree.CPP's `-1`).
+    pub const FOREVER: u16 = u16::MAX;
+
     /// The kind's name, as in the papers and the renderer.
     #[must_use]
     pub const fn name(&self) -> &'static str {
@@ -270,6 +393,23 @@ impl NodeKind {
             Self::Timeout(_) => "Timeout",
             Self::Condition(_) => "Condition",
             Self::Action(_) => "Action",
+            Self::SequenceStar => "SequenceStar",
+            Self::IfThenElse => "IfThenElse",
+            Self::WhileDoElse => "WhileDoElse",
+            Self::ParallelAll { .. } => "ParallelAll",
+            Self::PipelineSequence => "PipelineSequence",
+            Self::Recovery { .. } => "Recovery",
+            Self::RoundRobin => "RoundRobin",
+            Self::RepeatCycles(_) => "RepeatCycles",
+            Self::RetryUntilSuccessful(_) => "RetryUntilSuccessful",
+            Self::KeepRunningUntilFailure => "KeepRunningUntilFailure",
+            Self::RunOnce { .. } => "RunOnce",
+            Self::TimeLimit(_) => "TimeLimit",
+            Self::Delay(_) => "Delay",
+            Self::RateController(_) => "RateController",
+            Self::Gate(_) => "Gate",
+            Self::AlwaysSuccess => "AlwaysSuccess",
+            Self::AlwaysFailure => "AlwaysFailure",
         }
     }
 
@@ -281,14 +421,28 @@ impl NodeKind {
             | Self::Fallback
             | Self::SequenceWithMemory
             | Self::FallbackWithMemory
-            | Self::Parallel { .. } => Arity::AtLeastOne,
+            | Self::Parallel { .. }
+            | Self::SequenceStar
+            | Self::ParallelAll { .. }
+            | Self::PipelineSequence
+            | Self::RoundRobin => Arity::AtLeastOne,
+            Self::IfThenElse | Self::WhileDoElse => Arity::TwoOrThree,
+            Self::Recovery { .. } => Arity::Two,
             Self::Inverter
             | Self::ForceSuccess
             | Self::ForceFailure
             | Self::Repeat(_)
             | Self::Retry(_)
-            | Self::Timeout(_) => Arity::One,
-            Self::Condition(_) | Self::Action(_) => Arity::Leaf,
+            | Self::Timeout(_)
+            | Self::RepeatCycles(_)
+            | Self::RetryUntilSuccessful(_)
+            | Self::KeepRunningUntilFailure
+            | Self::RunOnce { .. }
+            | Self::TimeLimit(_)
+            | Self::Delay(_)
+            | Self::RateController(_)
+            | Self::Gate(_) => Arity::One,
+            Self::Condition(_) | Self::Action(_) | Self::AlwaysSuccess | Self::AlwaysFailure => Arity::Leaf,
         }
     }
 
@@ -310,6 +464,8 @@ pub struct Node {
     kind: NodeKind,
     size: u16,
 }
+
+const _: () = assert!(size_of::<Node>() == 12);
 
 impl Node {
     /// A placeholder to fill caller storage with (`[Node::EMPTY; N]`); a failing

@@ -9,7 +9,7 @@
 //! ```
 //!
 //! Glyphs: `{-}` sequence, `[o]` fallback, `{*}`/`[*]` their with-memory forms, `/_/`
-//! parallel, `-^-` decorator, `-->` leaf. Marks: `[✓]` success, `[✕]` failure, `[*]`
+//! parallel, `<?>` if-then-else, `-^-` decorator, `-->` leaf. Marks: `[✓]` success, `[✕]` failure, `[*]`
 //! running; Idle nodes have none.
 
 use core::fmt;
@@ -89,8 +89,9 @@ pub fn write_label<C: Catalog + ?Sized>(
         NodeKind::Fallback => f.write_str("[o] Fallback"),
         NodeKind::SequenceWithMemory => f.write_str("{*} SequenceWithMemory"),
         NodeKind::FallbackWithMemory => f.write_str("[*] FallbackWithMemory"),
-        NodeKind::Parallel { success_threshold, failure_threshold } => {
-            write!(f, "/_/ Parallel(success {success_threshold}, failure {failure_threshold})")
+        NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+            let skipped = if count_skipped { ", skipped count" } else { "" };
+            write!(f, "/_/ Parallel(success {success_threshold}, failure {failure_threshold}{skipped})")
         }
         NodeKind::Inverter => f.write_str("-^- Inverter"),
         NodeKind::ForceSuccess => f.write_str("-^- ForceSuccess"),
@@ -102,6 +103,30 @@ pub fn write_label<C: Catalog + ?Sized>(
             f.write_str("--> ")?;
             write_leaf(f, catalog, leaf, values)
         }
+        NodeKind::SequenceStar => f.write_str("{*} SequenceStar"),
+        NodeKind::IfThenElse => f.write_str("<?> IfThenElse"),
+        NodeKind::WhileDoElse => f.write_str("<?> WhileDoElse"),
+        NodeKind::ParallelAll { max_failures } => write!(f, "/_/ ParallelAll(max failures {max_failures})"),
+        NodeKind::PipelineSequence => f.write_str("{-} PipelineSequence"),
+        NodeKind::Recovery { retries } => write!(f, "[o] Recovery({retries} retries)"),
+        NodeKind::RoundRobin => f.write_str("[o] RoundRobin"),
+        NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => {
+            let name = if matches!(kind, NodeKind::RepeatCycles(_)) { "RepeatCycles" } else { "RetryUntilSuccessful" };
+            if n == NodeKind::FOREVER { write!(f, "-^- {name}(forever)") } else { write!(f, "-^- {name}({n})") }
+        }
+        NodeKind::KeepRunningUntilFailure => f.write_str("-^- KeepRunningUntilFailure"),
+        NodeKind::RunOnce { then_skip } => {
+            f.write_str(if then_skip { "-^- RunOnce(then skip)" } else { "-^- RunOnce" })
+        }
+        NodeKind::TimeLimit(d) => write!(f, "-^- TimeLimit({})", d.get()),
+        NodeKind::Delay(d) => write!(f, "-^- Delay({})", d.get()),
+        NodeKind::RateController(d) => write!(f, "-^- RateController({})", d.get()),
+        NodeKind::Gate(ref leaf) => {
+            f.write_str("-^- Gate ")?;
+            write_leaf(f, catalog, leaf, values)
+        }
+        NodeKind::AlwaysSuccess => f.write_str("--> AlwaysSuccess"),
+        NodeKind::AlwaysFailure => f.write_str("--> AlwaysFailure"),
     }
 }
 

@@ -10,6 +10,11 @@ pub enum Status {
     Failure = 2,
     /// The node needs more ticks.
     Running = 3,
+    /// The node did nothing this tick and has no result: its parent goes on as if it
+    /// were not there (BehaviorTree.CPP's SKIPPED). `RunOnce` with `then_skip` returns it
+    /// after its one run, and so does a parent whose children all skipped. A behavior may
+    /// return it too; its leaf is then Idle.
+    Skipped = 4,
 }
 
 impl Status {
@@ -20,6 +25,7 @@ impl Status {
             Self::Success => "SUCCESS",
             Self::Failure => "FAILURE",
             Self::Running => "RUNNING",
+            Self::Skipped => "SKIPPED",
         }
     }
 }
@@ -64,12 +70,14 @@ impl NodeStatus {
 }
 
 impl From<Status> for NodeStatus {
+    /// The status a leaf takes when it returns `s`: Skipped leaves it Idle.
     #[inline(always)]
     fn from(s: Status) -> Self {
         match s {
             Status::Success => Self::Success,
             Status::Failure => Self::Failure,
             Status::Running => Self::Running,
+            Status::Skipped => Self::Idle,
         }
     }
 }

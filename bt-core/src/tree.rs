@@ -187,13 +187,17 @@ pub fn children(nodes: &[Node], id: NodeId) -> Children<'_> {
     Children { nodes, next: i + 1, end }
 }
 
+/// Most children of a `RoundRobin`: it counts failed children in one byte of its state.
+pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
+
 fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catalog: &C) -> Result<(), LoadError> {
     let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
     match node.kind() {
         NodeKind::Repeat(0) => zero("Repeat"),
         NodeKind::Retry(0) => zero("Retry"),
         NodeKind::Timeout(0) => zero("Timeout"),
-        NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+        NodeKind::Condition(leaf) | NodeKind::Action(leaf) | NodeKind::Gate(leaf) => {
+            // A gate's behavior is declared as an action (see `NodeKind::Gate`).
             let used = if matches!(node.kind(), NodeKind::Condition(_)) {
                 crate::LeafKind::Condition
             } else {
@@ -242,19 +246,28 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
         Arity::Leaf => children == 0,
         Arity::One => children == 1,
         Arity::AtLeastOne => children >= 1,
+        Arity::Two => children == 2,
+        Arity::TwoOrThree => children == 2 || children == 3,
     };
     if !ok {
         return Err(LoadError::WrongArity { node: open.node, kind: kind.name(), children, expected });
     }
-    if let NodeKind::Parallel { success_threshold, failure_threshold } = *kind {
-        for (which, threshold) in [("success", success_threshold), ("failure", failure_threshold)] {
-            if threshold == 0 || threshold > children {
-                return Err(LoadError::BadArgument {
-                    node: open.node,
-                    fault: ArgumentFault::Threshold { which, threshold, children },
-                });
+    let bad = |fault| Err(LoadError::BadArgument { node: open.node, fault });
+    match *kind {
+        NodeKind::Parallel { success_threshold, failure_threshold, .. } => {
+            for (which, threshold) in [("success", success_threshold), ("failure", failure_threshold)] {
+                if threshold == 0 || threshold > children {
+                    return bad(ArgumentFault::Threshold { which, threshold, children });
+                }
             }
         }
+        NodeKind::ParallelAll { max_failures } if max_failures > children => {
+            return bad(ArgumentFault::MaxFailures { max_failures, children });
+        }
+        NodeKind::RoundRobin if children > ROUND_ROBIN_CHILDREN => {
+            return bad(ArgumentFault::TooManyChildren { kind: "RoundRobin", children, limit: ROUND_ROBIN_CHILDREN });
+        }
+        _ => {}
     }
     Ok(())
 }

@@ -13,7 +13,10 @@ fn writes_pre_order_with_subtree_sizes() {
     let sizes: Vec<u16> = nodes.iter().map(Node::size).collect();
     assert_eq!(sizes, [6, 1, 2, 1, 2, 1]);
     assert_eq!(nodes[3].kind().leaf().unwrap().1.args(), [5]);
-    assert_eq!(*nodes[4].kind(), NodeKind::Parallel { success_threshold: 1, failure_threshold: 1 });
+    assert_eq!(
+        *nodes[4].kind(),
+        NodeKind::Parallel { success_threshold: 1, failure_threshold: 1, count_skipped: false }
+    );
 }
 
 #[test]

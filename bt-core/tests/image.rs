@@ -252,7 +252,11 @@ fn bad_arguments() {
         crafted(&nodes),
         Err(LoadError::BadArgument { node: 0, fault: ArgumentFault::ZeroCount { kind: "Repeat" } })
     );
-    let nodes = [Node::new(NodeKind::Parallel { success_threshold: 3, failure_threshold: 1 }, 3), at_goal(), at_goal()];
+    let nodes = [
+        Node::new(NodeKind::Parallel { success_threshold: 3, failure_threshold: 1, count_skipped: false }, 3),
+        at_goal(),
+        at_goal(),
+    ];
     assert_eq!(
         crafted(&nodes),
         Err(LoadError::BadArgument {

@@ -1,8 +1,10 @@
 //! The executor against a small recursive reference interpreter that follows the tick
-//! rules of the design literally, on random trees of every node kind (depth up to 8,
-//! up to 64 nodes) and random leaf outcomes over several ticks. On every tick the root
-//! status, the leaves ticked (in order, with whether an action was starting), the halt
-//! calls (in order) and every node's status must agree.
+//! rules of `bt_core::exec` literally (for the kinds that stand for BehaviorTree.CPP's
+//! and Nav2's nodes, a line-by-line reading of their C++ `tick()`), on random trees of
+//! every node kind (depth up to 8, up to 64 nodes) and random leaf outcomes over several
+//! ticks. On every tick the root status, the leaves and gates ticked (in order, with
+//! whether an action was starting), the halt calls (in order), every node's status and
+//! the wake-up request must agree.
 //!
 //! A second executor ticks the same tree with an [`Observer`]: it must behave the same,
 //! and the changes it reports, replayed from all-Idle, must give exactly its node
@@ -14,7 +16,7 @@
 mod common;
 
 use bt_core::{
-    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Status, Tree,
+    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Span, Status, Tree,
 };
 use proptest::prelude::*;
 
@@ -24,7 +26,16 @@ use proptest::prelude::*;
 enum T {
     Condition,
     Action,
+    Always(bool),
     Node(NodeKind, Vec<T>),
+}
+
+fn span() -> impl Strategy<Value = Span> {
+    (0u32..=4).prop_map(|d| Span::new(d).unwrap())
+}
+
+fn cycles() -> impl Strategy<Value = u16> {
+    prop_oneof![4 => 0u16..=3, 1 => Just(NodeKind::FOREVER)]
 }
 
 fn control() -> impl Strategy<Value = NodeKind> {
@@ -33,7 +44,18 @@ fn control() -> impl Strategy<Value = NodeKind> {
         Just(NodeKind::Fallback),
         Just(NodeKind::SequenceWithMemory),
         Just(NodeKind::FallbackWithMemory),
-        (1u16..=4, 1u16..=4).prop_map(|(s, f)| NodeKind::Parallel { success_threshold: s, failure_threshold: f }),
+        (1u16..=4, 1u16..=4, any::<bool>()).prop_map(|(s, f, c)| NodeKind::Parallel {
+            success_threshold: s,
+            failure_threshold: f,
+            count_skipped: c
+        }),
+        Just(NodeKind::SequenceStar),
+        Just(NodeKind::IfThenElse),
+        Just(NodeKind::WhileDoElse),
+        (0u16..=4).prop_map(|m| NodeKind::ParallelAll { max_failures: m }),
+        Just(NodeKind::PipelineSequence),
+        (0u16..=2).prop_map(|r| NodeKind::Recovery { retries: r }),
+        Just(NodeKind::RoundRobin),
     ]
 }
 
@@ -45,16 +67,24 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
         (1u16..=3).prop_map(NodeKind::Repeat),
         (1u16..=3).prop_map(NodeKind::Retry),
         (1u16..=3).prop_map(NodeKind::Timeout),
+        cycles().prop_map(NodeKind::RepeatCycles),
+        cycles().prop_map(NodeKind::RetryUntilSuccessful),
+        Just(NodeKind::KeepRunningUntilFailure),
+        any::<bool>().prop_map(|then_skip| NodeKind::RunOnce { then_skip }),
+        span().prop_map(NodeKind::TimeLimit),
+        span().prop_map(NodeKind::Delay),
+        span().prop_map(NodeKind::RateController),
+        Just(NodeKind::Gate(Leaf::new(common::act(1)))),
     ]
 }
 
 fn tree() -> impl Strategy<Value = T> {
-    let leaf = prop_oneof![Just(T::Condition), Just(T::Action)];
+    let leaf = prop_oneof![4 => Just(T::Condition), 4 => Just(T::Action), 1 => any::<bool>().prop_map(T::Always)];
     // 7 levels of recursion over a leaf: at most 8 levels.
     leaf.prop_recursive(7, 64, 4, |inner| {
         prop_oneof![
             3 => (control(), prop::collection::vec(inner.clone(), 1..5)).prop_map(|(k, c)| T::Node(k, c)),
-            1 => (decorator(), inner).prop_map(|(k, c)| T::Node(k, vec![c])),
+            2 => (decorator(), inner).prop_map(|(k, c)| T::Node(k, vec![c])),
         ]
     })
     .prop_filter("at most 64 nodes", |t| count(t) <= 64)
@@ -75,23 +105,50 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
         T::Action => {
             b.action(common::act(0), &[]).unwrap();
         }
+        T::Always(ok) => {
+            b.leaf(if *ok { NodeKind::AlwaysSuccess } else { NodeKind::AlwaysFailure }).unwrap();
+        }
         T::Node(kind, children) => {
+            let n = children.len() as u16;
             let kind = match *kind {
-                NodeKind::Parallel { success_threshold, failure_threshold } => {
-                    let n = children.len() as u16;
-                    NodeKind::Parallel {
-                        success_threshold: success_threshold.min(n),
-                        failure_threshold: failure_threshold.min(n),
-                    }
-                }
+                NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => NodeKind::Parallel {
+                    success_threshold: success_threshold.min(n),
+                    failure_threshold: failure_threshold.min(n),
+                    count_skipped,
+                },
+                NodeKind::ParallelAll { max_failures } => NodeKind::ParallelAll { max_failures: max_failures.min(n) },
                 k => k,
             };
             b.open(kind).unwrap();
             for c in children {
                 emit(c, b);
             }
+            // Two or three children for IfThenElse and WhileDoElse, two for Recovery.
+            let want = match kind {
+                NodeKind::IfThenElse | NodeKind::WhileDoElse => 2.max(children.len()).min(3),
+                NodeKind::Recovery { .. } => 2,
+                _ => children.len(),
+            };
+            for _ in children.len()..want {
+                b.action(common::act(0), &[]).unwrap();
+            }
             b.end().unwrap();
         }
+    }
+}
+
+/// `emit`, but IfThenElse, WhileDoElse and Recovery with too many children lose the rest.
+fn fit(t: &T) -> T {
+    match t {
+        T::Node(k, c) => {
+            let max = match k {
+                NodeKind::IfThenElse | NodeKind::WhileDoElse => 3,
+                NodeKind::Recovery { .. } => 2,
+                _ => usize::MAX,
+            };
+            T::Node(*k, c.iter().take(max).map(fit).collect())
+        }
+        other => other.clone(),
     }
 }
 
@@ -133,13 +190,21 @@ impl BehaviorSet for Script<'_> {
 
 // ---------------------------------------------------------------- the reference
 
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Default, Debug)]
 struct RState {
     status: NodeStatus,
     /// Sequence/Fallback: the child it returned at.
     last: Option<usize>,
-    /// Repeat/Retry/Timeout count.
+    /// Repeat/Retry/Timeout count; RepeatCycles/RetryUntilSuccessful count; Recovery
+    /// recoveries; RoundRobin failures.
     count: u16,
+    /// SequenceStar: child to resume at; IfThenElse: the branch; PipelineSequence: the
+    /// furthest child Running; RoundRobin: the next child (0-based); Recovery: the child.
+    mem: usize,
+    /// TimeLimit, Delay, RateController: when it started.
+    start: u32,
+    /// RunOnce: its result, once it has one.
+    done: Option<Status>,
 }
 
 /// Recursive, straight from the rules; no shortcuts.
@@ -148,10 +213,28 @@ struct Reference<'a> {
     st: Vec<RState>,
     log: Vec<Ev>,
     script: Vec<u8>,
+    now: u32,
+    woken: bool,
     /// For each reactive Sequence/Fallback being ticked: the later child that was
     /// Running on the previous tick, which an action starting below must halt first.
     preempted: Vec<Option<usize>>,
-    finished: bool,
+}
+
+fn is_reactive_or_reused(kind: &NodeKind) -> bool {
+    matches!(
+        kind,
+        NodeKind::Sequence
+            | NodeKind::Fallback
+            | NodeKind::SequenceWithMemory
+            | NodeKind::FallbackWithMemory
+            | NodeKind::Parallel { .. }
+            | NodeKind::Inverter
+            | NodeKind::ForceSuccess
+            | NodeKind::ForceFailure
+            | NodeKind::Repeat(_)
+            | NodeKind::Retry(_)
+            | NodeKind::Timeout(_)
+    )
 }
 
 impl<'a> Reference<'a> {
@@ -161,8 +244,9 @@ impl<'a> Reference<'a> {
             st: vec![RState::default(); nodes.len()],
             log: vec![],
             script: vec![],
+            now: 0,
+            woken: false,
             preempted: vec![],
-            finished: false,
         }
     }
 
@@ -177,32 +261,95 @@ impl<'a> Reference<'a> {
         v
     }
 
-    fn tick_root(&mut self, script: &[u8]) -> Status {
-        self.script = script.to_vec();
-        if self.finished {
-            // Rule 5: a finished root starts a new activation; nothing can be Running.
-            assert!(self.st.iter().all(|s| s.status != NodeStatus::Running));
-            self.st.fill(RState::default());
-        }
-        let r = self.tick(0);
-        self.finished = r != Status::Running;
-        r
+    fn status(&self, i: usize) -> NodeStatus {
+        self.st[i].status
     }
 
-    /// Rule 3: halt every Running action below `i`, children first, and reset to Idle.
+    fn tick_root(&mut self, script: &[u8], now: u32) -> Status {
+        self.script = script.to_vec();
+        self.now = now;
+        self.timers();
+        self.tick(0, false)
+    }
+
+    /// What BehaviorTree.CPP's timers did since the last tick, in pre-order.
+    fn timers(&mut self) {
+        for i in 0..self.nodes.len() {
+            if self.status(i) != NodeStatus::Running {
+                continue;
+            }
+            let elapsed = self.now.wrapping_sub(self.st[i].start) & Span::MAX;
+            match *self.nodes[i].kind() {
+                NodeKind::TimeLimit(d)
+                    if d.get() > 0 && elapsed >= d.get() && self.status(i + 1) == NodeStatus::Running =>
+                {
+                    self.halt(i + 1);
+                    self.woken = true;
+                }
+                NodeKind::Delay(d) if elapsed >= d.get() && self.status(i + 1) == NodeStatus::Idle => self.woken = true,
+                _ => {}
+            }
+        }
+    }
+
+    /// Rule 3: halt every Running action below `i`, children first, and reset to Idle,
+    /// keeping the memory that survives a halt. An Idle node's subtree is left as it is.
     fn halt(&mut self, i: usize) {
+        if self.status(i) == NodeStatus::Idle {
+            return;
+        }
         for c in self.kids(i) {
             self.halt(c);
         }
-        if matches!(self.nodes[i].kind(), NodeKind::Action(_)) && self.st[i].status == NodeStatus::Running {
+        if matches!(self.nodes[i].kind(), NodeKind::Action(_)) && self.status(i) == NodeStatus::Running {
             self.log.push(Ev::Halt { node: i });
         }
-        self.st[i] = RState::default();
+        let was = self.st[i];
+        let mut fresh = RState::default();
+        match self.nodes[i].kind() {
+            NodeKind::SequenceStar => fresh.mem = was.mem,
+            NodeKind::RunOnce { .. } => fresh.done = was.done,
+            NodeKind::RoundRobin | NodeKind::Recovery { .. } if was.status != NodeStatus::Running => {
+                fresh.mem = was.mem;
+                fresh.count = was.count;
+            }
+            _ => {}
+        }
+        self.st[i] = fresh;
     }
 
-    fn tick(&mut self, i: usize) -> Status {
+    /// BehaviorTree.CPP's haltChild: halt a Running child, else only make it Idle.
+    fn halt_child(&mut self, c: usize) {
+        if self.status(c) == NodeStatus::Running {
+            self.halt(c);
+        } else {
+            self.st[c].status = NodeStatus::Idle;
+        }
+    }
+
+    fn halt_children(&mut self, i: usize) {
+        for c in self.kids(i) {
+            self.halt_child(c);
+        }
+    }
+
+    /// Whether a RateController or Gate at `i` starts afresh.
+    fn fresh(&self, i: usize, parent_mirrors: bool) -> bool {
+        match self.status(i) {
+            NodeStatus::Idle => true,
+            NodeStatus::Running => false,
+            _ => !parent_mirrors,
+        }
+    }
+
+    fn elapsed(&self, i: usize) -> u32 {
+        self.now.wrapping_sub(self.st[i].start) & Span::MAX
+    }
+
+    fn tick(&mut self, i: usize, parent_mirrors: bool) -> Status {
         let was = self.st[i];
         let running = was.status == NodeStatus::Running;
+        let mirrors = !is_reactive_or_reused(self.nodes[i].kind());
         let r = match *self.nodes[i].kind() {
             NodeKind::Condition(_) => {
                 self.log.push(Ev::Tick { node: i, starting: true });
@@ -218,41 +365,64 @@ impl<'a> Reference<'a> {
                 self.log.push(Ev::Tick { node: i, starting: !running });
                 outcome(self.nodes, &self.script, i)
             }
+            NodeKind::AlwaysSuccess => Status::Success,
+            NodeKind::AlwaysFailure => Status::Failure,
             kind @ (NodeKind::Sequence
             | NodeKind::Fallback
             | NodeKind::SequenceWithMemory
             | NodeKind::FallbackWithMemory) => {
                 let is_seq = matches!(kind, NodeKind::Sequence | NodeKind::SequenceWithMemory);
                 let memory = matches!(kind, NodeKind::SequenceWithMemory | NodeKind::FallbackWithMemory);
+                let go_on = if is_seq { Status::Success } else { Status::Failure };
                 let kids = self.kids(i);
                 let start = if memory && running { kids.iter().position(|&c| Some(c) == was.last).unwrap() } else { 0 };
-                let mut result = if is_seq { Status::Success } else { Status::Failure };
+                let mut result = None;
                 let mut at = *kids.last().unwrap();
                 for &c in &kids[start..] {
                     let old = if !memory && running && was.last.is_some_and(|l| l > c) { was.last } else { None };
                     if !memory {
                         self.preempted.push(old);
                     }
-                    let s = self.tick(c);
+                    let s = self.tick(c, false);
                     if !memory {
                         self.preempted.pop();
                     }
-                    if (is_seq && s != Status::Success) || (!is_seq && s != Status::Failure) {
-                        result = s;
+                    if s == Status::Skipped {
+                        // Reactive nodes halt a child that skipped.
+                        if !memory {
+                            self.halt(c);
+                        }
+                        continue;
+                    }
+                    if s != go_on {
+                        result = Some(s);
                         at = c;
                         break;
                     }
                 }
-                for c in kids.into_iter().filter(|&c| c > at) {
+                for c in kids.iter().copied().filter(|&c| c > at) {
                     self.halt(c);
                 }
-                self.st[i].last = Some(at);
+                let result = result.unwrap_or_else(|| {
+                    // No child stopped it: all skipped (none returned `go_on` in this
+                    // activation), or `go_on`.
+                    if kids.iter().any(|&c| self.status(c) == go_on.into()) { go_on } else { Status::Skipped }
+                });
+                if memory && result != Status::Running {
+                    // Finished: children that skipped and stayed Running are reset.
+                    for c in kids.iter().copied().filter(|&c| c < at || result == Status::Skipped || c == at) {
+                        if self.status(c) == NodeStatus::Running {
+                            self.halt(c);
+                        }
+                    }
+                }
+                self.st[i].last = Some(if result == Status::Skipped && memory { kids[0] } else { at });
                 result
             }
-            NodeKind::Parallel { success_threshold, failure_threshold } => {
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
                 let kids = self.kids(i);
                 let n = kids.len() as u16;
-                let (mut ok, mut failed) = (0u16, 0u16);
+                let (mut ok, mut failed, mut skipped) = (0u16, 0u16, 0u16);
                 let mut verdict = None;
                 let mut reached = kids.len();
                 for (k, &c) in kids.iter().enumerate() {
@@ -260,14 +430,15 @@ impl<'a> Reference<'a> {
                     let s = match prior {
                         NodeStatus::Success if running => Status::Success,
                         NodeStatus::Failure if running => Status::Failure,
-                        _ => self.tick(c),
+                        _ => self.tick(c, false),
                     };
                     match s {
                         Status::Success => ok += 1,
                         Status::Failure => failed += 1,
+                        Status::Skipped => skipped += 1,
                         Status::Running => {}
                     }
-                    if ok >= success_threshold {
+                    if ok >= success_threshold || (count_skipped && ok + skipped >= success_threshold) {
                         verdict = Some(Status::Success);
                     } else if failed >= failure_threshold || n - failed < success_threshold {
                         verdict = Some(Status::Failure);
@@ -286,26 +457,27 @@ impl<'a> Reference<'a> {
                         }
                         v
                     }
+                    None if skipped == n => Status::Skipped,
                     None => Status::Running,
                 }
             }
-            NodeKind::Inverter => match self.tick(i + 1) {
+            NodeKind::Inverter => match self.tick(i + 1, false) {
                 Status::Success => Status::Failure,
                 Status::Failure => Status::Success,
-                Status::Running => Status::Running,
+                s => s,
             },
-            NodeKind::ForceSuccess => match self.tick(i + 1) {
-                Status::Running => Status::Running,
-                _ => Status::Success,
+            NodeKind::ForceSuccess => match self.tick(i + 1, false) {
+                Status::Success | Status::Failure => Status::Success,
+                s => s,
             },
-            NodeKind::ForceFailure => match self.tick(i + 1) {
-                Status::Running => Status::Running,
-                _ => Status::Failure,
+            NodeKind::ForceFailure => match self.tick(i + 1, false) {
+                Status::Success | Status::Failure => Status::Failure,
+                s => s,
             },
             NodeKind::Repeat(n) | NodeKind::Retry(n) => {
-                let repeat = matches!(kind_of(self.nodes, i), NodeKind::Repeat(_));
+                let repeat = matches!(self.nodes[i].kind(), NodeKind::Repeat(_));
                 let count = if running { was.count } else { 0 };
-                let s = self.tick(i + 1);
+                let s = self.tick(i + 1, false);
                 let again = if repeat { Status::Success } else { Status::Failure };
                 if s == again {
                     if count + 1 >= n {
@@ -323,7 +495,7 @@ impl<'a> Reference<'a> {
             }
             NodeKind::Timeout(n) => {
                 let count = if running { was.count } else { 0 };
-                let s = self.tick(i + 1);
+                let s = self.tick(i + 1, false);
                 if s == Status::Running {
                     if count + 1 >= n {
                         self.halt(i + 1);
@@ -336,14 +508,378 @@ impl<'a> Reference<'a> {
                     s
                 }
             }
+            // ------------------------------------------- BehaviorTree.CPP's and Nav2's
+            NodeKind::SequenceStar => {
+                let kids = self.kids(i);
+                let mut idx = kids.iter().position(|&c| c == was.mem).unwrap_or(0);
+                loop {
+                    if idx == kids.len() {
+                        let all_skipped = !kids.iter().any(|&c| self.status(c) == NodeStatus::Success);
+                        self.halt_children(i);
+                        self.st[i].mem = 0;
+                        break if all_skipped { Status::Skipped } else { Status::Success };
+                    }
+                    let c = kids[idx];
+                    let was_idle = self.status(c) == NodeStatus::Idle;
+                    match self.tick(c, true) {
+                        Status::Running => {
+                            self.st[i].mem = c;
+                            break Status::Running;
+                        }
+                        Status::Failure => {
+                            for &k in &kids[idx..] {
+                                self.halt_child(k);
+                            }
+                            self.st[i].mem = c;
+                            break Status::Failure;
+                        }
+                        Status::Success => {
+                            idx += 1;
+                            if was_idle && idx < kids.len() {
+                                self.st[i].mem = kids[idx];
+                                self.woken = true;
+                                break Status::Running;
+                            }
+                        }
+                        Status::Skipped => idx += 1,
+                    }
+                }
+            }
+            NodeKind::IfThenElse => {
+                let kids = self.kids(i);
+                let mut branch = if running { was.mem } else { 0 };
+                let mut early = None;
+                if branch == 0 {
+                    match self.tick(kids[0], true) {
+                        Status::Success => branch = kids[1],
+                        Status::Failure if kids.len() == 3 => branch = kids[2],
+                        s => {
+                            if s != Status::Failure {
+                                self.st[i].mem = 0;
+                            }
+                            early = Some(s);
+                        }
+                    }
+                }
+                match early {
+                    Some(s) => s,
+                    None => {
+                        let s = self.tick(branch, true);
+                        if s == Status::Running {
+                            self.st[i].mem = branch;
+                        } else {
+                            self.halt_children(i);
+                            self.st[i].mem = 0;
+                        }
+                        s
+                    }
+                }
+            }
+            NodeKind::WhileDoElse => {
+                let kids = self.kids(i);
+                let s = match self.tick(kids[0], true) {
+                    Status::Running => return self.set(i, Status::Running),
+                    Status::Success => {
+                        if kids.len() == 3 {
+                            self.halt_child(kids[2]);
+                        }
+                        self.tick(kids[1], true)
+                    }
+                    Status::Failure if kids.len() == 3 => {
+                        self.halt_child(kids[1]);
+                        self.tick(kids[2], true)
+                    }
+                    other => other,
+                };
+                if s != Status::Running {
+                    self.halt_children(i);
+                }
+                s
+            }
+            NodeKind::ParallelAll { max_failures } => {
+                let kids = self.kids(i);
+                let (mut done, mut failed, mut skipped) = (0u16, 0u16, 0u16);
+                for &c in &kids {
+                    let prior = self.status(c);
+                    let s = match prior {
+                        NodeStatus::Success if running => Status::Success,
+                        NodeStatus::Failure if running => Status::Failure,
+                        _ => self.tick(c, true),
+                    };
+                    match s {
+                        Status::Success => done += 1,
+                        Status::Failure => {
+                            done += 1;
+                            failed += 1;
+                        }
+                        Status::Skipped => skipped += 1,
+                        Status::Running => {}
+                    }
+                }
+                let n = kids.len() as u16;
+                if skipped == n {
+                    Status::Skipped
+                } else if skipped + done >= n {
+                    self.halt_children(i);
+                    if failed >= max_failures { Status::Failure } else { Status::Success }
+                } else {
+                    Status::Running
+                }
+            }
+            NodeKind::PipelineSequence => {
+                let kids = self.kids(i);
+                let last = if running && was.mem != 0 { was.mem } else { kids[0] };
+                let mut skipped = 0;
+                let mut result = None;
+                for &c in &kids {
+                    match self.tick(c, true) {
+                        Status::Failure => {
+                            self.halt_children(i);
+                            self.st[i].mem = 0;
+                            result = Some(Status::Failure);
+                            break;
+                        }
+                        Status::Skipped => skipped += 1,
+                        Status::Running if c >= last => {
+                            self.st[i].mem = c;
+                            result = Some(Status::Running);
+                            break;
+                        }
+                        _ => {}
+                    }
+                }
+                result.unwrap_or_else(|| {
+                    self.halt_children(i);
+                    self.st[i].mem = 0;
+                    if skipped == kids.len() { Status::Skipped } else { Status::Success }
+                })
+            }
+            NodeKind::Recovery { retries } => {
+                let kids = self.kids(i);
+                let mut idx = was.mem;
+                let mut retry = was.count;
+                let give_up = |me: &mut Self, s| {
+                    me.halt_children(i);
+                    me.st[i].mem = 0;
+                    me.st[i].count = 0;
+                    s
+                };
+                loop {
+                    if idx >= 2 || retry > retries {
+                        break give_up(self, Status::Failure);
+                    }
+                    let s = self.tick(kids[idx], true);
+                    if idx == 0 {
+                        match s {
+                            Status::Skipped | Status::Success => break give_up(self, s),
+                            Status::Running => {
+                                self.st[i].mem = 0;
+                                self.st[i].count = retry;
+                                break Status::Running;
+                            }
+                            Status::Failure if retry < retries => {
+                                self.halt_child(kids[0]);
+                                idx = 1;
+                            }
+                            Status::Failure => break give_up(self, Status::Failure),
+                        }
+                    } else {
+                        match s {
+                            Status::Skipped => {
+                                self.halt_child(kids[1]);
+                                self.st[i].mem = 0;
+                                self.st[i].count = retry;
+                                break Status::Failure;
+                            }
+                            Status::Running => {
+                                self.st[i].mem = 1;
+                                self.st[i].count = retry;
+                                break Status::Running;
+                            }
+                            Status::Success => {
+                                self.halt_child(kids[1]);
+                                retry += 1;
+                                idx = 0;
+                            }
+                            Status::Failure => break give_up(self, Status::Failure),
+                        }
+                    }
+                }
+            }
+            NodeKind::RoundRobin => {
+                let kids = self.kids(i);
+                let n = kids.len() as u16;
+                let mut idx = was.mem;
+                let mut failed = was.count;
+                let mut skipped = 0u16;
+                loop {
+                    if failed + skipped >= n {
+                        self.halt_children(i);
+                        self.st[i].mem = 0;
+                        self.st[i].count = 0;
+                        break if skipped == n { Status::Skipped } else { Status::Failure };
+                    }
+                    let s = self.tick(kids[idx], true);
+                    if s != Status::Running {
+                        idx = (idx + 1) % kids.len();
+                    }
+                    match s {
+                        Status::Success => {
+                            self.halt_children(i);
+                            self.st[i].mem = idx;
+                            self.st[i].count = 0;
+                            break Status::Success;
+                        }
+                        Status::Failure => failed += 1,
+                        Status::Skipped => skipped += 1,
+                        Status::Running => {
+                            self.st[i].mem = idx;
+                            self.st[i].count = failed;
+                            break Status::Running;
+                        }
+                    }
+                }
+            }
+            NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => {
+                let again = if matches!(self.nodes[i].kind(), NodeKind::RepeatCycles(_)) {
+                    Status::Success
+                } else {
+                    Status::Failure
+                };
+                let mut count = if running { was.count } else { 0 };
+                loop {
+                    if !(count < n || n == NodeKind::FOREVER) {
+                        self.st[i].count = 0;
+                        break again;
+                    }
+                    let was_idle = self.status(i + 1) == NodeStatus::Idle;
+                    let s = self.tick(i + 1, true);
+                    if s == Status::Running {
+                        self.st[i].count = count;
+                        break s;
+                    }
+                    self.halt_child(i + 1);
+                    if s == Status::Skipped {
+                        self.st[i].count = count;
+                        break s;
+                    }
+                    if s != again {
+                        self.st[i].count = 0;
+                        break s;
+                    }
+                    count += 1;
+                    if was_idle && (count < n || n == NodeKind::FOREVER) {
+                        self.st[i].count = count;
+                        self.woken = true;
+                        break Status::Running;
+                    }
+                }
+            }
+            NodeKind::KeepRunningUntilFailure => match self.tick(i + 1, true) {
+                Status::Failure => {
+                    self.halt_child(i + 1);
+                    Status::Failure
+                }
+                Status::Success => {
+                    self.halt_child(i + 1);
+                    Status::Running
+                }
+                _ => Status::Running,
+            },
+            NodeKind::RunOnce { then_skip } => match was.done {
+                // A RunOnce that skips keeps no status: Idle.
+                Some(_) if then_skip => return self.set(i, Status::Skipped),
+                Some(done) => done,
+                None => {
+                    let s = self.tick(i + 1, true);
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.st[i].done = Some(s);
+                        self.halt_child(i + 1);
+                    }
+                    s
+                }
+            },
+            NodeKind::TimeLimit(d) => {
+                if !running {
+                    self.st[i].start = self.now;
+                }
+                if running && d.get() > 0 && self.elapsed(i) >= d.get() {
+                    self.halt_child(i + 1);
+                    Status::Failure
+                } else {
+                    let s = self.tick(i + 1, true);
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.halt_child(i + 1);
+                    }
+                    s
+                }
+            }
+            NodeKind::Delay(d) => {
+                if !running {
+                    self.st[i].start = self.now;
+                }
+                if self.elapsed(i) >= d.get() || self.status(i + 1) == NodeStatus::Running {
+                    let s = self.tick(i + 1, true);
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.halt_child(i + 1);
+                    }
+                    s
+                } else {
+                    Status::Running
+                }
+            }
+            NodeKind::RateController(d) => {
+                let fresh = self.fresh(i, parent_mirrors);
+                if fresh {
+                    self.st[i].start = self.now;
+                }
+                if fresh || self.status(i + 1) == NodeStatus::Running || self.elapsed(i) >= d.get() {
+                    let s = self.tick(i + 1, true);
+                    if s == Status::Success {
+                        self.st[i].start = self.now;
+                    }
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.halt_child(i + 1);
+                    }
+                    s
+                } else {
+                    Status::Running
+                }
+            }
+            NodeKind::Gate(_) => {
+                let starting = self.fresh(i, parent_mirrors);
+                self.log.push(Ev::Tick { node: i, starting });
+                let open = outcome(self.nodes, &self.script, i);
+                if self.status(i + 1) == NodeStatus::Running || open == Status::Success {
+                    let s = self.tick(i + 1, true);
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.halt_child(i + 1);
+                    }
+                    s
+                } else {
+                    // The gate decides without the child: no status kept for Skipped.
+                    if open == Status::Skipped {
+                        return self.set(i, Status::Skipped);
+                    }
+                    open
+                }
+            }
         };
+        let _ = mirrors;
+        let new = match r {
+            // A control node or decorator that skips stays Running; a leaf is Idle.
+            Status::Skipped if self.nodes[i].kind().arity() != bt_core::Arity::Leaf => NodeStatus::Running,
+            r => r.into(),
+        };
+        self.st[i].status = new;
+        r
+    }
+
+    /// Sets the status `r` gives and returns `r` (Skipped: Idle).
+    fn set(&mut self, i: usize, r: Status) -> Status {
         self.st[i].status = r.into();
         r
     }
-}
-
-fn kind_of(nodes: &[Node], i: usize) -> NodeKind {
-    *nodes[i].kind()
 }
 
 // ---------------------------------------------------------------- the property
@@ -360,7 +896,8 @@ proptest! {
         t in tree(),
         ticks in prop::collection::vec(prop::collection::vec(any::<u8>(), 64), 1..=10),
     ) {
-        let mut storage = vec![Node::EMPTY; 64];
+        let t = fit(&t);
+        let mut storage = vec![Node::EMPTY; 128];
         let mut b = Builder::<16>::new(&mut storage);
         emit(&t, &mut b);
         let nodes = b.finish().unwrap();
@@ -375,15 +912,20 @@ proptest! {
         let mut reference = Reference::new(nodes);
 
         for (k, script) in ticks.iter().enumerate() {
+            let script = &script[..];
+            let mut script64 = script.to_vec();
+            script64.resize(nodes.len().max(64), 0);
+            let script = &script64[..];
             let mut world = Script { nodes, tick: script, log: vec![] };
             let got = exec.tick(&mut world, k as u32).unwrap();
             reference.log.clear();
-            let want = reference.tick_root(script);
+            let want = reference.tick_root(script, k as u32);
             prop_assert_eq!(got, want, "root status on tick {}", k);
             prop_assert_eq!(&world.log, &reference.log, "leaves and halts on tick {}", k);
             let got_states: Vec<_> = exec.states().iter().map(|s| s.status()).collect();
             let want_states: Vec<_> = reference.st.iter().map(|s| s.status).collect();
             prop_assert_eq!(&got_states, &want_states, "node statuses after tick {}", k);
+            prop_assert_eq!(exec.take_woken(), std::mem::take(&mut reference.woken), "wake-up on tick {}", k);
 
             let mut world_o = Script { nodes, tick: script, log: vec![] };
             let mut changes = common::Changes::default();

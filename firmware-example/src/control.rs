@@ -271,6 +271,7 @@ impl Line {
                 Status::Success => "S",
                 Status::Failure => "F",
                 Status::Running => "R",
+                Status::Skipped => "K",
             };
             self.num(u32::from(r.node)).text(s);
         }
@@ -416,7 +417,8 @@ pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut w
         watch(&TickReport { tick, status, nodes, ran: &ran, halted: &halted, event, plant: &plant });
 
         let (verdict, outcome) = match status {
-            Status::Running => continue,
+            // This tree has no node that skips.
+            Status::Running | Status::Skipped => continue,
             Status::Success => ("GOAL", Outcome::Goal { ticks }),
             Status::Failure => ("FAILED", Outcome::RootFailure { ticks }),
         };

@@ -448,7 +448,8 @@ impl<W: BrickWorld> Runner<W> {
                     break;
                 }
                 Status::Success => succeeded = true,
-                Status::Running => succeeded = false,
+                // A skipped root did nothing this tick: like Running, not done.
+                Status::Running | Status::Skipped => succeeded = false,
             }
         }
         Ok(self.score(n, end, ticks))

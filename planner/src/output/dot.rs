@@ -33,7 +33,7 @@ pub fn to_dot_with<C: Catalog + ?Sized>(nodes: &[Node], values: &[u16], catalog:
             NodeKind::Fallback => ("?".to_string(), "box"),
             NodeKind::SequenceWithMemory => ("→*".to_string(), "box"),
             NodeKind::FallbackWithMemory => ("?*".to_string(), "box"),
-            NodeKind::Parallel { success_threshold, failure_threshold } => {
+            NodeKind::Parallel { success_threshold, failure_threshold, .. } => {
                 (format!("⇉ {success_threshold}/{failure_threshold}"), "box")
             }
             NodeKind::Inverter => ("¬".to_string(), "diamond"),

@@ -180,6 +180,7 @@ pub(super) fn tree_panel(s: &mut String, run: &Run<'_>, columns: &[usize], top: 
         Status::Success => 'S',
         Status::Failure => 'F',
         Status::Running => 'R',
+        Status::Skipped => 'K',
     });
     let _ = writeln!(
         s,

@@ -211,7 +211,7 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
                     record.frames.push((tick, world.points()));
                     continue 'run;
                 }
-                Status::Running => {}
+                Status::Running | Status::Skipped => {}
             }
             world.advance(tick, running.as_deref());
             world_events(out, &mut record, &mut quiet, world, tick);

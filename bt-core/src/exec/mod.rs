@@ -9,7 +9,8 @@
 //!    Running, Success when all succeed; `Fallback` mirrors it.
 //! 3. A node that was Running and is not reached, or is reached and abandoned, is halted:
 //!    each Running action below it gets one `halt` call, children before parents and left
-//!    to right (post-order), and the subtree's state goes back to Idle.
+//!    to right (post-order), and the subtree's state goes back to Idle (subtrees already
+//!    Idle at their root are left as they are).
 //! 4. Halt before start: before an action *starts* (it was not Running), every Running
 //!    branch that it preempts — a later child of a reactive ancestor that was Running on
 //!    the previous tick — is halted. If the tick returns to the old branch without
@@ -19,13 +20,44 @@
 //! 6. With-memory nodes resume at the child that was Running. `Parallel` does not re-tick
 //!    children that finished in the current activation, and returns as soon as a
 //!    threshold is reached, halting the children still Running.
-//! 7. `Repeat`, `Retry` and `Timeout` count ticks and activations; `now` is only passed on
-//!    to behaviors.
+//! 7. `Repeat`, `Retry` and `Timeout` count ticks and activations, never `now`.
+//! 8. **Skipped** means the node did nothing this tick and has no result. A Sequence or
+//!    Fallback goes on past a child that skipped (a reactive one resets it) and skips
+//!    itself when no child returned the status it goes on after; `Parallel` ticks a child
+//!    that skipped again next tick, counts it towards success in that tick only with
+//!    `count_skipped`, and skips when all children skipped; `ParallelAll` likewise, without
+//!    counting it; decorators pass it on, except `KeepRunningUntilFailure` (Running) and
+//!    `Recovery` (a skipped recovery fails it). A control node or decorator that skips
+//!    stays Running and keeps its memory; a leaf that skips, and a `RunOnce` or `Gate`
+//!    that skips without ticking its child, is Idle.
+//! 9. The kinds that stand for BehaviorTree.CPP's and Nav2's nodes follow their
+//!    originals step by step (the rules of each are on [`NodeKind`] and in
+//!    `docs/behaviortree-cpp.md`), and reset their children when the originals do: a
+//!    Running child is halted (rule 3), any other child only becomes Idle, its subtree
+//!    left as it is. Their memory survives resets where the originals' does: a
+//!    `SequenceStar`'s place and a `RunOnce`'s result always, a `RoundRobin`'s turn and a
+//!    `Recovery`'s count unless halted while Running. A `RateController` or `Gate` starts
+//!    afresh when it is Idle, or when it finished under a parent that BehaviorTree.CPP
+//!    would have reset it under (any parent but these kinds).
+//! 10. **Time.** `TimeLimit`, `Delay` and `RateController` measure spans of `now` (for
+//!     trees imported from BehaviorTree.CPP: milliseconds), from start times kept in 24
+//!     bits. Before a tick of a tree that has a `TimeLimit` or `Delay`, the timers that
+//!     expired since the last tick act, in pre-order: a `TimeLimit` whose child still runs
+//!     halts it (the tick then fails the `TimeLimit`), and a `Delay` whose span has passed
+//!     asks for a wake-up.
+//! 11. **Wake-up.** A `SequenceStar` whose child succeeds after being Idle, with more to
+//!     go, returns Running; a `RepeatCycles` (`RetryUntilSuccessful`) whose child succeeds
+//!     (fails) after being Idle, with cycles left, returns Running; both ask to be ticked
+//!     again at once ([`Executor::woken`]), as do the timers of rule 10. A child that was
+//!     Running and finishes is ticked again at once instead. A tick is thus
+//!     BehaviorTree.CPP's `tickExactlyOnce()`; its `tickOnce()` is a loop on `woken`.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:
 //! children of a Sequence/Fallback after the one it returned at are reset, so what a
 //! renderer shows is what happened.
+
+mod kinds;
 
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
 use crate::node::{Node, NodeId, NodeKind};
@@ -38,16 +70,20 @@ use crate::tree::Tree;
 #[repr(C, align(4))]
 pub struct NodeState {
     /// Sequence/Fallback (with or without memory): the child it returned at when last
-    /// ticked (children after it are Idle). Repeat/Retry/Timeout: the count. Else unused.
+    /// ticked (children after it are Idle). Repeat/Retry/Timeout: the count. The other
+    /// kinds: see `kinds.rs`.
     aux: u16,
     status: NodeStatus,
-    /// Always 0: with no padding byte the whole state is written in one store.
-    zero: u8,
+    /// 0 except for the kinds of `kinds.rs` that need a third byte (a 24-bit start time,
+    /// a count): with no padding byte the whole state is written in one store.
+    ext: u8,
 }
+
+const _: () = assert!(size_of::<NodeState>() == 4);
 
 impl NodeState {
     /// The state of a node that has not been ticked; fill storage with it.
-    pub const IDLE: NodeState = NodeState { status: NodeStatus::Idle, aux: 0, zero: 0 };
+    pub const IDLE: NodeState = NodeState { status: NodeStatus::Idle, aux: 0, ext: 0 };
 
     /// What the node returned when last ticked, or Idle.
     #[inline(always)]
@@ -90,6 +126,23 @@ enum FrameKind {
     Repeat,
     Retry,
     Timeout,
+    // The kinds of `kinds.rs` (BehaviorTree.CPP's and Nav2's): they reset their children
+    // as BehaviorTree.CPP does, see `Run::fresh`.
+    SequenceStar,
+    IfThenElse,
+    WhileDoElse,
+    ParallelAll,
+    PipelineSequence,
+    Recovery,
+    RoundRobin,
+    RepeatCycles,
+    RetryUntilSuccessful,
+    KeepRunningUntilFailure,
+    RunOnce,
+    TimeLimit,
+    Delay,
+    RateController,
+    Gate,
 }
 
 impl FrameKind {
@@ -97,6 +150,19 @@ impl FrameKind {
     #[inline(always)]
     fn is_ordered(self) -> bool {
         (self as u8) < 4
+    }
+
+    /// SequenceWithMemory or FallbackWithMemory.
+    #[inline(always)]
+    fn is_memory(self) -> bool {
+        matches!(self, Self::SequenceWithMemory | Self::FallbackWithMemory)
+    }
+
+    /// One of the kinds of `kinds.rs`, which keep a finished child's status exactly when
+    /// BehaviorTree.CPP does.
+    #[inline]
+    fn mirrors_btcpp(self) -> bool {
+        (self as u8) >= (Self::SequenceStar as u8)
     }
 
     /// For an ordered kind: the status after which it ticks the next child.
@@ -135,7 +201,8 @@ struct Frame {
 }
 
 /// What a Parallel or a counting decorator needs beyond its [`Frame`], kept at the
-/// same depth in a side stack so that frames stay small.
+/// same depth in a side stack so that frames stay small. The kinds of `kinds.rs` use
+/// the fields as they say there.
 #[derive(Clone, Copy, Debug, Default)]
 struct Extra {
     /// Parallel: children that succeeded. Repeat/Retry/Timeout: `n`.
@@ -148,6 +215,12 @@ struct Extra {
     success: u16,
     /// Parallel: failure threshold.
     failure: u16,
+    /// Parallel: children that returned Skipped in this tick.
+    skipped: u16,
+    /// Parallel: skipped children count towards `success`.
+    count_skipped: bool,
+    /// `RepeatCycles`, `RetryUntilSuccessful`: the child was Idle when ticked.
+    child_was_idle: bool,
 }
 
 /// Ticks one validated tree against a behavior set.
@@ -161,6 +234,10 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     stack: Stack<DEPTH>,
     /// No `Parallel` or `Timeout` in the tree: see [`Run::still_running`].
     still_running: bool,
+    /// The tree has a `TimeLimit` or `Delay`: see [`Run::timers`].
+    timers: bool,
+    /// A node asked to be ticked again at once: see [`Executor::woken`].
+    woken: bool,
 }
 
 #[derive(Debug)]
@@ -182,9 +259,40 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         }
         state.fill(NodeState::IDLE);
         let stack = Stack { frames: [Frame::default(); DEPTH], extra: [Extra::default(); DEPTH], halt: [0; DEPTH] };
-        let still_running =
-            !tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::Parallel { .. } | NodeKind::Timeout(_)));
-        Ok(Self { tree, state, stack, still_running })
+        let still_running = !tree.nodes().iter().any(|n| {
+            matches!(
+                n.kind(),
+                NodeKind::Parallel { .. }
+                    | NodeKind::Timeout(_)
+                    | NodeKind::ParallelAll { .. }
+                    | NodeKind::PipelineSequence
+            )
+        });
+        let timers = tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_)));
+        Ok(Self { tree, state, stack, still_running, timers, woken: false })
+    }
+
+    /// True when a node asked to be ticked again at once since [`Executor::take_woken`]
+    /// last cleared it: BehaviorTree.CPP's wake-up signal. A `SequenceStar`,
+    /// `RepeatCycles` or `RetryUntilSuccessful` asks when it returns Running after a
+    /// child that finished at once; a `TimeLimit` that expires and a `Delay` that ends
+    /// ask too. BehaviorTree.CPP's `tickOnce()` ticks again while the root is Running
+    /// and the signal is set; [`Executor::tick`] is its `tickExactlyOnce()`:
+    ///
+    /// ```ignore
+    /// let mut status = exec.tick(&mut world, now)?;
+    /// while status == Status::Running && exec.take_woken() {
+    ///     status = exec.tick(&mut world, now)?;
+    /// }
+    /// ```
+    #[must_use]
+    pub fn woken(&self) -> bool {
+        self.woken
+    }
+
+    /// Returns [`Executor::woken`] and clears it.
+    pub fn take_woken(&mut self) -> bool {
+        core::mem::take(&mut self.woken)
     }
 
     /// The tree being ticked.
@@ -233,8 +341,19 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             None => return Err(oob(nodes.len())),
         };
         let values = self.tree.values();
-        let mut run =
-            Run { nodes, values, state, halt_stack: halt, behaviors, observer, still_running: self.still_running };
+        let mut run = Run {
+            nodes,
+            values,
+            state,
+            halt_stack: halt,
+            behaviors,
+            observer,
+            still_running: self.still_running,
+            woken: &mut self.woken,
+        };
+        if self.timers {
+            run.cold().timers(now);
+        }
         let result = run.tick(frames, extra, now);
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
@@ -258,6 +377,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             behaviors,
             observer,
             still_running: self.still_running,
+            woken: &mut self.woken,
         };
         run.reset(0, Scan::All);
     }
@@ -285,9 +405,12 @@ struct Run<'r, B, O, const DEPTH: usize> {
     /// An action that was Running and runs on ends the tick: every ancestor was Running
     /// at the child on the path to it and stays so, with nothing to reset (an ancestor's
     /// later children were reset when it last returned there). True when the tree has
-    /// no `Parallel`, which goes on to tick other children, and no `Timeout`, which
-    /// counts the tick; the other decorators return Running unchanged.
+    /// no `Parallel`, `ParallelAll` or `PipelineSequence`, which go on to tick other
+    /// children, and no `Timeout`, which counts the tick; the other decorators return
+    /// Running unchanged, and the clocked ones decide on the way down.
     still_running: bool,
+    /// Set when a node asks to be ticked again at once.
+    woken: &'r mut bool,
 }
 
 const fn oob(node: usize) -> TickError {
@@ -308,6 +431,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             behaviors: &mut *self.behaviors,
             observer: &mut *self.observer,
             still_running: self.still_running,
+            woken: &mut *self.woken,
         }
     }
 
@@ -337,7 +461,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     fn set_state(&mut self, i: usize, new: NodeStatus, aux: u16) {
         if let Some(s) = self.state.get_mut(i) {
             let old = s.status;
-            *s = NodeState { status: new, aux, zero: 0 };
+            *s = NodeState { status: new, aux, ext: 0 };
             if O::ENABLED && old != new {
                 self.observer.on_change(i as NodeId, old, new);
             }
@@ -364,11 +488,42 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         self.set_state(i, NodeStatus::Idle, 0);
     }
 
+    /// Control node or decorator `i` is reset: Idle, and its memory cleared, except
+    /// what BehaviorTree.CPP keeps through a reset: a `SequenceStar`'s place and a
+    /// `RunOnce`'s result always, a `RoundRobin`'s and a `Recovery`'s counters unless it
+    /// is halted while Running.
+    fn set_idle_halted(&mut self, i: usize) {
+        let keep = match self.nodes.get(i).map(Node::kind) {
+            Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. }) => true,
+            Some(NodeKind::RoundRobin | NodeKind::Recovery { .. }) => self.status(i) != NodeStatus::Running,
+            _ => false,
+        };
+        if keep { self.set_status(i, NodeStatus::Idle) } else { self.set_idle(i) }
+    }
+
     #[inline(always)]
     fn set_aux(&mut self, i: usize, aux: u16) {
         if let Some(s) = self.state.get_mut(i) {
             s.aux = aux;
         }
+    }
+
+    /// Sets `aux` and `ext`, leaving the status as it is.
+    #[inline]
+    fn set_memory(&mut self, i: usize, aux: u16, ext: u8) {
+        if let Some(s) = self.state.get_mut(i) {
+            s.aux = aux;
+            s.ext = ext;
+        }
+    }
+
+    /// Control node or decorator `i` returns `r`. One that returns Skipped stays
+    /// Running, as BehaviorTree.CPP leaves it: it marked itself Running before it ticked
+    /// its children.
+    #[inline]
+    fn set_returned(&mut self, i: usize, r: Status) {
+        let new = if r == Status::Skipped { NodeStatus::Running } else { r.into() };
+        self.set_status(i, new);
     }
 
     #[inline(always)]
@@ -498,9 +653,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             k += 1;
                             continue;
                         }
+                        c = frames.get(depth).map_or(0, |f| usize::from(f.node));
+                        if r == Status::Skipped {
+                            // A leaf that skipped: the node goes on as after `go_on`.
+                            if k + 1 < end {
+                                k += 1;
+                                continue;
+                            }
+                            let r = self.cold().finish_skipped(c, end, k, go_on, false)?;
+                            break 'ordered (r, end);
+                        }
                         // Returns at child `k`: reset the children it reached last
                         // time beyond `k`.
-                        c = frames.get(depth).map_or(0, |f| usize::from(f.node));
                         self.finish_ordered(c, end, k, k + 1, r)?;
                         // Its parent goes on to the next child, a reactive Sequence or
                         // Fallback: ticked by this loop at once (the way back would
@@ -525,6 +689,10 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     }
                 }
                 kind => 'enter: {
+                    // Whether the parent keeps a finished child's status as
+                    // BehaviorTree.CPP does (see `fresh`).
+                    let parent_mirrors =
+                        depth.checked_sub(1).and_then(|d| frames.get(d)).is_some_and(|f| f.kind.mirrors_btcpp());
                     let Some(slot) = frames.get_mut(depth) else {
                         return Err(oob(c));
                     };
@@ -541,7 +709,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let Some(x) = extra.get_mut(depth) else {
                         return Err(oob(c));
                     };
-                    let first = match self.cold().enter_other(kind, st, slot, x)? {
+                    let first = match self.cold().enter_other(kind, st, slot, x, parent_mirrors, now)? {
                         Entered::Child(first) => first,
                         Entered::Decided(v) => {
                             self.set_status(c, v.into());
@@ -563,11 +731,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 if f.kind == FrameKind::Last {
                     // Its subtree ends where its last child's does.
                     let node = usize::from(f.node);
-                    self.set_state(node, r.into(), c as u16);
+                    if r == Status::Skipped {
+                        r = self.cold().last_skipped(node, c)?;
+                    } else {
+                        self.set_state(node, r.into(), c as u16);
+                    }
                     c = node;
                     depth = top;
                     continue;
                 }
+                let f = *f;
                 let more = child_end < usize::from(f.end);
                 if f.kind.is_ordered() {
                     // Sequence goes on after Success, Fallback after Failure.
@@ -575,18 +748,29 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         c = child_end;
                         continue 'descend;
                     }
-                    let f = *f;
-                    self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
+                    if r == Status::Skipped {
+                        match self.cold().ordered_skipped(&f, c, child_end)? {
+                            Ascent::Tick(next) => {
+                                c = next;
+                                continue 'descend;
+                            }
+                            Ascent::Return(v) => r = v,
+                        }
+                    } else {
+                        if f.kind.is_memory() && r != Status::Running {
+                            self.cold().reset_running(usize::from(f.node) + 1, c);
+                        }
+                        self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
+                    }
                 } else {
-                    let f = *f;
-                    match self.cold().ascend_other(&f, extra, top, c, child_end, r)? {
+                    match self.cold().ascend_other(frames, extra, top, c, child_end, r, now)? {
                         Ascent::Tick(next) => {
                             c = next;
                             continue 'descend;
                         }
                         Ascent::Return(v) => r = v,
                     }
-                    self.set_status(usize::from(f.node), r.into());
+                    self.set_returned(usize::from(f.node), r);
                 }
                 // The frame's node returns `r` to the frame below.
                 c = usize::from(f.node);
@@ -607,6 +791,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         st: NodeState,
         frame: &mut Frame,
         x: &mut Extra,
+        parent_mirrors: bool,
+        now: u32,
     ) -> Result<Entered, TickError> {
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
@@ -621,9 +807,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 // Resume at the child that was Running.
                 return Ok(Entered::Child(if running { usize::from(st.aux) } else { idx + 1 }));
             }
-            NodeKind::Parallel { success_threshold, failure_threshold } => {
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
                 frame.kind = FrameKind::Parallel;
-                *x = Extra { ok: 0, failed: 0, children: 0, success: success_threshold, failure: failure_threshold };
+                *x = Extra {
+                    ok: 0,
+                    failed: 0,
+                    children: 0,
+                    success: success_threshold,
+                    failure: failure_threshold,
+                    skipped: 0,
+                    count_skipped,
+                    child_was_idle: false,
+                };
                 let mut c = idx + 1;
                 while c < end {
                     x.children = x.children.saturating_add(1);
@@ -656,6 +851,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             NodeKind::Sequence | NodeKind::Fallback | NodeKind::Condition(_) | NodeKind::Action(_) => {
                 return Err(oob(idx));
             }
+            _ => return self.enter_btcpp(kind, st, frame, x, parent_mirrors, now),
         }
         Ok(Entered::Child(idx + 1))
     }
@@ -664,24 +860,31 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// or Fallback: tick another child, or return.
     #[cold]
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn ascend_other(
         &mut self,
-        top: &Frame,
+        frames: &mut [Frame; DEPTH],
         extra: &mut [Extra; DEPTH],
         depth: usize,
         c: usize,
         child_end: usize,
         r: Status,
+        now: u32,
     ) -> Result<Ascent, TickError> {
-        let Some(x) = extra.get_mut(depth) else {
+        let (Some(top), Some(x)) = (frames.get_mut(depth), extra.get_mut(depth)) else {
             return Err(oob(c));
         };
+        if top.kind.mirrors_btcpp() {
+            return self.ascend_btcpp(top, x, c, child_end, r, now);
+        }
+        let top = *top;
         let node = usize::from(top.node);
         Ok(Ascent::Return(match top.kind {
             FrameKind::Parallel => {
                 match r {
                     Status::Success => x.ok = x.ok.saturating_add(1),
                     Status::Failure => x.failed = x.failed.saturating_add(1),
+                    Status::Skipped => x.skipped = x.skipped.saturating_add(1),
                     Status::Running => {}
                 }
                 let step = match parallel_verdict(x) {
@@ -690,6 +893,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 };
                 match step {
                     ParStep::Tick(next) => return Ok(Ascent::Tick(next)),
+                    ParStep::Done(Status::Running, _) if x.skipped == x.children => Status::Skipped,
                     ParStep::Done(v, reached) => {
                         if v != Status::Running {
                             self.finish_parallel(node, usize::from(top.end), reached)?;
@@ -701,7 +905,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             FrameKind::Inverter => match r {
                 Status::Success => Status::Failure,
                 Status::Failure => Status::Success,
-                Status::Running => Status::Running,
+                Status::Running | Status::Skipped => r,
             },
             FrameKind::ForceSuccess if r == Status::Failure => Status::Success,
             FrameKind::ForceFailure if r == Status::Success => Status::Failure,
@@ -770,6 +974,80 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             c = after;
         }
         Ok(())
+    }
+
+    /// Reactive or memory Sequence/Fallback `node` (subtree ending at `end`) got
+    /// Skipped from its last child `child`: it returns `go_on`, or Skipped when no child
+    /// returned `go_on` in this activation (children that skipped are Idle or Running).
+    /// A node that returns Skipped stays Running, resuming at its first child.
+    #[cold]
+    #[inline(never)]
+    fn finish_skipped(
+        &mut self,
+        node: usize,
+        end: usize,
+        child: usize,
+        go_on: Status,
+        memory: bool,
+    ) -> Result<Status, TickError> {
+        let any = self.any_child(node, end, go_on.into())?;
+        if memory {
+            // Finished: BehaviorTree.CPP resets all children, here those still Running.
+            self.reset_running(node + 1, end);
+        }
+        if any {
+            self.set_state(node, go_on.into(), child as u16);
+            Ok(go_on)
+        } else {
+            self.set_state(node, NodeStatus::Running, if memory { node as u16 + 1 } else { child as u16 });
+            Ok(Status::Skipped)
+        }
+    }
+
+    /// A reactive Sequence or Fallback ticking its last child `child` (a
+    /// [`FrameKind::Last`] frame) got Skipped from it.
+    #[cold]
+    #[inline(never)]
+    fn last_skipped(&mut self, node: usize, child: usize) -> Result<Status, TickError> {
+        // BehaviorTree.CPP halts a reactive node's child that skipped.
+        self.reset_subtree(child);
+        let go_on = match self.node(node)?.kind() {
+            NodeKind::Fallback => Status::Failure,
+            _ => Status::Success,
+        };
+        let end = self.end_of(node)?;
+        self.finish_skipped(node, end, child, go_on, false)
+    }
+
+    /// An ordered frame `f` got Skipped from child `c` (ending at `child_end`): go on
+    /// to the next child, or finish.
+    #[cold]
+    #[inline(never)]
+    fn ordered_skipped(&mut self, f: &Frame, c: usize, child_end: usize) -> Result<Ascent, TickError> {
+        let memory = f.kind.is_memory();
+        if !memory {
+            self.reset_subtree(c);
+        }
+        if child_end < usize::from(f.end) {
+            return Ok(Ascent::Tick(child_end));
+        }
+        let r = self.finish_skipped(usize::from(f.node), usize::from(f.end), c, f.kind.goes_on_after(), memory)?;
+        Ok(Ascent::Return(r))
+    }
+
+    /// Resets the siblings from `from` up to (not including) `to` that are Running: the
+    /// children that skipped before a SequenceWithMemory or FallbackWithMemory finishes.
+    #[cold]
+    #[inline(never)]
+    fn reset_running(&mut self, from: usize, to: usize) {
+        let mut c = from;
+        while c < to {
+            let Ok(after) = self.end_of(c) else { return };
+            if self.status(c) == NodeStatus::Running {
+                self.reset_subtree(c);
+            }
+            c = after;
+        }
     }
 
     /// The next child of a parallel to tick, from `from` on. Children that finished in
@@ -856,7 +1134,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 match self.end_of(a) {
                     Ok(a_end) if a_end <= i => {
                         top -= 1;
-                        self.set_idle(a);
+                        self.set_idle_halted(a);
                     }
                     _ => break,
                 }
@@ -883,7 +1161,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         top += 1;
                     }
                     // Deeper than DEPTH: impossible for a validated tree.
-                    None => self.set_idle(i),
+                    None => self.set_idle_halted(i),
                 },
             }
             i += 1;
@@ -915,7 +1193,7 @@ enum ParStep {
 /// Success or Failure once a parallel's thresholds decide, else `None`.
 #[inline]
 fn parallel_verdict(x: &Extra) -> Option<Status> {
-    if x.ok >= x.success {
+    if x.ok >= x.success || (x.count_skipped && x.ok.saturating_add(x.skipped) >= x.success) {
         Some(Status::Success)
     } else if x.failed >= x.failure || x.children.saturating_sub(x.failed) < x.success {
         Some(Status::Failure)
