@@ -26,12 +26,13 @@ impl Bytes<'_> {
 
 impl BehaviorSet for Bytes<'_> {
     fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
-        if self.next() % 2 == 0 { Status::Success } else { Status::Failure }
+        [Status::Success, Status::Failure, Status::Success, Status::Skipped][usize::from(self.next() % 4)]
     }
+    // Actions and gates: any status, Skipped included.
     fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         // Read every value, as a behavior would.
         self.1 += ctx.args(leaf).iter().map(|&v| usize::from(v) & 1).sum::<usize>();
-        [Status::Success, Status::Failure, Status::Running][usize::from(self.next() % 3)]
+        [Status::Success, Status::Failure, Status::Running, Status::Running, Status::Skipped][usize::from(self.next() % 5)]
     }
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
 }
@@ -61,8 +62,15 @@ fuzz_target!(|data: &[u8]| {
     let mut state = [NodeState::IDLE; 48];
     let mut exec = Executor::new(tree, &mut state).expect("state fits");
     let mut world = Bytes(data, 0);
-    for now in 0..4 {
-        let _ = exec.tick(&mut world, now);
+    // The clock moves by input bytes, so that clocked kinds expire; a woken tree is
+    // ticked again a few times, as BehaviorTree.CPP's tickOnce() would.
+    let mut now = 0u32;
+    for _ in 0..6 {
+        now = now.wrapping_add(u32::from(world.next()));
+        let mut again = 0;
+        while exec.tick(&mut world, now) == Ok(Status::Running) && exec.take_woken() && again < 4 {
+            again += 1;
+        }
     }
     exec.halt_all(&mut world);
 });

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Re-records the BehaviorTree.CPP fixtures of the differential test.
+#
+#   tests/btcpp/record.sh /path/to/BehaviorTree.CPP [--count N] [--seed S]
+#
+# Builds and installs BehaviorTree.CPP from the checkout given (Release, shared, without
+# Groot2/ZeroMQ, SQLite, tools, examples and tests) under $BTCPP_WORK (default
+# /tmp/btcpp-work), builds the harness (harness.cpp) against it, writes the random
+# cases (cargo run -p integration-tests --bin btcpp-cases) and the trees of
+# BehaviorTree.CPP's own tests (cases/*.spec), runs them, and replaces fixtures/*.txt
+# and fixtures/btlog/. With BTCPP_INSTALL set to an installed BehaviorTree.CPP, the
+# build is skipped. Needs cmake (pip install cmake), a C++17 compiler and cargo.
+set -euo pipefail
+
+here="$(cd "$(dirname "$0")" && pwd)"
+repo="$(cd "$here/../.." && pwd)"
+src="${1:?usage: record.sh /path/to/BehaviorTree.CPP [--count N] [--seed S]}"
+shift
+count=1000
+seed=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --count) count="$2"; shift 2 ;;
+    --seed) seed="$2"; shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+work="${BTCPP_WORK:-/tmp/btcpp-work}"
+jobs="${JOBS:-2}"
+mkdir -p "$work"
+
+echo "== BehaviorTree.CPP $(grep -m1 -o '<version>[^<]*' "$src/package.xml" | cut -c10-)"
+install="${BTCPP_INSTALL:-}"
+if [ -z "$install" ]; then
+  install="$work/install"
+  cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DBTCPP_SHARED_LIBS=ON \
+    -DBTCPP_BUILD_TOOLS=OFF -DBTCPP_EXAMPLES=OFF -DBUILD_TESTING=OFF \
+    -DBTCPP_GROOT_INTERFACE=OFF -DBTCPP_SQLITE_LOGGING=OFF \
+    -DCMAKE_INSTALL_PREFIX="$install" >/dev/null
+  cmake --build "$work/build" -j "$jobs" >/dev/null
+  cmake --install "$work/build" >/dev/null
+fi
+cmake -S "$here" -B "$work/harness" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$install" >/dev/null
+cmake --build "$work/harness" >/dev/null
+harness="$work/harness/harness"
+
+# The random cases: a few more than needed, since cases BehaviorTree.CPP runs away on
+# (a Repeat or Retry of -1 whose child never stops) are left out.
+(cd "$repo" && cargo build -q -p integration-tests --bin btcpp-cases)
+gen="$repo/target/debug/btcpp-cases"
+fixtures="$here/fixtures"
+mkdir -p "$fixtures/btlog"
+rm -f "$fixtures"/random-*.txt "$fixtures"/btlog/*.btlog
+tmp="$work/run"
+rm -rf "$tmp" && mkdir -p "$tmp"
+total=$((count + count / 10))
+chunk=100
+n=0
+for from in $(seq 0 $chunk $((total - 1))); do
+  # Every 10th case also writes its Groot2 log.
+  "$gen" "$seed" "$from" "$chunk" | awk -v dir="$fixtures/btlog" '
+    /^case / { name = $2 }
+    /^end$/ { if (substr(name, length(name)) == "0") print "btlog " dir "/" name ".btlog" }
+    { print }' > "$tmp/in-$from.txt"
+  ( "$harness" "$tmp/in-$from.txt" > "$tmp/out-$from.txt" ) &
+  n=$((n + 1))
+  if [ $((n % jobs)) -eq 0 ]; then wait; fi
+done
+wait
+# Keep `count` cases BehaviorTree.CPP ran to the end, 100 per file.
+for from in $(seq 0 $chunk $((total - 1))); do cat "$tmp/out-$from.txt"; done | awk -v count="$count" -v dir="$fixtures" -v logs="$fixtures/btlog" '
+  /^case / { buf = ""; bad = 0; name = $2 }
+  /^(error|runaway)/ { bad = 1 }
+  { buf = buf $0 "\n" }
+  /^end$/ {
+    if (bad) { system("rm -f " logs "/" name ".btlog"); next }
+    if (kept < count) {
+      file = sprintf("%s/random-%02d.txt", dir, int(kept / 100))
+      printf "%s", buf > file
+      kept++
+    } else { system("rm -f " logs "/" name ".btlog") }
+  }
+  END { printf "kept %d random cases\n", kept > "/dev/stderr" }'
+
+# The trees of BehaviorTree.CPP's own tests.
+for f in "$here"/cases/*.spec; do
+  "$gen" "$f" > "$tmp/$(basename "$f" .spec).in"
+  "$harness" "$tmp/$(basename "$f" .spec).in" > "$fixtures/$(basename "$f" .spec).txt"
+done
+du -sh "$fixtures"

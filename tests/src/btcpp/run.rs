@@ -1,0 +1,400 @@
+//! Our side of the differential test: the spec as a bt-core tree, run on the case's
+//! scripts, and compared with what BehaviorTree.CPP did.
+
+use std::fmt::Write as _;
+
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeStatus, Span, Status, Tree,
+};
+
+use super::case::{Case, Recorded, Tick};
+use super::spec::{Kind, Spec};
+
+/// Scripted leaves per kind in the fixtures' behavior set: condition `Ck` is behavior
+/// `k`, action `Ak` is behavior `LEAVES + k`, `k` the leaf's node id.
+pub const LEAVES: u16 = 64;
+
+/// The behavior set of the fixtures: `C0`..`C63`, then `A0`..`A63`.
+#[must_use]
+pub fn catalog() -> Vec<BehaviorInfo<'static>> {
+    let names: &'static [String] = Box::leak(
+        (0..LEAVES).map(|k| format!("C{k}")).chain((0..LEAVES).map(|k| format!("A{k}"))).collect::<Vec<_>>().into(),
+    );
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| if i < usize::from(LEAVES) { BehaviorInfo::condition(n, 0) } else { BehaviorInfo::action(n, 0) })
+        .collect()
+}
+
+/// BehaviorTree.CPP's count for `Repeat`/`RetryUntilSuccessful` as ours: `-1` is for
+/// ever, other negative counts are 0.
+fn cycles(n: i32) -> u16 {
+    match n {
+        -1 => NodeKind::FOREVER,
+        n if n < 0 => 0,
+        n => n.min(i32::from(u16::MAX - 1)) as u16,
+    }
+}
+
+/// A Parallel threshold as BehaviorTree.CPP resolves it against `children`.
+fn resolve(t: i32, children: usize) -> u16 {
+    let t = if t < 0 { (children as i32 + t + 1).max(0) } else { t };
+    t as u16
+}
+
+/// The bt-core kind for a spec node with `children` children.
+#[must_use]
+pub fn kind(spec: &Spec, id: usize) -> NodeKind {
+    let n = spec.children.len();
+    let span = |ms: u32| Span::new(ms).unwrap_or(Span::new(Span::MAX).unwrap_or_else(|| unreachable!()));
+    match spec.kind {
+        Kind::Sequence => NodeKind::SequenceWithMemory,
+        Kind::SequenceWithMemory => NodeKind::SequenceStar,
+        Kind::Fallback => NodeKind::FallbackWithMemory,
+        Kind::ReactiveSequence => NodeKind::Sequence,
+        Kind::ReactiveFallback => NodeKind::Fallback,
+        Kind::Parallel { success, failure } => NodeKind::Parallel {
+            success_threshold: resolve(success, n),
+            failure_threshold: resolve(failure, n),
+            count_skipped: success < 0,
+        },
+        Kind::ParallelAll { max_failures } => NodeKind::ParallelAll { max_failures: resolve(max_failures, n) },
+        Kind::IfThenElse => NodeKind::IfThenElse,
+        Kind::WhileDoElse => NodeKind::WhileDoElse,
+        Kind::Inverter => NodeKind::Inverter,
+        Kind::ForceSuccess => NodeKind::ForceSuccess,
+        Kind::ForceFailure => NodeKind::ForceFailure,
+        Kind::Repeat(c) => NodeKind::RepeatCycles(cycles(c)),
+        Kind::RetryUntilSuccessful(c) => NodeKind::RetryUntilSuccessful(cycles(c)),
+        Kind::KeepRunningUntilFailure => NodeKind::KeepRunningUntilFailure,
+        Kind::RunOnce { then_skip } => NodeKind::RunOnce { then_skip },
+        Kind::Timeout(ms) => NodeKind::TimeLimit(span(ms)),
+        Kind::Delay(ms) => NodeKind::Delay(span(ms)),
+        Kind::AlwaysSuccess => NodeKind::AlwaysSuccess,
+        Kind::AlwaysFailure => NodeKind::AlwaysFailure,
+        Kind::Condition => NodeKind::Condition(Leaf::new(id as u16)),
+        Kind::Action => NodeKind::Action(Leaf::new(LEAVES + id as u16)),
+    }
+}
+
+/// The spec as a bt-core node array.
+///
+/// # Errors
+/// A message when the builder refuses it.
+pub fn build(spec: &Spec) -> Result<Vec<Node>, String> {
+    let mut storage = vec![Node::EMPTY; spec.len()];
+    let mut b = Builder::<16>::new(&mut storage);
+    // Iterative pre-order with explicit closes.
+    enum Step<'a> {
+        Open(&'a Spec),
+        Close,
+    }
+    let mut stack = vec![Step::Open(spec)];
+    let mut id = 0usize;
+    while let Some(step) = stack.pop() {
+        match step {
+            Step::Close => {
+                b.end().map_err(|e| e.to_string())?;
+            }
+            Step::Open(s) => {
+                let k = kind(s, id);
+                id += 1;
+                if s.kind.is_leaf() {
+                    b.leaf(k).map_err(|e| e.to_string())?;
+                } else {
+                    b.open(k).map_err(|e| e.to_string())?;
+                    stack.push(Step::Close);
+                    stack.extend(s.children.iter().rev().map(Step::Open));
+                }
+            }
+        }
+    }
+    Ok(b.finish().map_err(|e| e.to_string())?.to_vec())
+}
+
+struct Scripted<'a> {
+    case: &'a Case,
+    calls: Vec<usize>,
+    events: Vec<String>,
+}
+
+impl Scripted<'_> {
+    fn next(&mut self, node: NodeId) -> Status {
+        let node = usize::from(node);
+        let Some(script) = self.case.scripts.iter().find(|s| s.node == node) else {
+            return Status::Failure;
+        };
+        let letters = script.statuses.as_bytes();
+        let k = self.calls[node];
+        self.calls[node] += 1;
+        match letters.get(k % letters.len().max(1)) {
+            Some(b'S') => Status::Success,
+            Some(b'F') => Status::Failure,
+            _ => Status::Running,
+        }
+    }
+}
+
+fn letter(s: Status) -> char {
+    match s {
+        Status::Success => 'S',
+        Status::Failure => 'F',
+        Status::Running => 'R',
+        Status::Skipped => 'K',
+    }
+}
+
+fn status_letter(s: NodeStatus) -> char {
+    match s {
+        NodeStatus::Idle => 'I',
+        NodeStatus::Success => 'S',
+        NodeStatus::Failure => 'F',
+        NodeStatus::Running => 'R',
+    }
+}
+
+impl BehaviorSet for Scripted<'_> {
+    fn condition(&mut self, _: &Leaf, ctx: Context) -> Status {
+        let s = self.next(ctx.node);
+        self.events.push(format!("{}{}", ctx.node, letter(s)));
+        s
+    }
+
+    fn action(&mut self, _: &Leaf, ctx: Context) -> Status {
+        let s = self.next(ctx.node);
+        let c = letter(s);
+        let c = if ctx.starting { c } else { c.to_ascii_lowercase() };
+        self.events.push(format!("{}{c}", ctx.node));
+        s
+    }
+
+    fn halt(&mut self, _: &Leaf, node: NodeId) {
+        self.events.push(format!("H{node}"));
+    }
+}
+
+/// Runs the case on our executor: one [`Tick`] per tick, in the harness's notation.
+///
+/// # Errors
+/// A message when the tree does not build or validate, or a tick fails.
+pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
+    let nodes = build(&case.spec)?;
+    let catalog = catalog();
+    let tree = Tree::<16>::validate(&nodes, catalog.as_slice()).map_err(|e| e.to_string())?;
+    let mut state = vec![bt_core::NodeState::IDLE; nodes.len()];
+    let mut exec = Executor::new(tree, &mut state).map_err(|e| e.to_string())?;
+    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![] };
+    let mut out = vec![];
+    for k in 0..case.ticks {
+        let now = if case.period_ms == 0 { k } else { k * case.period_ms };
+        let mut root = exec.tick(&mut world, now).map_err(|e| format!("tick {k}: {e}"))?;
+        if case.once {
+            // BehaviorTree.CPP's tickOnce(): again while Running and woken.
+            let mut again = 0;
+            while root == Status::Running && exec.take_woken() {
+                again += 1;
+                if again > 10_000 {
+                    return Err(format!("tick {k}: runaway"));
+                }
+                root = exec.tick(&mut world, now).map_err(|e| format!("tick {k}: {e}"))?;
+            }
+        }
+        let statuses = exec.states().iter().map(|s| status_letter(s.status())).collect();
+        out.push(Tick { root: letter(root), events: std::mem::take(&mut world.events), statuses });
+    }
+    Ok(out)
+}
+
+/// What a comparison found.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Comparison {
+    /// Ticks compared.
+    pub ticks: usize,
+    /// Halts that came earlier in our tick than in BehaviorTree.CPP's, before an action
+    /// started in place of the halted one (halt before start).
+    pub halts_moved_earlier: usize,
+    /// Set when halt before start halted a branch that BehaviorTree.CPP went on running
+    /// (the action that preempted it finished at once): the tick where it happened.
+    /// From there on the two runs differ by design and are not compared.
+    pub restarted_at: Option<usize>,
+    /// Ticks where the statuses after the tick, seen as BehaviorTree.CPP shows them
+    /// ([`btcpp_view`]), differ: only in finished statuses BehaviorTree.CPP leaves
+    /// behind under a node it has reset.
+    pub ticks_with_other_statuses: usize,
+}
+
+fn is_halt(e: &str) -> bool {
+    e.starts_with('H') || e.starts_with('h')
+}
+
+/// Our node statuses as BehaviorTree.CPP would show them: it resets a finished node's
+/// children to Idle, and a reactive node's or a decorator's children that are not
+/// Running; bt-core keeps what they returned. The kinds that stand for
+/// BehaviorTree.CPP-only nodes keep statuses exactly as it does.
+#[must_use]
+pub fn btcpp_view(spec: &Spec, ours: &str) -> String {
+    let nodes = spec.preorder();
+    let ours: Vec<char> = ours.chars().collect();
+    let mut view = vec!['I'; nodes.len()];
+    // (node, end) of the open ancestors.
+    let mut open: Vec<(usize, usize)> = vec![];
+    for (i, n) in nodes.iter().enumerate() {
+        while open.last().is_some_and(|&(_, end)| end <= i) {
+            open.pop();
+        }
+        let s = ours.get(i).copied().unwrap_or('I');
+        view[i] = match open.last() {
+            None => {
+                if s == 'R' {
+                    'R'
+                } else {
+                    'I'
+                }
+            }
+            Some(&(p, _)) => {
+                let pv = view[p];
+                match nodes[p].kind {
+                    Kind::ReactiveSequence
+                    | Kind::ReactiveFallback
+                    | Kind::Inverter
+                    | Kind::ForceSuccess
+                    | Kind::ForceFailure => {
+                        if pv == 'R' && s == 'R' {
+                            'R'
+                        } else {
+                            'I'
+                        }
+                    }
+                    Kind::Sequence | Kind::Fallback | Kind::Parallel { .. } => {
+                        if pv == 'R' {
+                            s
+                        } else {
+                            'I'
+                        }
+                    }
+                    _ => s,
+                }
+            }
+        };
+        open.push((i, i + n.len()));
+    }
+    view.into_iter().collect()
+}
+
+/// Compares our run with BehaviorTree.CPP's recording.
+///
+/// # Errors
+/// The first disagreement, with the tick and both sides.
+pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
+    let mut cmp = Comparison::default();
+    for (k, (want, got)) in rec.ticks.iter().zip(ours).enumerate() {
+        let fail = |what: &str| {
+            let mut m = format!("{}: tick {k}: {what}\n", rec.case.name);
+            let _ = writeln!(m, "  spec      {}", rec.case.spec);
+            let _ = writeln!(m, "  BT.CPP    {} | {} | {}", want.root, want.events.join(" "), want.statuses);
+            let _ = writeln!(m, "  bt-core   {} | {} | {}", got.root, got.events.join(" "), got.statuses);
+            let _ = writeln!(m, "  as BT.CPP shows it            {}", btcpp_view(&rec.case.spec, &got.statuses));
+            m
+        };
+        if want.events.iter().any(|e| e.starts_with('h')) {
+            return Err(fail("BehaviorTree.CPP halted an action that was not Running"));
+        }
+        // Walk both event lists. Where we halt and BehaviorTree.CPP does not, the halts
+        // must be followed by an action starting in both (halt before start); each such
+        // halt must come later in BehaviorTree.CPP's tick, or the run has diverged by
+        // design. Consecutive halts at the start of a tick (timers) may come in any order.
+        let mut theirs: Vec<&String> = want.events.iter().collect();
+        let mine: Vec<&String> = got.events.iter().collect();
+        let (mut i, mut j) = (0usize, 0usize);
+        if mine.first().is_some_and(|e| is_halt(e)) {
+            let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();
+            let (mut a, mut b) = (lead(&theirs), lead(&mine));
+            a.sort();
+            b.sort();
+            if a == b {
+                i = a.len();
+                j = b.len();
+            }
+        }
+        while j < mine.len() {
+            if i < theirs.len() && theirs[i] == mine[j] {
+                i += 1;
+                j += 1;
+                continue;
+            }
+            if !is_halt(mine[j]) {
+                return Err(fail("different events"));
+            }
+            let run_end = (j..mine.len()).find(|&t| !is_halt(mine[t])).unwrap_or(mine.len());
+            let start = mine.get(run_end);
+            let starts_action = start.is_some_and(|c| c.ends_with(['S', 'F', 'R']) && is_action(rec, c));
+            if !starts_action || theirs.get(i) != start {
+                return Err(fail("a halt that is not before a start"));
+            }
+            for h in &mine[j..run_end] {
+                match theirs[i..].iter().position(|e| e == h) {
+                    Some(p) => {
+                        theirs.remove(i + p);
+                        cmp.halts_moved_earlier += 1;
+                    }
+                    None => {
+                        cmp.restarted_at = Some(k);
+                        return Ok(cmp);
+                    }
+                }
+            }
+            j = run_end;
+        }
+        if i != theirs.len() {
+            return Err(fail("BehaviorTree.CPP did more"));
+        }
+        if want.root != got.root {
+            return Err(fail("root status differs"));
+        }
+        let running = |s: &str| s.chars().map(|c| c == 'R').collect::<Vec<_>>();
+        if running(&want.statuses) != running(&got.statuses) {
+            return Err(fail("different nodes Running after the tick"));
+        }
+        let view = btcpp_view(&rec.case.spec, &got.statuses);
+        if want.statuses != view {
+            // The only difference allowed: a finished status BehaviorTree.CPP left
+            // behind under a node it had reset (it resets a node, not its subtree),
+            // where bt-core's node is Idle.
+            let theirs: Vec<char> = want.statuses.chars().collect();
+            let parents = parents(&rec.case.spec);
+            for (n, (w, g)) in theirs.iter().zip(view.chars()).enumerate() {
+                let stale = g == 'I' && matches!(w, 'S' | 'F') && parents[n].is_some_and(|p| theirs[p] != 'R');
+                if w != &g && !stale {
+                    return Err(fail(&format!("node {n} shows {w} in BehaviorTree.CPP, {g} here")));
+                }
+            }
+            cmp.ticks_with_other_statuses += 1;
+        }
+        cmp.ticks += 1;
+    }
+    if rec.ticks.len() != ours.len() {
+        return Err(format!("{}: {} ticks recorded, {} run", rec.case.name, rec.ticks.len(), ours.len()));
+    }
+    Ok(cmp)
+}
+
+/// Each node's parent, pre-order.
+fn parents(spec: &Spec) -> Vec<Option<usize>> {
+    let nodes = spec.preorder();
+    let mut out = vec![None; nodes.len()];
+    let mut open: Vec<(usize, usize)> = vec![];
+    for (i, n) in nodes.iter().enumerate() {
+        while open.last().is_some_and(|&(_, end)| end <= i) {
+            open.pop();
+        }
+        out[i] = open.last().map(|&(p, _)| p);
+        open.push((i, i + n.len()));
+    }
+    out
+}
+
+fn is_action(rec: &Recorded, call: &str) -> bool {
+    let node: usize = call.trim_end_matches(|c: char| c.is_ascii_alphabetic()).parse().unwrap_or(usize::MAX);
+    rec.case.scripts.iter().any(|s| s.node == node && s.action)
+}

@@ -1,0 +1,344 @@
+//! The neutral tree spec: one line of text from which both BehaviorTree.CPP's XML and
+//! our node array are derived.
+//!
+//! ```text
+//! node     := kind [ "(" param { "," param } ")" ] [ "[" node { " " node } "]" ]
+//! ```
+//!
+//! Kinds carry BehaviorTree.CPP's names and parameters as BehaviorTree.CPP reads them
+//! (negative Parallel thresholds, `-1` for "forever"); `C` and `A` are a scripted
+//! condition and action, whose scripts the fixture gives per node.
+
+use std::fmt;
+
+/// A node kind of the spec, with BehaviorTree.CPP's parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `Sequence`: BehaviorTree.CPP's sequence that remembers its running child.
+    Sequence,
+    /// `SequenceWithMemory`: keeps its place after a failure.
+    SequenceWithMemory,
+    /// `Fallback`: remembers its running child.
+    Fallback,
+    /// `ReactiveSequence`.
+    ReactiveSequence,
+    /// `ReactiveFallback`.
+    ReactiveFallback,
+    /// `Parallel(success_count, failure_count)`, negative counts as BehaviorTree.CPP reads them.
+    Parallel { success: i32, failure: i32 },
+    /// `ParallelAll(max_failures)`.
+    ParallelAll { max_failures: i32 },
+    /// `IfThenElse`: 2 or 3 children.
+    IfThenElse,
+    /// `WhileDoElse`: 2 or 3 children.
+    WhileDoElse,
+    /// `Inverter`.
+    Inverter,
+    /// `ForceSuccess`.
+    ForceSuccess,
+    /// `ForceFailure`.
+    ForceFailure,
+    /// `Repeat(num_cycles)`, `-1` forever.
+    Repeat(i32),
+    /// `RetryUntilSuccessful(num_attempts)`, `-1` forever.
+    RetryUntilSuccessful(i32),
+    /// `KeepRunningUntilFailure`.
+    KeepRunningUntilFailure,
+    /// `RunOnce(then_skip)`.
+    RunOnce { then_skip: bool },
+    /// `Timeout(msec)`.
+    Timeout(u32),
+    /// `Delay(delay_msec)`.
+    Delay(u32),
+    /// `AlwaysSuccess` leaf.
+    AlwaysSuccess,
+    /// `AlwaysFailure` leaf.
+    AlwaysFailure,
+    /// `C`: a scripted condition.
+    Condition,
+    /// `A`: a scripted action.
+    Action,
+}
+
+impl Kind {
+    /// BehaviorTree.CPP's registration name (`C`/`A` for the scripted leaves).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sequence => "Sequence",
+            Self::SequenceWithMemory => "SequenceWithMemory",
+            Self::Fallback => "Fallback",
+            Self::ReactiveSequence => "ReactiveSequence",
+            Self::ReactiveFallback => "ReactiveFallback",
+            Self::Parallel { .. } => "Parallel",
+            Self::ParallelAll { .. } => "ParallelAll",
+            Self::IfThenElse => "IfThenElse",
+            Self::WhileDoElse => "WhileDoElse",
+            Self::Inverter => "Inverter",
+            Self::ForceSuccess => "ForceSuccess",
+            Self::ForceFailure => "ForceFailure",
+            Self::Repeat(_) => "Repeat",
+            Self::RetryUntilSuccessful(_) => "RetryUntilSuccessful",
+            Self::KeepRunningUntilFailure => "KeepRunningUntilFailure",
+            Self::RunOnce { .. } => "RunOnce",
+            Self::Timeout(_) => "Timeout",
+            Self::Delay(_) => "Delay",
+            Self::AlwaysSuccess => "AlwaysSuccess",
+            Self::AlwaysFailure => "AlwaysFailure",
+            Self::Condition => "C",
+            Self::Action => "A",
+        }
+    }
+
+    /// The parameters as `(XML attribute, value)` pairs.
+    #[must_use]
+    pub fn params(self) -> Vec<(&'static str, String)> {
+        match self {
+            Self::Parallel { success, failure } => {
+                vec![("success_count", success.to_string()), ("failure_count", failure.to_string())]
+            }
+            Self::ParallelAll { max_failures } => vec![("max_failures", max_failures.to_string())],
+            Self::Repeat(n) => vec![("num_cycles", n.to_string())],
+            Self::RetryUntilSuccessful(n) => vec![("num_attempts", n.to_string())],
+            Self::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
+            Self::Timeout(ms) => vec![("msec", ms.to_string())],
+            Self::Delay(ms) => vec![("delay_msec", ms.to_string())],
+            _ => vec![],
+        }
+    }
+
+    /// True for the kinds without children.
+    #[must_use]
+    pub fn is_leaf(self) -> bool {
+        matches!(self, Self::AlwaysSuccess | Self::AlwaysFailure | Self::Condition | Self::Action)
+    }
+
+    /// True for the kinds with exactly one child.
+    #[must_use]
+    pub fn is_decorator(self) -> bool {
+        matches!(
+            self,
+            Self::Inverter
+                | Self::ForceSuccess
+                | Self::ForceFailure
+                | Self::Repeat(_)
+                | Self::RetryUntilSuccessful(_)
+                | Self::KeepRunningUntilFailure
+                | Self::RunOnce { .. }
+                | Self::Timeout(_)
+                | Self::Delay(_)
+        )
+    }
+
+    /// True for the kinds whose behavior depends on the clock.
+    #[must_use]
+    pub fn is_timed(self) -> bool {
+        matches!(self, Self::Timeout(_) | Self::Delay(_))
+    }
+}
+
+/// A tree of the spec.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Spec {
+    /// What the root is.
+    pub kind: Kind,
+    /// Its children, in order.
+    pub children: Vec<Spec>,
+}
+
+impl Spec {
+    /// A node with children.
+    #[must_use]
+    pub fn new(kind: Kind, children: Vec<Spec>) -> Self {
+        Self { kind, children }
+    }
+
+    /// A leaf.
+    #[must_use]
+    pub fn leaf(kind: Kind) -> Self {
+        Self { kind, children: vec![] }
+    }
+
+    /// The nodes in pre-order (the node ids both sides use).
+    #[must_use]
+    pub fn preorder(&self) -> Vec<&Spec> {
+        let mut out = vec![];
+        let mut stack = vec![self];
+        while let Some(n) = stack.pop() {
+            out.push(n);
+            stack.extend(n.children.iter().rev());
+        }
+        out
+    }
+
+    /// Number of nodes.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.preorder().len()
+    }
+
+    /// Never true: a spec has a root.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Levels from the root to the deepest leaf, both included.
+    #[must_use]
+    pub fn depth(&self) -> usize {
+        1 + self.children.iter().map(Spec::depth).max().unwrap_or(0)
+    }
+
+    /// BehaviorTree.CPP v4 XML on one line; scripted leaves are `<C7/>` and `<A9/>`
+    /// after their pre-order node id.
+    #[must_use]
+    pub fn to_xml(&self) -> String {
+        let mut out = String::from(r#"<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">"#);
+        let mut next = 0usize;
+        write_xml(self, &mut next, &mut out);
+        out.push_str("</BehaviorTree></root>");
+        out
+    }
+
+    /// Parses the text form.
+    ///
+    /// # Errors
+    /// A message naming the byte offset of the fault.
+    pub fn parse(text: &str) -> Result<Spec, String> {
+        let mut p = Parser { s: text.as_bytes(), at: 0 };
+        let spec = p.node()?;
+        if p.at != p.s.len() {
+            return Err(format!("unexpected text at byte {}", p.at));
+        }
+        Ok(spec)
+    }
+}
+
+fn write_xml(spec: &Spec, next: &mut usize, out: &mut String) {
+    let id = *next;
+    *next += 1;
+    let name = match spec.kind {
+        Kind::Condition => format!("C{id}"),
+        Kind::Action => format!("A{id}"),
+        k => k.name().to_string(),
+    };
+    out.push('<');
+    out.push_str(&name);
+    for (attr, value) in spec.kind.params() {
+        out.push_str(&format!(r#" {attr}="{value}""#));
+    }
+    if spec.children.is_empty() {
+        out.push_str("/>");
+        return;
+    }
+    out.push('>');
+    for c in &spec.children {
+        write_xml(c, next, out);
+    }
+    out.push_str(&format!("</{name}>"));
+}
+
+impl fmt::Display for Spec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.kind.name())?;
+        let params = self.kind.params();
+        if !params.is_empty() {
+            let values: Vec<_> = params.into_iter().map(|(_, v)| v).collect();
+            write!(f, "({})", values.join(","))?;
+        }
+        if !self.children.is_empty() {
+            f.write_str("[")?;
+            for (i, c) in self.children.iter().enumerate() {
+                if i > 0 {
+                    f.write_str(" ")?;
+                }
+                write!(f, "{c}")?;
+            }
+            f.write_str("]")?;
+        }
+        Ok(())
+    }
+}
+
+struct Parser<'a> {
+    s: &'a [u8],
+    at: usize,
+}
+
+impl Parser<'_> {
+    fn peek(&self) -> Option<u8> {
+        self.s.get(self.at).copied()
+    }
+
+    fn word(&mut self) -> &str {
+        let start = self.at;
+        while self.peek().is_some_and(|c| c.is_ascii_alphanumeric() || c == b'-' || c == b'_') {
+            self.at += 1;
+        }
+        std::str::from_utf8(&self.s[start..self.at]).unwrap_or("")
+    }
+
+    fn node(&mut self) -> Result<Spec, String> {
+        let at = self.at;
+        let name = self.word().to_string();
+        let mut params = vec![];
+        if self.peek() == Some(b'(') {
+            self.at += 1;
+            loop {
+                params.push(self.word().to_string());
+                match self.peek() {
+                    Some(b',') => self.at += 1,
+                    Some(b')') => {
+                        self.at += 1;
+                        break;
+                    }
+                    _ => return Err(format!("expected , or ) at byte {}", self.at)),
+                }
+            }
+        }
+        let int = |i: usize| -> Result<i32, String> {
+            params.get(i).and_then(|p| p.parse().ok()).ok_or(format!("bad parameter {i} of {name} at byte {at}"))
+        };
+        let kind = match name.as_str() {
+            "Sequence" => Kind::Sequence,
+            "SequenceWithMemory" => Kind::SequenceWithMemory,
+            "Fallback" => Kind::Fallback,
+            "ReactiveSequence" => Kind::ReactiveSequence,
+            "ReactiveFallback" => Kind::ReactiveFallback,
+            "Parallel" => Kind::Parallel { success: int(0)?, failure: int(1)? },
+            "ParallelAll" => Kind::ParallelAll { max_failures: int(0)? },
+            "IfThenElse" => Kind::IfThenElse,
+            "WhileDoElse" => Kind::WhileDoElse,
+            "Inverter" => Kind::Inverter,
+            "ForceSuccess" => Kind::ForceSuccess,
+            "ForceFailure" => Kind::ForceFailure,
+            "Repeat" => Kind::Repeat(int(0)?),
+            "RetryUntilSuccessful" => Kind::RetryUntilSuccessful(int(0)?),
+            "KeepRunningUntilFailure" => Kind::KeepRunningUntilFailure,
+            "RunOnce" => Kind::RunOnce { then_skip: params.first().is_some_and(|p| p == "true") },
+            "Timeout" => Kind::Timeout(int(0)? as u32),
+            "Delay" => Kind::Delay(int(0)? as u32),
+            "AlwaysSuccess" => Kind::AlwaysSuccess,
+            "AlwaysFailure" => Kind::AlwaysFailure,
+            "C" => Kind::Condition,
+            "A" => Kind::Action,
+            _ => return Err(format!("unknown kind `{name}` at byte {at}")),
+        };
+        let mut children = vec![];
+        if self.peek() == Some(b'[') {
+            self.at += 1;
+            loop {
+                children.push(self.node()?);
+                match self.peek() {
+                    Some(b' ') => self.at += 1,
+                    Some(b']') => {
+                        self.at += 1;
+                        break;
+                    }
+                    _ => return Err(format!("expected a space or ] at byte {}", self.at)),
+                }
+            }
+        }
+        Ok(Spec { kind, children })
+    }
+}
