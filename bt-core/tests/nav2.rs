@@ -210,10 +210,10 @@ struct GateWorld {
 }
 
 impl bt_core::BehaviorSet for GateWorld {
-    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         self.inner.condition(leaf, ctx)
     }
-    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context) -> Status {
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
         if leaf.behavior() == act(9) {
             self.asked.push(ctx.starting);
             return if self.open { S } else { self.closed };

@@ -265,6 +265,11 @@ impl<'a> Reference<'a> {
         self.st[i].status
     }
 
+    fn runs_an_action(&self, i: usize) -> bool {
+        (matches!(self.nodes[i].kind(), NodeKind::Action(_)) && self.status(i) == NodeStatus::Running)
+            || self.kids(i).into_iter().any(|c| self.runs_an_action(c))
+    }
+
     fn tick_root(&mut self, script: &[u8], now: u32) -> Status {
         self.script = script.to_vec();
         self.now = now;
@@ -357,9 +362,12 @@ impl<'a> Reference<'a> {
             }
             NodeKind::Action(_) => {
                 if !running {
-                    // Rule 4: halt before start, innermost first.
+                    // Rule 4: halt before start, innermost first, the branches where an
+                    // action runs.
                     for p in self.preempted.clone().into_iter().rev().flatten() {
-                        self.halt(p);
+                        if self.runs_an_action(p) {
+                            self.halt(p);
+                        }
                     }
                 }
                 self.log.push(Ev::Tick { node: i, starting: !running });
@@ -420,23 +428,26 @@ impl<'a> Reference<'a> {
                 result
             }
             NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+                // Counts are totals of the activation; the verdict is checked after each
+                // child, ticked or passed over.
                 let kids = self.kids(i);
                 let n = kids.len() as u16;
-                let (mut ok, mut failed, mut skipped) = (0u16, 0u16, 0u16);
+                let finished = |me: &Self, c: usize, s: NodeStatus| running && me.st[c].status == s;
+                let mut ok = kids.iter().filter(|&&c| finished(self, c, NodeStatus::Success)).count() as u16;
+                let mut failed = kids.iter().filter(|&&c| finished(self, c, NodeStatus::Failure)).count() as u16;
+                let mut skipped = 0u16;
                 let mut verdict = None;
                 let mut reached = kids.len();
                 for (k, &c) in kids.iter().enumerate() {
-                    let prior = self.st[c].status;
-                    let s = match prior {
-                        NodeStatus::Success if running => Status::Success,
-                        NodeStatus::Failure if running => Status::Failure,
-                        _ => self.tick(c, false),
-                    };
-                    match s {
-                        Status::Success => ok += 1,
-                        Status::Failure => failed += 1,
-                        Status::Skipped => skipped += 1,
-                        Status::Running => {}
+                    let done =
+                        finished(self, c, NodeStatus::Success) || finished(self, c, NodeStatus::Failure);
+                    if !done {
+                        match self.tick(c, false) {
+                            Status::Success => ok += 1,
+                            Status::Failure => failed += 1,
+                            Status::Skipped => skipped += 1,
+                            Status::Running => {}
+                        }
                     }
                     if ok >= success_threshold || (count_skipped && ok + skipped >= success_threshold) {
                         verdict = Some(Status::Success);

@@ -13,8 +13,9 @@
 //!    Idle at their root are left as they are).
 //! 4. Halt before start: before an action *starts* (it was not Running), every Running
 //!    branch that it preempts — a later child of a reactive ancestor that was Running on
-//!    the previous tick — is halted. If the tick returns to the old branch without
-//!    starting an action, the old branch keeps running and is never halted.
+//!    the previous tick, with an action Running in it — is halted. If the tick returns to
+//!    the old branch without starting an action, the old branch keeps running and is
+//!    never halted.
 //! 5. When the root returns Success or Failure, the next tick starts a new activation:
 //!    memory, counters and parallel results are only kept for nodes that are Running.
 //! 6. With-memory nodes resume at the child that was Running. `Parallel` does not re-tick
@@ -819,20 +820,26 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     count_skipped,
                     child_was_idle: false,
                 };
+                // As BehaviorTree.CPP, the counts are totals of the activation: the
+                // children that finished on earlier ticks count from the start.
                 let mut c = idx + 1;
                 while c < end {
                     x.children = x.children.saturating_add(1);
+                    if running {
+                        match self.status(c) {
+                            NodeStatus::Success => x.ok = x.ok.saturating_add(1),
+                            NodeStatus::Failure => x.failed = x.failed.saturating_add(1),
+                            _ => {}
+                        }
+                    }
                     c = self.end_of(c)?;
                 }
-                return match self.parallel_step(x, idx + 1, end, running)? {
-                    ParStep::Tick(c) => Ok(Entered::Child(c)),
-                    ParStep::Done(v, reached) => {
-                        // Children that finished earlier in this activation reach a
-                        // threshold on their own; or (impossible: a Running parallel has a
-                        // Running child) every child finished without a verdict.
-                        let v = if v == Status::Running { Status::Failure } else { v };
-                        self.finish_parallel(idx, end, reached)?;
-                        Ok(Entered::Decided(v))
+                return match self.parallel_step(idx + 1, end, running)? {
+                    Some(c) => Ok(Entered::Child(c)),
+                    // Impossible: a Running parallel has a child that has not finished.
+                    None => {
+                        self.finish_parallel(idx, end, end)?;
+                        Ok(Entered::Decided(Status::Failure))
                     }
                 };
             }
@@ -887,18 +894,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     Status::Skipped => x.skipped = x.skipped.saturating_add(1),
                     Status::Running => {}
                 }
-                let step = match parallel_verdict(x) {
-                    Some(v) => ParStep::Done(v, child_end),
-                    None => self.parallel_step(x, child_end, usize::from(top.end), top.running)?,
-                };
-                match step {
-                    ParStep::Tick(next) => return Ok(Ascent::Tick(next)),
-                    ParStep::Done(Status::Running, _) if x.skipped == x.children => Status::Skipped,
-                    ParStep::Done(v, reached) => {
-                        if v != Status::Running {
-                            self.finish_parallel(node, usize::from(top.end), reached)?;
-                        }
-                        v
+                if let Some(v) = parallel_verdict(x) {
+                    self.finish_parallel(node, usize::from(top.end), child_end)?;
+                    v
+                } else {
+                    match self.parallel_step(child_end, usize::from(top.end), top.running)? {
+                        Some(next) => return Ok(Ascent::Tick(next)),
+                        None if x.skipped == x.children => Status::Skipped,
+                        None => Status::Running,
                     }
                 }
             }
@@ -1050,28 +1053,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
-    /// The next child of a parallel to tick, from `from` on. Children that finished in
-    /// the current activation (the parallel was Running) are counted, not ticked, and
-    /// may reach a threshold on their own: then the verdict and where counting stopped.
-    /// Past the last child without a verdict: Running.
-    fn parallel_step(&mut self, x: &mut Extra, from: usize, end: usize, running: bool) -> Result<ParStep, TickError> {
+    /// The next child of a parallel to tick, from `from` on: children that finished in
+    /// the current activation (the parallel was Running) are passed over, their results
+    /// already in the counts. `None` past the last child.
+    fn parallel_step(&self, from: usize, end: usize, running: bool) -> Result<Option<usize>, TickError> {
         let mut c = from;
         while c < end {
-            if !running {
-                return Ok(ParStep::Tick(c));
+            if !running || !matches!(self.status(c), NodeStatus::Success | NodeStatus::Failure) {
+                return Ok(Some(c));
             }
-            match self.status(c) {
-                NodeStatus::Success => x.ok = x.ok.saturating_add(1),
-                NodeStatus::Failure => x.failed = x.failed.saturating_add(1),
-                NodeStatus::Running | NodeStatus::Idle => return Ok(ParStep::Tick(c)),
-            }
-            let after = self.end_of(c)?;
-            if let Some(v) = parallel_verdict(x) {
-                return Ok(ParStep::Done(v, after));
-            }
-            c = after;
+            c = self.end_of(c)?;
         }
-        Ok(ParStep::Done(Status::Running, end))
+        Ok(None)
     }
 
     /// Parallel `node` decided: halt its Running children and reset those from
@@ -1105,12 +1098,21 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 && st.status == NodeStatus::Running
             {
                 let old = usize::from(st.aux);
-                if old > current {
+                if old > current && self.runs_an_action(old) {
                     self.reset_subtree(old);
                 }
             }
             current = usize::from(f.node);
         }
+    }
+
+    /// Whether an action is Running in the subtree of `root`: a branch without one (a
+    /// `Delay` waiting, a `RepeatCycles` between cycles) preempts nothing.
+    fn runs_an_action(&self, root: usize) -> bool {
+        let Ok(end) = self.end_of(root) else { return false };
+        (root..end).any(|i| {
+            self.status(i) == NodeStatus::Running && matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Action(_)))
+        })
     }
 
     /// Halts the Running actions under `root` (post-order) and resets the subtree to
@@ -1181,13 +1183,6 @@ enum Ascent {
     Tick(usize),
     /// The frame's node returns this.
     Return(Status),
-}
-
-enum ParStep {
-    /// Tick this child next.
-    Tick(usize),
-    /// The parallel returns this; children from the index on were not reached.
-    Done(Status, usize),
 }
 
 /// Success or Failure once a parallel's thresholds decide, else `None`.
