@@ -159,6 +159,15 @@ pub enum LoadError {
         /// What the behavior set declares it to be.
         declared: LeafKind,
     },
+    /// A node kind this build of bt-core leaves out (the kinds for BehaviorTree.CPP's
+    /// and Nav2's nodes, without the `btcpp` feature).
+    #[error("node {node} is a {kind}, which this build does not run (bt-core without the `btcpp` feature)")]
+    UnsupportedKind {
+        /// Index of the node.
+        node: NodeId,
+        /// Its kind's name.
+        kind: &'static str,
+    },
     /// A leaf's argument count or a decorator's or parallel's parameter is out of range.
     #[error("node {node}: {fault}")]
     BadArgument {
@@ -352,6 +361,7 @@ impl LoadError {
             Self::WrongLeafKind { .. } => "wrong-leaf-kind",
             Self::BadArgument { .. } => "bad-argument",
             Self::BadPort { .. } => "bad-port",
+            Self::UnsupportedKind { .. } => "unsupported-kind",
         }
     }
 
@@ -367,7 +377,8 @@ impl LoadError {
             | Self::UnknownBehavior { node, .. }
             | Self::WrongLeafKind { node, .. }
             | Self::BadArgument { node, .. }
-            | Self::BadPort { node, .. } => Some(node),
+            | Self::BadPort { node, .. }
+            | Self::UnsupportedKind { node, .. } => Some(node),
             Self::BadMagic { .. }
             | Self::UnsupportedVersion { .. }
             | Self::CrcMismatch { .. }

@@ -192,6 +192,25 @@ pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
 
 fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catalog: &C) -> Result<(), LoadError> {
     let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
+    #[cfg(not(feature = "btcpp"))]
+    if !matches!(
+        node.kind(),
+        NodeKind::Sequence
+            | NodeKind::Fallback
+            | NodeKind::SequenceWithMemory
+            | NodeKind::FallbackWithMemory
+            | NodeKind::Parallel { count_skipped: false, .. }
+            | NodeKind::Inverter
+            | NodeKind::ForceSuccess
+            | NodeKind::ForceFailure
+            | NodeKind::Repeat(_)
+            | NodeKind::Retry(_)
+            | NodeKind::Timeout(_)
+            | NodeKind::Condition(_)
+            | NodeKind::Action(_)
+    ) {
+        return Err(LoadError::UnsupportedKind { node: id, kind: node.kind().name() });
+    }
     match node.kind() {
         NodeKind::Repeat(0) => zero("Repeat"),
         NodeKind::Retry(0) => zero("Retry"),

@@ -91,18 +91,6 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         Ok(())
     }
 
-    /// True when a child of `node` (subtree ending at `end`) has status `s`.
-    pub(super) fn any_child(&self, node: usize, end: usize, s: NodeStatus) -> Result<bool, TickError> {
-        let mut c = node + 1;
-        while c < end {
-            if self.status(c) == s {
-                return Ok(true);
-            }
-            c = self.end_of(c)?;
-        }
-        Ok(false)
-    }
-
     /// Before a tick of a tree with clocked kinds: what BehaviorTree.CPP's timers did
     /// since the last tick. A `TimeLimit` whose span has passed while its child runs
     /// halts the child now (the tick then finds it expired and fails it), and asks for a

@@ -58,6 +58,10 @@
 //! children of a Sequence/Fallback after the one it returned at are reset, so what a
 //! renderer shows is what happened.
 
+// Without the `btcpp` feature, the frames and memory of its kinds are never used.
+#![cfg_attr(not(feature = "btcpp"), allow(dead_code))]
+
+#[cfg(feature = "btcpp")]
 mod kinds;
 
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
@@ -352,6 +356,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             still_running: self.still_running,
             woken: &mut self.woken,
         };
+        #[cfg(feature = "btcpp")]
         if self.timers {
             run.cold().timers(now);
         }
@@ -858,7 +863,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             NodeKind::Sequence | NodeKind::Fallback | NodeKind::Condition(_) | NodeKind::Action(_) => {
                 return Err(oob(idx));
             }
+            #[cfg(feature = "btcpp")]
             _ => return self.enter_btcpp(kind, st, frame, x, parent_mirrors, now),
+            // Refused by validation without the feature.
+            #[cfg(not(feature = "btcpp"))]
+            _ => {
+                let _ = (parent_mirrors, now);
+                return Err(oob(idx));
+            }
         }
         Ok(Entered::Child(idx + 1))
     }
@@ -882,7 +894,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             return Err(oob(c));
         };
         if top.kind.mirrors_btcpp() {
+            #[cfg(feature = "btcpp")]
             return self.ascend_btcpp(top, x, c, child_end, r, now);
+            #[cfg(not(feature = "btcpp"))]
+            {
+                let _ = now;
+                return Err(oob(c));
+            }
         }
         let top = *top;
         let node = usize::from(top.node);
@@ -977,6 +995,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             c = after;
         }
         Ok(())
+    }
+
+    /// True when a child of `node` (subtree ending at `end`) has status `s`.
+    fn any_child(&self, node: usize, end: usize, s: NodeStatus) -> Result<bool, TickError> {
+        let mut c = node + 1;
+        while c < end {
+            if self.status(c) == s {
+                return Ok(true);
+            }
+            c = self.end_of(c)?;
+        }
+        Ok(false)
     }
 
     /// Reactive or memory Sequence/Fallback `node` (subtree ending at `end`) got
