@@ -439,8 +439,7 @@ impl<'a> Reference<'a> {
                 let mut verdict = None;
                 let mut reached = kids.len();
                 for (k, &c) in kids.iter().enumerate() {
-                    let done =
-                        finished(self, c, NodeStatus::Success) || finished(self, c, NodeStatus::Failure);
+                    let done = finished(self, c, NodeStatus::Success) || finished(self, c, NodeStatus::Failure);
                     if !done {
                         match self.tick(c, false) {
                             Status::Success => ok += 1,

@@ -287,7 +287,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             NodeKind::Gate(ref leaf) => {
                 frame.kind = FrameKind::Gate;
                 let starting = Self::fresh(st, parent_mirrors);
-                let open = self.behaviors.action(leaf, Context { node: idx as NodeId, now, starting, values: self.values });
+                let open =
+                    self.behaviors.action(leaf, Context { node: idx as NodeId, now, starting, values: self.values });
                 if self.status(first) == NodeStatus::Running {
                     Entered::Child(first)
                 } else {

@@ -1141,7 +1141,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     fn runs_an_action(&self, root: usize) -> bool {
         let Ok(end) = self.end_of(root) else { return false };
         (root..end).any(|i| {
-            self.status(i) == NodeStatus::Running && matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Action(_)))
+            self.status(i) == NodeStatus::Running
+                && matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Action(_)))
         })
     }
 
