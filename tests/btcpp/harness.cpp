@@ -32,12 +32,14 @@
 // for a halt of an action that was not Running. <statuses> has one character per node
 // in pre-order: I, S, F, R (BehaviorTree.CPP's status after the tick). A case that
 // BehaviorTree.CPP refuses or that throws prints `error <message>` instead of the
-// remaining ticks; a tick that calls leaves or ticks the root more than 100,000 times
-// in all prints `runaway`.
+// remaining ticks; one that calls leaves or ticks the root more than 100,000 times in
+// a tick prints `runaway`. A case with a period runs twice and prints `error` unless
+// every tick came in time and both runs agree.
 #include <behaviortree_cpp/bt_factory.h>
 #include <behaviortree_cpp/loggers/bt_file_logger_v2.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -201,12 +203,12 @@ struct Case
   std::vector<std::string> echo;  // the input lines, repeated in the output
 };
 
-void run(const Case& c, std::ostream& out)
+// The ticks of one run of a case (after its echoed input lines).
+void ticks(const Case& c, const std::string& btlog, std::ostream& out)
 {
-  out << "case " << c.name << '\n';
-  for(const auto& line : c.echo)
+  for(const auto& [kind, leaf] : c.leaves)
   {
-    out << line << '\n';
+    leaf->calls = 0;
   }
   Log log;
   BT::BehaviorTreeFactory factory;
@@ -235,16 +237,23 @@ void run(const Case& c, std::ostream& out)
       return BT::NodeStatus::IDLE;
     });
     std::unique_ptr<BT::FileLogger2> logger;
-    if(!c.btlog.empty())
+    if(!btlog.empty())
     {
-      logger = std::make_unique<BT::FileLogger2>(tree, c.btlog);
+      logger = std::make_unique<BT::FileLogger2>(tree, btlog);
     }
     const auto start = std::chrono::steady_clock::now();
     for(int k = 0; k < c.ticks; k++)
     {
       if(c.period_ms > 0)
       {
-        std::this_thread::sleep_until(start + std::chrono::milliseconds(k * c.period_ms));
+        const auto due = start + std::chrono::milliseconds(k * c.period_ms);
+        std::this_thread::sleep_until(due);
+        // Timers expire half a period from a tick: a tick a quarter late is unsafe.
+        if(std::chrono::steady_clock::now() - due > std::chrono::milliseconds(c.period_ms / 4))
+        {
+          out << "error tick " << k << " came late\n";
+          break;
+        }
       }
       log.calls = 0;
       BT::NodeStatus root;
@@ -267,6 +276,9 @@ void run(const Case& c, std::ostream& out)
     }
     if(logger)
     {
+      // FileLogger2's writer thread drains its queue every 10 ms and stops without a
+      // last drain: give it time to write every transition before the logger goes.
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
       logger->flush();
     }
   }
@@ -282,7 +294,34 @@ void run(const Case& c, std::ostream& out)
     }
     out << "error " << msg << '\n';
   }
-  out << "end\n";
+}
+
+void run(const Case& c, std::ostream& out)
+{
+  out << "case " << c.name << '\n';
+  for(const auto& line : c.echo)
+  {
+    out << line << '\n';
+  }
+  std::ostringstream first;
+  ticks(c, c.btlog, first);
+  if(c.period_ms > 0)
+  {
+    // A clocked case runs twice: both runs must agree, or the timing was not safe.
+    std::ostringstream second;
+    ticks(c, "", second);
+    if(second.str() != first.str())
+    {
+      if(std::getenv("HARNESS_DEBUG") != nullptr)
+      {
+        std::cerr << first.str() << "---\n" << second.str();
+      }
+      out << "error the two runs differ: timing was not reliable\n";
+      out << "end\n";
+      return;
+    }
+  }
+  out << first.str() << "end\n";
 }
 
 }  // namespace

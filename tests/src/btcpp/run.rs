@@ -155,13 +155,13 @@ fn status_letter(s: NodeStatus) -> char {
 }
 
 impl BehaviorSet for Scripted<'_> {
-    fn condition(&mut self, _: &Leaf, ctx: Context) -> Status {
+    fn condition(&mut self, _: &Leaf, ctx: Context<'_>) -> Status {
         let s = self.next(ctx.node);
         self.events.push(format!("{}{}", ctx.node, letter(s)));
         s
     }
 
-    fn action(&mut self, _: &Leaf, ctx: Context) -> Status {
+    fn action(&mut self, _: &Leaf, ctx: Context<'_>) -> Status {
         let s = self.next(ctx.node);
         let c = letter(s);
         let c = if ctx.starting { c } else { c.to_ascii_lowercase() };
@@ -333,12 +333,16 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
                 return Err(fail("a halt that is not before a start"));
             }
             for h in &mine[j..run_end] {
+                // BehaviorTree.CPP halts it later in the tick, without ticking it in
+                // between: only the order differs. Otherwise it went on running it.
+                let node = &h[1..];
+                let continued = |e: &&String| e.strip_prefix(node).is_some_and(|s| s.len() == 1);
                 match theirs[i..].iter().position(|e| e == h) {
-                    Some(p) => {
+                    Some(p) if !theirs[i..i + p].iter().any(continued) => {
                         theirs.remove(i + p);
                         cmp.halts_moved_earlier += 1;
                     }
-                    None => {
+                    _ => {
                         cmp.restarted_at = Some(k);
                         return Ok(cmp);
                     }
