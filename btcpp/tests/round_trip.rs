@@ -84,7 +84,11 @@ fn tree(seed: u64) -> Vec<Node> {
             3 => NodeKind::FallbackWithMemory,
             4 => {
                 let c = children as u64;
-                NodeKind::Parallel { success_threshold: 1 + next(c) as u16, failure_threshold: 1 + next(c) as u16 }
+                NodeKind::Parallel {
+                    success_threshold: 1 + next(c) as u16,
+                    failure_threshold: 1 + next(c) as u16,
+                    count_skipped: next(2) == 1,
+                }
             }
             5 => NodeKind::Inverter,
             6 => NodeKind::ForceSuccess,
@@ -169,8 +173,11 @@ fn document(seed: u64) -> String {
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
             NodeKind::SequenceWithMemory => ("Sequence", String::new()),
             NodeKind::FallbackWithMemory => ("Fallback", String::new()),
-            NodeKind::Parallel { success_threshold, failure_threshold } => {
-                ("Parallel", format!(" success_count=\"{success_threshold}\" failure_count=\"{failure_threshold}\""))
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+                // Skipped children count towards success for a negative count only.
+                let n = bt_core::children(&nodes, i as u16).count() as i64;
+                let s = if count_skipped { i64::from(success_threshold) - n - 1 } else { i64::from(success_threshold) };
+                ("Parallel", format!(" success_count=\"{s}\" failure_count=\"{failure_threshold}\""))
             }
             NodeKind::Inverter => ("Inverter", String::new()),
             NodeKind::ForceSuccess => ("ForceSuccess", String::new()),

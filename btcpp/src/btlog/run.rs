@@ -104,5 +104,6 @@ pub const fn status_of(s: bt_core::Status) -> u8 {
         bt_core::Status::Running => status::RUNNING,
         bt_core::Status::Success => status::SUCCESS,
         bt_core::Status::Failure => status::FAILURE,
+        bt_core::Status::Skipped => status::SKIPPED,
     }
 }

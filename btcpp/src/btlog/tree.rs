@@ -144,17 +144,20 @@ pub struct NotExpressible {
 type Builtin = (Kind, &'static str, Vec<(&'static str, String)>);
 
 /// How a bt-core kind is named and parameterized in BehaviorTree.CPP.
-fn builtin(kind: &NodeKind) -> Option<Builtin> {
+fn builtin(kind: &NodeKind, nodes: &[Node], node: usize) -> Option<Builtin> {
     Some(match *kind {
         NodeKind::Sequence => (Kind::ReactiveSequence, "ReactiveSequence", vec![]),
         NodeKind::Fallback => (Kind::ReactiveFallback, "ReactiveFallback", vec![]),
         NodeKind::SequenceWithMemory => (Kind::Sequence, "Sequence", vec![]),
         NodeKind::FallbackWithMemory => (Kind::Fallback, "Fallback", vec![]),
-        NodeKind::Parallel { success_threshold, failure_threshold } => (
-            Kind::Parallel { success: i32::from(success_threshold), failure: i32::from(failure_threshold) },
-            "Parallel",
-            vec![("success_count", success_threshold.to_string()), ("failure_count", failure_threshold.to_string())],
-        ),
+        NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+            let success = crate::xml::write::success_count(success_threshold, count_skipped, nodes, node);
+            (
+                Kind::Parallel { success: i32::try_from(success).ok()?, failure: i32::from(failure_threshold) },
+                "Parallel",
+                vec![("success_count", success.to_string()), ("failure_count", failure_threshold.to_string())],
+            )
+        }
         NodeKind::Inverter => (Kind::Inverter, "Inverter", vec![]),
         NodeKind::ForceSuccess => (Kind::ForceSuccess, "ForceSuccess", vec![]),
         NodeKind::ForceFailure => (Kind::ForceFailure, "ForceFailure", vec![]),
@@ -308,7 +311,7 @@ impl LogTree {
                     (kind, element, attr_order(given, &[]), default_name)
                 }
                 other => {
-                    let Some((kind, element, params)) = builtin(other) else {
+                    let Some((kind, element, params)) = builtin(other, nodes, i) else {
                         return Err(NotExpressible { node: i, kind: other.name() });
                     };
                     let given = params.into_iter().map(|(k, v)| (k.to_string(), v)).collect();

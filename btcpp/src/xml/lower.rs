@@ -309,6 +309,9 @@ impl Lowerer<'_> {
                     let s = self.int_param(n, "success_count", Some(-1))?;
                     let f = self.int_param(n, "failure_count", Some(1))?;
                     let resolve = |t: i64| if t < 0 { (children as i64 + t + 1).max(0) } else { t };
+                    // BehaviorTree.CPP counts skipped children towards success when
+                    // success_count is negative.
+                    let count_skipped = s < 0;
                     let (s, f) = (resolve(s), resolve(f));
                     for (port, v) in [("success_count", s), ("failure_count", f)] {
                         if v < 1 || v > children as i64 {
@@ -321,7 +324,7 @@ impl Lowerer<'_> {
                             ));
                         }
                     }
-                    NodeKind::Parallel { success_threshold: s as u16, failure_threshold: f as u16 }
+                    NodeKind::Parallel { success_threshold: s as u16, failure_threshold: f as u16, count_skipped }
                 }
                 "Repeat" => NodeKind::Repeat(self.count_param(n, "num_cycles")?),
                 "RetryUntilSuccessful" => NodeKind::Retry(self.count_param(n, "num_attempts")?),

@@ -251,8 +251,9 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
             NodeKind::SequenceWithMemory => ("Sequence", String::new()),
             NodeKind::FallbackWithMemory => ("Fallback", String::new()),
-            NodeKind::Parallel { success_threshold, failure_threshold, .. } => {
-                ("Parallel", format!(" success_count=\"{success_threshold}\" failure_count=\"{failure_threshold}\""))
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+                let success = success_count(success_threshold, count_skipped, nodes, i);
+                ("Parallel", format!(" success_count=\"{success}\" failure_count=\"{failure_threshold}\""))
             }
             NodeKind::Inverter => ("Inverter", String::new()),
             NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
@@ -327,6 +328,17 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
     }
     out.push_str("  </TreeNodesModel>\n</root>\n");
     Ok(out)
+}
+
+/// BehaviorTree.CPP's `success_count` for a `Parallel` at `node`: the threshold itself,
+/// or, when skipped children count towards success (which BehaviorTree.CPP does only
+/// for a negative count), the negative count that resolves to it.
+pub(crate) fn success_count(threshold: u16, count_skipped: bool, nodes: &[Node], node: usize) -> i64 {
+    if !count_skipped {
+        return i64::from(threshold);
+    }
+    let children = u16::try_from(node).map_or(0, |id| bt_core::children(nodes, id).count());
+    i64::from(threshold) - children as i64 - 1
 }
 
 #[cfg(test)]
