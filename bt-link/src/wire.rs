@@ -214,6 +214,23 @@ pub enum WireStatus {
     Failure,
     /// Running.
     Running,
+    /// Only in a [`Reply::Tick`]: the root returned Skipped (it did nothing, as
+    /// BehaviorTree.CPP's SKIPPED). A node never has this status.
+    Skipped,
+}
+
+impl WireStatus {
+    /// The status in capitals, as bt-core names it.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Idle => "IDLE",
+            Self::Success => "SUCCESS",
+            Self::Failure => "FAILURE",
+            Self::Running => "RUNNING",
+            Self::Skipped => "SKIPPED",
+        }
+    }
 }
 
 impl From<NodeStatus> for WireStatus {
@@ -229,14 +246,19 @@ impl From<NodeStatus> for WireStatus {
 
 impl From<Status> for WireStatus {
     fn from(s: Status) -> Self {
-        NodeStatus::from(s).into()
+        match s {
+            Status::Skipped => Self::Skipped,
+            s => NodeStatus::from(s).into(),
+        }
     }
 }
 
 impl From<WireStatus> for NodeStatus {
+    /// A node's status; `Skipped` (a root's tick result only) is Idle, as bt-core
+    /// leaves a node that skipped.
     fn from(s: WireStatus) -> Self {
         match s {
-            WireStatus::Idle => Self::Idle,
+            WireStatus::Idle | WireStatus::Skipped => Self::Idle,
             WireStatus::Success => Self::Success,
             WireStatus::Failure => Self::Failure,
             WireStatus::Running => Self::Running,
@@ -358,7 +380,7 @@ impl FrameFault {
 
 /// bt-core's `LoadError::code()` names, indexed by the code [`Fault::Load`] carries.
 /// The last entry stands for a variant a newer bt-core adds.
-pub const LOAD_CODES: [&str; 20] = [
+pub const LOAD_CODES: [&str; 21] = [
     "truncated",
     "bad-magic",
     "unsupported-version",
@@ -378,6 +400,7 @@ pub const LOAD_CODES: [&str; 20] = [
     "wrong-leaf-kind",
     "bad-argument",
     "bad-port",
+    "unsupported-kind",
     "other",
 ];
 
@@ -404,7 +427,8 @@ pub fn load_fault(e: &LoadError) -> Fault {
         LoadError::WrongLeafKind { .. } => 16,
         LoadError::BadArgument { .. } => 17,
         LoadError::BadPort { .. } => 18,
-        _ => 19,
+        LoadError::UnsupportedKind { .. } => 19,
+        _ => 20,
     };
     Fault::Load { code, node: e.node() }
 }

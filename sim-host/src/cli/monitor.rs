@@ -237,7 +237,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 trace.push_str(&format!("status {tick} {node} {}\n", status.name()));
             }
             Reply::Tick { tick, status, changes: n, micros } => {
-                let root = NodeStatus::from(status);
+                let root = status;
                 trace.push_str(&format!("tick {tick} {} changes={n} us={micros}\n", root.name()));
                 if tty {
                     if drawn > 0 {
