@@ -225,3 +225,32 @@ fn numbers_are_written_as_core_fmt_would() {
         line.send(&mut |_: &[u8]| {});
     }
 }
+
+#[test]
+fn a_tree_with_a_kind_this_build_leaves_out_is_refused_at_load() {
+    // bt-core is built without its `btcpp` feature here: an `IfThenElse` tree is a
+    // valid image, but this controller does not carry that kind's code.
+    use bt_core::{LoadError, Node};
+    // Otherwise valid for this behavior set: hand-empty ? drop(cube).
+    let cond = Leaf::with_args(crate::catalog::HAND_EMPTY, &[]).unwrap();
+    let act = Leaf::with_args(DROP, &[CUBE]).unwrap();
+    let nodes = [
+        Node::new(NodeKind::IfThenElse, 3),
+        Node::new(NodeKind::Condition(cond), 1),
+        Node::new(NodeKind::Action(act), 1),
+    ];
+    let mut storage = [Node::EMPTY; 4];
+    let mut image = [0u8; 128];
+    // The same tree with a Sequence loads.
+    let mut seq = nodes;
+    seq[0] = Node::new(NodeKind::SequenceWithMemory, 3);
+    let len = bt_core::encode(&seq, crate::catalog::FINGERPRINT, &mut image).unwrap();
+    assert!(bt_core::load::<_, 4>(&image[..len], &crate::catalog::BEHAVIORS, &mut storage).is_ok());
+    let len = bt_core::encode(&nodes, crate::catalog::FINGERPRINT, &mut image).unwrap();
+    let err = bt_core::load::<_, 4>(&image[..len], &crate::catalog::BEHAVIORS, &mut storage).unwrap_err();
+    assert!(matches!(err, LoadError::UnsupportedKind { node: 0, kind: "IfThenElse" }), "{err:?}");
+    assert_eq!(err.code(), "unsupported-kind");
+    let mut lines = Lines::default();
+    let outcome = run(&image[..len], &mut lines, |_| {});
+    assert!(matches!(outcome, Outcome::Load(LoadError::UnsupportedKind { node: 0, .. })), "{outcome:?}");
+}
