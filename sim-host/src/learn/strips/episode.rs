@@ -201,7 +201,8 @@ impl StripsRunner {
                     break;
                 }
                 Status::Success => succeeded = true,
-                Status::Running => succeeded = false,
+                // (A learned tree has no node that skips; a skipped tick has no result.)
+                Status::Running | Status::Skipped => succeeded = false,
             }
         }
         if end == StripsEnd::Timeout {
