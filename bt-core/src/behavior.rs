@@ -110,6 +110,18 @@ pub enum TickError {
         /// The index.
         node: usize,
     },
+    /// A leaf returned [`Status::Skipped`](crate::Status::Skipped) in a build of bt-core
+    /// without the `btcpp` feature, which leaves Skipped out of the tick loop (rule 8).
+    #[error(
+        "leaf node {node} (behavior {behavior}) returned Skipped; this build of bt-core has no btcpp feature, \
+         which Skipped needs"
+    )]
+    LeafSkipped {
+        /// The leaf's node id.
+        node: NodeId,
+        /// Its behavior id.
+        behavior: u16,
+    },
 }
 
 impl TickError {
@@ -119,6 +131,7 @@ impl TickError {
         match self {
             Self::ConditionRunning { .. } => "condition-running",
             Self::OutOfRange { .. } => "out-of-range",
+            Self::LeafSkipped { .. } => "leaf-skipped",
         }
     }
 }

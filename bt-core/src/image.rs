@@ -99,7 +99,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::catalog::Catalog;
-use crate::error::{ArgumentFault, EncodeError, LoadError};
+use crate::error::{EncodeError, LoadError};
 use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind, Span};
 use crate::port::PortTable;
 use crate::tree::Tree;
@@ -265,34 +265,53 @@ enum WireKind {
     ConditionExt(WireLeaf),
     ActionExt(WireLeaf),
     // Version 2: the kinds for BehaviorTree.CPP's and Nav2's nodes.
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     SequenceStar,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     IfThenElse,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     WhileDoElse,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     ParallelAll {
         max_failures: u16,
     },
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     PipelineSequence,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Recovery {
         retries: u16,
     },
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     RoundRobin,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     RepeatCycles(u16),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     RetryUntilSuccessful(u16),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     KeepRunningUntilFailure,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     RunOnce {
         then_skip: bool,
     },
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     TimeLimit(WireSpan),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Delay(WireSpan),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     RateController(WireSpan),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Gate(WireLeaf),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     AlwaysSuccess,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     AlwaysFailure,
     /// A `Parallel` whose skipped children count towards success.
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     ParallelCountSkipped {
         success_threshold: u16,
         failure_threshold: u16,
     },
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     GateExt(WireLeaf),
 }
 
@@ -384,18 +403,29 @@ fn wire_leaf(l: &Leaf) -> Result<WireLeaf, WireLeaf> {
     }
 }
 
+#[cfg(feature = "btcpp")]
 fn from_span(id: NodeId, d: WireSpan) -> Result<Span, LoadError> {
     let units = u32::from(d.hi) << 16 | u32::from(d.lo);
-    Span::new(units).ok_or(LoadError::BadArgument { node: id, fault: ArgumentFault::SpanTooLong { units } })
+    Span::new(units)
+        .ok_or(LoadError::BadArgument { node: id, fault: crate::error::ArgumentFault::SpanTooLong { units } })
 }
 
-fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
-    let fault = |e: LeafError| LoadError::BadArgument { node: id, fault: ArgumentFault::from(e) };
-    let leaf = |l: WireLeaf| Leaf::with_args(l.behavior, &l.args).map_err(fault);
-    let extended = |l: WireLeaf| match *l.args {
+/// An inline leaf of node `id`.
+fn leaf_of(id: NodeId, l: WireLeaf) -> Result<Leaf, LoadError> {
+    Leaf::with_args(l.behavior, &l.args).map_err(|e| LoadError::BadArgument { node: id, fault: e.into() })
+}
+
+/// An extended leaf of node `id`: its args are the start and length of its values.
+fn extended_of(id: NodeId, l: WireLeaf) -> Result<Leaf, LoadError> {
+    let fault = |e: LeafError| LoadError::BadArgument { node: id, fault: e.into() };
+    match *l.args {
         [start, len] => Leaf::extended(l.behavior, start, len).map_err(fault),
         _ => Err(fault(LeafError::TooManyArgs(l.args.len()))),
-    };
+    }
+}
+
+/// Node `id`, decoded at `offset` in the image.
+fn from_wire(id: NodeId, offset: usize, w: WireNode) -> Result<Node, LoadError> {
     let kind = match w.kind {
         WireKind::Sequence => NodeKind::Sequence,
         WireKind::Fallback => NodeKind::Fallback,
@@ -404,19 +434,33 @@ fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
         WireKind::Parallel { success_threshold, failure_threshold } => {
             NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: false }
         }
-        WireKind::ParallelCountSkipped { success_threshold, failure_threshold } => {
-            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: true }
-        }
         WireKind::Inverter => NodeKind::Inverter,
         WireKind::ForceSuccess => NodeKind::ForceSuccess,
         WireKind::ForceFailure => NodeKind::ForceFailure,
         WireKind::Repeat(n) => NodeKind::Repeat(n),
         WireKind::Retry(n) => NodeKind::Retry(n),
         WireKind::Timeout(n) => NodeKind::Timeout(n),
-        WireKind::Condition(l) => NodeKind::Condition(leaf(l)?),
-        WireKind::Action(l) => NodeKind::Action(leaf(l)?),
-        WireKind::ConditionExt(l) => NodeKind::Condition(extended(l)?),
-        WireKind::ActionExt(l) => NodeKind::Action(extended(l)?),
+        WireKind::Condition(l) => NodeKind::Condition(leaf_of(id, l)?),
+        WireKind::Action(l) => NodeKind::Action(leaf_of(id, l)?),
+        WireKind::ConditionExt(l) => NodeKind::Condition(extended_of(id, l)?),
+        WireKind::ActionExt(l) => NodeKind::Action(extended_of(id, l)?),
+        #[cfg(feature = "btcpp")]
+        other => from_wire_btcpp(id, other)?,
+        // Without the feature these tags do not decode (see `decode_nodes`).
+        #[cfg(not(feature = "btcpp"))]
+        _ => return Err(LoadError::MalformedNode { node: id, offset }),
+    };
+    let _ = offset;
+    Ok(Node::new(kind, w.size))
+}
+
+/// The kinds for BehaviorTree.CPP's and Nav2's nodes (tags 15 and up).
+#[cfg(feature = "btcpp")]
+fn from_wire_btcpp(id: NodeId, kind: WireKind) -> Result<NodeKind, LoadError> {
+    Ok(match kind {
+        WireKind::ParallelCountSkipped { success_threshold, failure_threshold } => {
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: true }
+        }
         WireKind::SequenceStar => NodeKind::SequenceStar,
         WireKind::IfThenElse => NodeKind::IfThenElse,
         WireKind::WhileDoElse => NodeKind::WhileDoElse,
@@ -431,12 +475,27 @@ fn from_wire(id: NodeId, w: WireNode) -> Result<Node, LoadError> {
         WireKind::TimeLimit(d) => NodeKind::TimeLimit(from_span(id, d)?),
         WireKind::Delay(d) => NodeKind::Delay(from_span(id, d)?),
         WireKind::RateController(d) => NodeKind::RateController(from_span(id, d)?),
-        WireKind::Gate(l) => NodeKind::Gate(leaf(l)?),
-        WireKind::GateExt(l) => NodeKind::Gate(extended(l)?),
+        WireKind::Gate(l) => NodeKind::Gate(leaf_of(id, l)?),
+        WireKind::GateExt(l) => NodeKind::Gate(extended_of(id, l)?),
         WireKind::AlwaysSuccess => NodeKind::AlwaysSuccess,
         WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
-    };
-    Ok(Node::new(kind, w.size))
+        // The kinds of version 1 and the extended leaves: `from_wire`.
+        WireKind::Sequence
+        | WireKind::Fallback
+        | WireKind::SequenceWithMemory
+        | WireKind::FallbackWithMemory
+        | WireKind::Parallel { .. }
+        | WireKind::Inverter
+        | WireKind::ForceSuccess
+        | WireKind::ForceFailure
+        | WireKind::Repeat(_)
+        | WireKind::Retry(_)
+        | WireKind::Timeout(_)
+        | WireKind::Condition(_)
+        | WireKind::Action(_)
+        | WireKind::ConditionExt(_)
+        | WireKind::ActionExt(_) => return Err(LoadError::MalformedNode { node: id, offset: 0 }),
+    })
 }
 
 /// Writes the image of `nodes` for the behavior set with `fingerprint` into `out`;
@@ -599,18 +658,34 @@ fn decode_nodes<'b>(bytes: &'b [u8], header: &Header, mut storage: Option<&mut [
             postcard::Error::DeserializeUnexpectedEnd => {
                 LoadError::Truncated { len: header.len, inside_node: Some(id) }
             }
-            _ => LoadError::MalformedNode { node: id, offset },
+            _ => unsupported(rest, header.version, id).unwrap_or(LoadError::MalformedNode { node: id, offset }),
         })?;
         if !wire.kind.in_version(header.version) {
             return Err(LoadError::MalformedNode { node: id, offset });
         }
-        let node = from_wire(id, wire)?;
+        let node = from_wire(id, offset, wire)?;
         if let Some(slot) = storage.as_deref_mut().and_then(|s| s.get_mut(i)) {
             *slot = node;
         }
         rest = tail;
     }
     Ok(rest)
+}
+
+/// Why node `id` at the start of `bytes` did not decode, when it is a kind this build
+/// leaves out: its tag follows the subtree size.
+fn unsupported(bytes: &[u8], version: u16, id: NodeId) -> Option<LoadError> {
+    #[cfg(not(feature = "btcpp"))]
+    if version >= 2 {
+        let (_size, after) = postcard::take_from_bytes::<u16>(bytes).ok()?;
+        let (tag, _) = postcard::take_from_bytes::<u32>(after).ok()?;
+        // Tags 15 to 33: the kinds of version 2 for BehaviorTree.CPP's and Nav2's nodes.
+        return (15..=33)
+            .contains(&tag)
+            .then_some(LoadError::UnsupportedKind { node: id, kind: crate::tree::LEFT_OUT_KIND });
+    }
+    let _ = (bytes, version, id);
+    None
 }
 
 /// One section: its tag, the offset of its head in the image, and its body.

@@ -188,28 +188,48 @@ pub fn children(nodes: &[Node], id: NodeId) -> Children<'_> {
 }
 
 /// Most children of a `RoundRobin`: it counts failed children in one byte of its state.
+#[cfg(feature = "btcpp")]
 pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
+
+/// Whether this build runs `kind`: all kinds with the `btcpp` feature, without it those
+/// of [`NodeKind`] up to `Action` (a `Parallel` only if it does not count skipped
+/// children).
+#[inline(always)]
+fn supported(kind: &NodeKind) -> bool {
+    cfg!(feature = "btcpp")
+        || matches!(
+            kind,
+            NodeKind::Sequence
+                | NodeKind::Fallback
+                | NodeKind::SequenceWithMemory
+                | NodeKind::FallbackWithMemory
+                | NodeKind::Parallel { count_skipped: false, .. }
+                | NodeKind::Inverter
+                | NodeKind::ForceSuccess
+                | NodeKind::ForceFailure
+                | NodeKind::Repeat(_)
+                | NodeKind::Retry(_)
+                | NodeKind::Timeout(_)
+                | NodeKind::Condition(_)
+                | NodeKind::Action(_)
+        )
+}
+
+/// What [`LoadError::UnsupportedKind`] calls a kind that a build without the `btcpp`
+/// feature leaves out. Not its name: the names would cost a controller's flash for an
+/// error it reports by code (the host that sent the tree knows what node it is).
+pub(crate) const LEFT_OUT_KIND: &str = "BehaviorTree.CPP or Nav2 kind";
+
+/// [`NodeKind::name`] for errors, once in the program rather than inlined at each one.
+#[inline(never)]
+fn name(kind: &NodeKind) -> &'static str {
+    if supported(kind) { kind.name() } else { LEFT_OUT_KIND }
+}
 
 fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catalog: &C) -> Result<(), LoadError> {
     let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
-    #[cfg(not(feature = "btcpp"))]
-    if !matches!(
-        node.kind(),
-        NodeKind::Sequence
-            | NodeKind::Fallback
-            | NodeKind::SequenceWithMemory
-            | NodeKind::FallbackWithMemory
-            | NodeKind::Parallel { count_skipped: false, .. }
-            | NodeKind::Inverter
-            | NodeKind::ForceSuccess
-            | NodeKind::ForceFailure
-            | NodeKind::Repeat(_)
-            | NodeKind::Retry(_)
-            | NodeKind::Timeout(_)
-            | NodeKind::Condition(_)
-            | NodeKind::Action(_)
-    ) {
-        return Err(LoadError::UnsupportedKind { node: id, kind: node.kind().name() });
+    if !supported(node.kind()) {
+        return Err(LoadError::UnsupportedKind { node: id, kind: LEFT_OUT_KIND });
     }
     match node.kind() {
         NodeKind::Repeat(0) => zero("Repeat"),
@@ -269,7 +289,7 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
         Arity::TwoOrThree => children == 2 || children == 3,
     };
     if !ok {
-        return Err(LoadError::WrongArity { node: open.node, kind: kind.name(), children, expected });
+        return Err(LoadError::WrongArity { node: open.node, kind: name(kind), children, expected });
     }
     let bad = |fault| Err(LoadError::BadArgument { node: open.node, fault });
     match *kind {
@@ -280,9 +300,11 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
                 }
             }
         }
+        #[cfg(feature = "btcpp")]
         NodeKind::ParallelAll { max_failures } if max_failures > children => {
             return bad(ArgumentFault::MaxFailures { max_failures, children });
         }
+        #[cfg(feature = "btcpp")]
         NodeKind::RoundRobin if children > ROUND_ROBIN_CHILDREN => {
             return bad(ArgumentFault::TooManyChildren { kind: "RoundRobin", children, limit: ROUND_ROBIN_CHILDREN });
         }

@@ -264,16 +264,13 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         }
         state.fill(NodeState::IDLE);
         let stack = Stack { frames: [Frame::default(); DEPTH], extra: [Extra::default(); DEPTH], halt: [0; DEPTH] };
-        let still_running = !tree.nodes().iter().any(|n| {
-            matches!(
-                n.kind(),
-                NodeKind::Parallel { .. }
-                    | NodeKind::Timeout(_)
-                    | NodeKind::ParallelAll { .. }
-                    | NodeKind::PipelineSequence
-            )
+        let still_running = !tree.nodes().iter().any(|n| match n.kind() {
+            NodeKind::Parallel { .. } | NodeKind::Timeout(_) => true,
+            NodeKind::ParallelAll { .. } | NodeKind::PipelineSequence => BTCPP,
+            _ => false,
         });
-        let timers = tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_)));
+        let timers =
+            BTCPP && tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_)));
         Ok(Self { tree, state, stack, still_running, timers, woken: false })
     }
 
@@ -354,6 +351,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             behaviors,
             observer,
             still_running: self.still_running,
+            #[cfg(feature = "btcpp")]
             woken: &mut self.woken,
         };
         #[cfg(feature = "btcpp")]
@@ -383,6 +381,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             behaviors,
             observer,
             still_running: self.still_running,
+            #[cfg(feature = "btcpp")]
             woken: &mut self.woken,
         };
         run.reset(0, Scan::All);
@@ -416,11 +415,25 @@ struct Run<'r, B, O, const DEPTH: usize> {
     /// Running unchanged, and the clocked ones decide on the way down.
     still_running: bool,
     /// Set when a node asks to be ticked again at once.
+    #[cfg(feature = "btcpp")]
     woken: &'r mut bool,
 }
 
 const fn oob(node: usize) -> TickError {
     TickError::OutOfRange { node }
+}
+
+/// Whether this build has the kinds of `kinds.rs` and Skipped (rule 8): the `btcpp`
+/// feature. Without it no kind returns Skipped, a leaf that does is a
+/// [`TickError::LeafSkipped`], and the compiler drops every Skipped path and every check
+/// for those kinds from the tick loop: they cost a controller's flash.
+const BTCPP: bool = cfg!(feature = "btcpp");
+
+/// A leaf returned Skipped in a build without the `btcpp` feature.
+#[cold]
+#[inline(never)]
+const fn leaf_skipped(node: usize, behavior: u16) -> TickError {
+    TickError::LeafSkipped { node: node as NodeId, behavior }
 }
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
@@ -437,6 +450,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             behaviors: &mut *self.behaviors,
             observer: &mut *self.observer,
             still_running: self.still_running,
+            #[cfg(feature = "btcpp")]
             woken: &mut *self.woken,
         }
     }
@@ -499,6 +513,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// `RunOnce`'s result always, a `RoundRobin`'s and a `Recovery`'s counters unless it
     /// is halted while Running.
     fn set_idle_halted(&mut self, i: usize) {
+        if !BTCPP {
+            return self.set_idle(i);
+        }
         let keep = match self.nodes.get(i).map(Node::kind) {
             Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. }) => true,
             Some(NodeKind::RoundRobin | NodeKind::Recovery { .. }) => self.status(i) != NodeStatus::Running,
@@ -528,7 +545,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// its children.
     #[inline]
     fn set_returned(&mut self, i: usize, r: Status) {
-        let new = if r == Status::Skipped { NodeStatus::Running } else { r.into() };
+        let new = if BTCPP && r == Status::Skipped { NodeStatus::Running } else { r.into() };
         self.set_status(i, new);
     }
 
@@ -562,6 +579,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     if r == Status::Running {
                         return Err(TickError::ConditionRunning { node: c as NodeId, behavior: leaf.behavior() });
                     }
+                    if !BTCPP && r == Status::Skipped {
+                        return Err(leaf_skipped(c, leaf.behavior()));
+                    }
                     self.set_status(c, r.into());
                     (r, c + 1)
                 }
@@ -573,6 +593,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let r = self.behaviors.action(leaf, Context { node: c as NodeId, now, starting, values });
                     if r == Status::Running && !starting && self.still_running {
                         return Ok(r);
+                    }
+                    if !BTCPP && r == Status::Skipped {
+                        return Err(leaf_skipped(c, leaf.behavior()));
                     }
                     self.set_status(c, r.into());
                     (r, c + 1)
@@ -661,6 +684,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         }
                         c = frames.get(depth).map_or(0, |f| usize::from(f.node));
                         if r == Status::Skipped {
+                            if !BTCPP {
+                                let behavior = match child.kind() {
+                                    NodeKind::Condition(leaf) | NodeKind::Action(leaf) => leaf.behavior(),
+                                    _ => 0,
+                                };
+                                return Err(leaf_skipped(k, behavior));
+                            }
                             // A leaf that skipped: the node goes on as after `go_on`.
                             if k + 1 < end {
                                 k += 1;
@@ -697,8 +727,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 kind => 'enter: {
                     // Whether the parent keeps a finished child's status as
                     // BehaviorTree.CPP does (see `fresh`).
-                    let parent_mirrors =
-                        depth.checked_sub(1).and_then(|d| frames.get(d)).is_some_and(|f| f.kind.mirrors_btcpp());
+                    let parent_mirrors = BTCPP
+                        && depth.checked_sub(1).and_then(|d| frames.get(d)).is_some_and(|f| f.kind.mirrors_btcpp());
                     let Some(slot) = frames.get_mut(depth) else {
                         return Err(oob(c));
                     };
@@ -737,7 +767,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 if f.kind == FrameKind::Last {
                     // Its subtree ends where its last child's does.
                     let node = usize::from(f.node);
-                    if r == Status::Skipped {
+                    if BTCPP && r == Status::Skipped {
                         r = self.cold().last_skipped(node, c)?;
                     } else {
                         self.set_state(node, r.into(), c as u16);
@@ -754,7 +784,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         c = child_end;
                         continue 'descend;
                     }
-                    if r == Status::Skipped {
+                    if BTCPP && r == Status::Skipped {
                         match self.cold().ordered_skipped(&f, c, child_end)? {
                             Ascent::Tick(next) => {
                                 c = next;
@@ -763,7 +793,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                             Ascent::Return(v) => r = v,
                         }
                     } else {
-                        if f.kind.is_memory() && r != Status::Running {
+                        if BTCPP && f.kind.is_memory() && r != Status::Running {
                             self.cold().reset_running(usize::from(f.node) + 1, c);
                         }
                         self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
@@ -822,7 +852,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     success: success_threshold,
                     failure: failure_threshold,
                     skipped: 0,
-                    count_skipped,
+                    count_skipped: BTCPP && count_skipped,
                     child_was_idle: false,
                 };
                 // As BehaviorTree.CPP, the counts are totals of the activation: the
@@ -909,8 +939,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 match r {
                     Status::Success => x.ok = x.ok.saturating_add(1),
                     Status::Failure => x.failed = x.failed.saturating_add(1),
-                    Status::Skipped => x.skipped = x.skipped.saturating_add(1),
-                    Status::Running => {}
+                    Status::Skipped if BTCPP => x.skipped = x.skipped.saturating_add(1),
+                    Status::Running | Status::Skipped => {}
                 }
                 if let Some(v) = parallel_verdict(x) {
                     self.finish_parallel(node, usize::from(top.end), child_end)?;
@@ -918,7 +948,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 } else {
                     match self.parallel_step(child_end, usize::from(top.end), top.running)? {
                         Some(next) => return Ok(Ascent::Tick(next)),
-                        None if x.skipped == x.children => Status::Skipped,
+                        None if BTCPP && x.skipped == x.children => Status::Skipped,
                         None => Status::Running,
                     }
                 }
@@ -1219,7 +1249,7 @@ enum Ascent {
 /// Success or Failure once a parallel's thresholds decide, else `None`.
 #[inline]
 fn parallel_verdict(x: &Extra) -> Option<Status> {
-    if x.ok >= x.success || (x.count_skipped && x.ok.saturating_add(x.skipped) >= x.success) {
+    if x.ok >= x.success || (BTCPP && x.count_skipped && x.ok.saturating_add(x.skipped) >= x.success) {
         Some(Status::Success)
     } else if x.failed >= x.failure || x.children.saturating_sub(x.failed) < x.success {
         Some(Status::Failure)
