@@ -300,20 +300,36 @@ impl Line {
 
     /// What went wrong loading an image: its code, the node, and for the faults a
     /// controller meets in the field (a corrupted or foreign image) the numbers.
+    ///
+    /// Reads only those parts of `e`, here where `e` was made: the compiler can then
+    /// leave out what the line never prints (the names of node kinds, say).
+    #[inline(always)]
     pub(crate) fn load_error(&mut self, e: &LoadError) -> &mut Self {
-        self.text(e.code());
-        if let Some(node) = e.node() {
+        let numbers = match *e {
+            LoadError::CrcMismatch { stored, computed } => {
+                Some((" stored=", u64::from(stored), " computed=", u64::from(computed), 8))
+            }
+            LoadError::ForeignBehaviorSet { image, expected } => Some((" image=", image, " expected=", expected, 16)),
+            _ => None,
+        };
+        self.load_fault(e.code(), e.node(), numbers)
+    }
+
+    /// The line of [`Line::load_error`].
+    fn load_fault(
+        &mut self,
+        code: &str,
+        node: Option<NodeId>,
+        numbers: Option<(&str, u64, &str, u64, usize)>,
+    ) -> &mut Self {
+        self.text(code);
+        if let Some(node) = node {
             self.text(" node=").num(u32::from(node));
         }
-        match *e {
-            LoadError::CrcMismatch { stored, computed } => {
-                self.text(" stored=").hex(u64::from(stored), 8).text(" computed=").hex(u64::from(computed), 8)
-            }
-            LoadError::ForeignBehaviorSet { image, expected } => {
-                self.text(" image=").hex(image, 16).text(" expected=").hex(expected, 16)
-            }
-            _ => self,
+        if let Some((a, x, b, y, width)) = numbers {
+            self.text(a).hex(x, width).text(b).hex(y, width);
         }
+        self
     }
 
     /// The fields of the `done` line.
@@ -340,6 +356,10 @@ pub fn mm(v: f32) -> i32 {
 
 /// Runs the whole scenario on `image`: load, validate, tick until done. Prints the
 /// trace to `sink` and shows every tick to `watch`.
+///
+/// Inlined into its one caller on a controller, so that the compiler sees which parts of
+/// a load error are never read (see [`Line::load_error`]).
+#[inline(always)]
 pub fn run<S: Sink, W: FnMut(&TickReport<'_>)>(image: &[u8], sink: &mut S, mut watch: W) -> Outcome {
     let mut line = Line::new();
     let mut storage = [Node::EMPTY; MAX_NODES];

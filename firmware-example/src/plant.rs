@@ -3,7 +3,8 @@
 //! A mobile base (position and facing direction) with a gripper a fixed reach ahead of it, a
 //! cube, a sphere that may block the robot's path, and a rectangular goal region. All
 //! lengths in metres, angles in radians, one step per control tick. The math is `f32`
-//! through nalgebra and libm only, so the controller and the host compute the same bits.
+//! through nalgebra and libm only (square roots: [`sqrt`]), so the controller and the host
+//! compute the same bits.
 //!
 //! [`Plant`] implements the behavior set of [`crate::catalog`]: conditions read the
 //! state, actions change it a bounded step per tick. A leaf whose arguments make no
@@ -18,6 +19,54 @@ use crate::catalog::{
 
 /// A point or direction in the plane, in metres.
 pub type Vec2 = Vector2<f32>;
+
+/// The length of `v`: `v.norm()` with the square root taken by [`sqrt`].
+#[inline]
+#[must_use]
+pub fn length(v: Vec2) -> f32 {
+    sqrt(v.norm_squared())
+}
+
+/// IEEE 754's square root, which rounds correctly: libm's on the host, the FPU's
+/// `vsqrt.f32` on a Cortex-M with hardware floating point. Both give the same bits, and
+/// the FPU's saves libm's software square root (about 500 bytes of flash).
+#[inline]
+#[must_use]
+pub fn sqrt(x: f32) -> f32 {
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+    {
+        // SAFETY: `fw_sqrtf` (below) takes and returns an `f32` in `s0` under the
+        // hard-float ABI and touches nothing else.
+        #[allow(unsafe_code)]
+        unsafe {
+            fpu::fw_sqrtf(x)
+        }
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    libm::sqrtf(x)
+}
+
+// The FPU's square root as a function: `asm!` cannot name the FPU's registers on these
+// targets without the unstable `vfp2` target feature, the assembler can.
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+#[allow(unsafe_code)]
+mod fpu {
+    core::arch::global_asm!(
+        ".section .text.fw_sqrtf,\"ax\",%progbits",
+        ".fpu fpv4-sp-d16",
+        ".global fw_sqrtf",
+        ".type fw_sqrtf,%function",
+        ".thumb_func",
+        "fw_sqrtf:",
+        "vsqrt.f32 s0, s0",
+        "bx lr",
+        ".size fw_sqrtf, . - fw_sqrtf",
+    );
+
+    unsafe extern "C" {
+        pub(super) fn fw_sqrtf(x: f32) -> f32;
+    }
+}
 
 /// Control ticks per second.
 pub const TICK_HZ: u32 = 10;
@@ -151,7 +200,7 @@ impl Plant {
     /// `near(l)`: the base is within [`NEAR_RADIUS`] of location `l`.
     #[must_use]
     pub fn near(&self, l: u16) -> bool {
-        self.position(l).is_some_and(|p| (p - self.robot).norm() <= NEAR_RADIUS)
+        self.position(l).is_some_and(|p| length(p - self.robot) <= NEAR_RADIUS)
     }
 
     /// `path-free(l)`: the straight path from the base to `l` keeps [`CLEARANCE`] from
@@ -199,7 +248,7 @@ impl Plant {
             return Status::Failure;
         };
         let d = target - self.robot;
-        let dist = d.norm();
+        let dist = length(d);
         if dist <= ARRIVE {
             return Status::Success;
         }
@@ -276,7 +325,7 @@ impl Plant {
             return Status::Running;
         }
         let along = target - self.robot;
-        let n = along.norm();
+        let n = length(along);
         if n > 0.0 {
             let left = Vec2::new(-along.y, along.x) / n;
             let side = if left.dot(&(self.sphere - self.robot)) >= 0.0 { 1.0 } else { -1.0 };
@@ -357,7 +406,7 @@ pub fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f32 {
     let ab = b - a;
     let len2 = ab.norm_squared();
     let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
-    (p - (a + ab * t)).norm()
+    length(p - (a + ab * t))
 }
 
 #[cfg(test)]
@@ -392,7 +441,7 @@ mod tests {
             assert!(ticks < 100);
         }
         assert!(p.near(CUBE));
-        let d = (p.cube - p.robot).norm();
+        let d = length(p.cube - p.robot);
         assert!((d - ARRIVE).abs() < 1e-4, "stopped {d} m from the cube");
         assert_eq!(p.move_to(CUBE), Status::Success, "already there");
     }

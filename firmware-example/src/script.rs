@@ -8,7 +8,7 @@
 //! throughout: its reactivity handles every event.
 
 use crate::catalog::GOAL;
-use crate::plant::{Hand, Plant, Vec2};
+use crate::plant::{Hand, Plant, Vec2, length};
 
 /// An external event.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,7 +112,7 @@ pub fn apply(event: Event, plant: &mut Plant) -> Result<(), Skipped> {
         }
         Event::Block => {
             let to_goal = plant.goal - plant.robot;
-            let dist = to_goal.norm();
+            let dist = length(to_goal);
             if plant.near(GOAL) || dist <= 0.0 {
                 return Err(Skipped::NoPathLeft);
             }
@@ -121,7 +121,7 @@ pub fn apply(event: Event, plant: &mut Plant) -> Result<(), Skipped> {
         }
         Event::Unblock => {
             let along = plant.goal - plant.robot;
-            let n = along.norm();
+            let n = length(along);
             if n > 0.0 {
                 plant.sphere += Vec2::new(-along.y, along.x) * (MOVE_AWAY / n);
             }

@@ -248,9 +248,64 @@ fn a_tree_with_a_kind_this_build_leaves_out_is_refused_at_load() {
     assert!(bt_core::load::<_, 4>(&image[..len], &crate::catalog::BEHAVIORS, &mut storage).is_ok());
     let len = bt_core::encode(&nodes, crate::catalog::FINGERPRINT, &mut image).unwrap();
     let err = bt_core::load::<_, 4>(&image[..len], &crate::catalog::BEHAVIORS, &mut storage).unwrap_err();
-    assert!(matches!(err, LoadError::UnsupportedKind { node: 0, kind: "IfThenElse" }), "{err:?}");
+    // Refused as it decodes, without the kind's name (which would cost flash).
+    assert!(matches!(err, LoadError::UnsupportedKind { node: 0, kind: "BehaviorTree.CPP or Nav2 kind" }), "{err:?}");
     assert_eq!(err.code(), "unsupported-kind");
+    assert_eq!(
+        err.to_string(),
+        "node 0 is a BehaviorTree.CPP or Nav2 kind, which this build does not run (bt-core without the `btcpp` feature)"
+    );
+    // Validating the nodes in memory refuses it too, and names the node.
+    let nested = [
+        Node::new(NodeKind::Sequence, 4),
+        Node::new(NodeKind::RunOnce { then_skip: false }, 2),
+        Node::new(NodeKind::Action(act), 1),
+        Node::new(NodeKind::Condition(cond), 1),
+    ];
+    let err = bt_core::Tree::<4>::validate(&nested, &crate::catalog::BEHAVIORS).unwrap_err();
+    assert!(matches!(err, LoadError::UnsupportedKind { node: 1, .. }), "{err:?}");
     let mut lines = Lines::default();
     let outcome = run(&image[..len], &mut lines, |_| {});
     assert!(matches!(outcome, Outcome::Load(LoadError::UnsupportedKind { node: 0, .. })), "{outcome:?}");
+    assert!(lines.0.iter().any(|l| l == "load error: unsupported-kind node=0"), "{:?}", lines.0);
+}
+
+#[test]
+fn a_leaf_that_returns_skipped_is_a_tick_error_in_this_build() {
+    // Without the `btcpp` feature the tick loop has no Skipped paths: a behavior that
+    // returns Skipped stops the tick with an error naming the leaf.
+    use bt_core::{BehaviorSet, Context, Executor, NodeState, TickError, Tree};
+    struct Skips;
+    impl BehaviorSet for Skips {
+        fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
+            Status::Success
+        }
+        fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
+            Status::Skipped
+        }
+        fn halt(&mut self, _: &Leaf, _: bt_core::NodeId) {}
+    }
+    let cond = Leaf::with_args(crate::catalog::HAND_EMPTY, &[]).unwrap();
+    let act = Leaf::with_args(DROP, &[CUBE]).unwrap();
+    // The action as the root, under a Sequence (ticked in place) and under a decorator.
+    let trees: [&[bt_core::Node]; 3] = [
+        &[bt_core::Node::new(NodeKind::Action(act), 1)],
+        &[
+            bt_core::Node::new(NodeKind::Sequence, 3),
+            bt_core::Node::new(NodeKind::Condition(cond), 1),
+            bt_core::Node::new(NodeKind::Action(act), 1),
+        ],
+        &[bt_core::Node::new(NodeKind::Inverter, 2), bt_core::Node::new(NodeKind::Action(act), 1)],
+    ];
+    for nodes in trees {
+        let tree = Tree::<4>::validate(nodes, &crate::catalog::BEHAVIORS).unwrap();
+        let mut state = [NodeState::IDLE; 4];
+        let mut exec = Executor::new(tree, &mut state).unwrap();
+        let leaf = nodes.len() as u16 - 1;
+        let err = exec.tick(&mut Skips, 0).unwrap_err();
+        assert_eq!(err, TickError::LeafSkipped { node: leaf, behavior: DROP }, "{nodes:?}");
+        assert_eq!(err.code(), "leaf-skipped");
+        // The tree is halted and Idle again after the error.
+        assert!(exec.states().iter().all(|s| s.status() == bt_core::NodeStatus::Idle));
+    }
 }
