@@ -26,28 +26,28 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("t08_additional_node_args.xml", None, Ok(3)),
     // A bare `&&` in a script: BehaviorTree.CPP's parser lets it through.
     ("t09_scripting.xml", None, Err("malformed entity reference")),
-    ("t10_observer.xml", Some("MainTree"), Err("<AlwaysFailure> is not supported")),
+    ("t10_observer.xml", Some("MainTree"), Ok(8)),
     ("t11_groot_howto.xml", Some("MainTree"), Err("the attribute _onSuccess on <Fallback> is not supported")),
     ("t12_default_ports.xml", None, Ok(1)),
     ("t13_access_by_ref.xml", None, Ok(4)),
     ("t14_subtree_model.xml", None, Err("malformed entity reference")),
     ("t14_subtree_model_1.xml", None, Err("malformed entity reference")),
-    ("t15_nodes_mocking.xml", Some("MainTree"), Err("<AlwaysSuccess> is not supported")),
-    ("t15_nodes_mocking_strict_failure.xml", Some("MainTree"), Err("<AlwaysSuccess> is not supported")),
+    ("t15_nodes_mocking.xml", Some("MainTree"), Err("<Script> is not supported")),
+    ("t15_nodes_mocking_strict_failure.xml", Some("MainTree"), Err("<Script> is not supported")),
     // This example's PrintNumber has a port `val`; t02's and others' `value`.
     ("t16_global_blackboard.xml", Some("MainTree"), Err("<PrintNumber> has no port `val`")),
     ("t17_blackboard_backup.xml", Some("MainTree"), Err("<Script> is not supported")),
     ("t18_waypoints.xml", None, Err("<LoopDouble> is not supported")),
     // A polymorphic cast (Cat to Animal) registered in C++.
     ("t19_polymorphic_ports.xml", None, Err("blackboard key `pet` is used as Animal::Ptr here and as Cat::Ptr")),
-    ("test_files/Check.xml", None, Err("<SequenceWithMemory> is not supported")),
+    ("test_files/Check.xml", None, Ok(3)),
     ("test_files/log_test.xml", Some("Main"), Err("<Sleep> is not supported")),
     ("test_files/subtree_test.xml", Some("BehaviorTree"), Ok(5)),
-    ("trees/parent_no_include.xml", None, Err("<AlwaysSuccess> is not supported")),
-    ("trees/parent_include_child.xml", None, Err("<AlwaysSuccess> is not supported")),
-    ("trees/parent_include_child_include_child.xml", None, Err("<AlwaysSuccess> is not supported")),
-    ("trees/parent_include_child_include_parent.xml", None, Err("<AlwaysSuccess> is not supported")),
-    ("trees/parent_include_child_include_sibling.xml", None, Err("<AlwaysSuccess> is not supported")),
+    ("trees/parent_no_include.xml", None, Ok(1)),
+    ("trees/parent_include_child.xml", None, Ok(3)),
+    ("trees/parent_include_child_include_child.xml", None, Ok(5)),
+    ("trees/parent_include_child_include_parent.xml", None, Ok(5)),
+    ("trees/parent_include_child_include_sibling.xml", None, Ok(5)),
 ];
 
 #[test]

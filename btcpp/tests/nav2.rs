@@ -1,17 +1,12 @@
-//! Nav2's default trees against Nav2's models: every file reads, its SubTrees flatten,
-//! every leaf has a model and every attribute names a declared port.
-//!
-//! Importing them whole needs the node kinds for Nav2's control and decorator nodes
-//! (PipelineSequence, RecoveryNode, RoundRobin, RateController and the plugin
-//! decorators); until they are in, the test checks the import stops at exactly such a
-//! node.
+//! Nav2's default trees against Nav2's models: every file imports whole (its SubTrees
+//! flattened, Nav2's control nodes and plugin decorators lowered), loads as an image,
+//! and runs in bt-core's executor with scripted leaves, as Nav2 would tick it.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
 
-use btcpp::xml::flatten::{Inst, flatten, main_tree};
-use btcpp::xml::model::ModelKind;
-use btcpp::xml::{ImportOptions, Models, document, import};
+use bt_core::{BehaviorSet, Catalog, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, Status, Tree};
+use btcpp::xml::{ImportOptions, Imported, import};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/nav2")
@@ -27,57 +22,240 @@ fn trees() -> Vec<PathBuf> {
     files
 }
 
-/// Nav2's own node types this build cannot lower yet.
-const PENDING: &[&str] = &[
-    "PipelineSequence",
-    "RecoveryNode",
-    "RoundRobin",
-    "RateController",
-    "DistanceController",
-    "SpeedController",
-    "GoalUpdater",
-    "PathLongerOnApproach",
-    "GoalUpdatedController",
-    "SingleTrigger",
-    "KeepRunningUntilFailure",
-    "SequenceWithMemory",
-];
+fn import_nav2(f: &Path) -> Imported {
+    let options = ImportOptions { models: vec![dir().join("nav2_tree_nodes.xml")], ..ImportOptions::default() };
+    import(f, &options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Every leaf and gate answers from a script: conditions and gates by `condition`,
+/// actions by `action`, which see the behavior's name and the tick. Halts are counted.
+struct Script<'c> {
+    catalog: &'c dyn Catalog,
+    tick: u32,
+    action: fn(&str, u32) -> Status,
+    condition: fn(&str, u32) -> Status,
+    ticked: Vec<String>,
+    /// `ticked.len()` at the end of each tick.
+    per_tick: Vec<usize>,
+    halts: usize,
+}
+
+impl Script<'_> {
+    fn name(&self, leaf: &Leaf) -> String {
+        self.catalog.info(leaf.behavior()).map(|i| i.name.to_string()).unwrap()
+    }
+}
+
+impl BehaviorSet for Script<'_> {
+    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
+        let name = self.name(leaf);
+        self.ticked.push(name.clone());
+        (self.condition)(&name, self.tick)
+    }
+
+    fn action(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
+        let name = self.name(leaf);
+        self.ticked.push(name.clone());
+        // Plugin decorators (gates) are declared as actions: they answer as conditions.
+        if is_gate(&name) { (self.condition)(&name, self.tick) } else { (self.action)(&name, self.tick) }
+    }
+
+    fn halt(&mut self, _: &Leaf, _: NodeId) {
+        self.halts += 1;
+    }
+}
+
+fn is_gate(name: &str) -> bool {
+    matches!(
+        name,
+        "DistanceController"
+            | "SpeedController"
+            | "GoalUpdater"
+            | "PathLongerOnApproach"
+            | "GoalUpdatedController"
+            | "SingleTrigger"
+    )
+}
+
+/// Ticks `imported` every 100 ms for `ticks` ticks (Nav2's default 10 Hz loop, `now` in
+/// milliseconds), re-ticking while the tree asks to be woken as BehaviorTree.CPP's
+/// `tickOnce` does; the root's status per tick.
+fn run(imported: &Imported, ticks: u32, script: &mut Script<'_>) -> Vec<Status> {
+    let tree: Tree<'_, 64> = Tree::validate_with(&imported.nodes, &imported.values, imported).unwrap();
+    let mut state = vec![NodeState::IDLE; imported.nodes.len()];
+    let mut exec = Executor::new(tree, &mut state).unwrap();
+    let mut out = Vec::new();
+    for t in 0..ticks {
+        script.tick = t;
+        let mut s = exec.tick(script, t * 100).unwrap();
+        while s == Status::Running && exec.take_woken() {
+            s = exec.tick(script, t * 100).unwrap();
+        }
+        out.push(s);
+        script.per_tick.push(script.ticked.len());
+    }
+    out
+}
+
+fn kinds(nodes: &[Node]) -> Vec<&'static str> {
+    let mut k: Vec<&'static str> = nodes.iter().map(|n| n.kind().name()).collect();
+    k.sort_unstable();
+    k.dedup();
+    k
+}
 
 #[test]
-fn every_default_tree_reads_and_resolves_against_nav2_models() {
-    let models_file = dir().join("nav2_tree_nodes.xml");
+fn every_default_tree_imports_and_loads_as_an_image() {
     let files = trees();
     assert_eq!(files.len(), 15);
-    let mut leaves = 0;
+    let mut all_kinds: Vec<&'static str> = Vec::new();
     for f in &files {
-        let doc = document::read(f, std::slice::from_ref(&models_file)).unwrap();
-        let models = Models::new(&doc.models).unwrap();
-        let main = main_tree(&doc, None).unwrap();
-        let flat = flatten(&doc, main, &models.subtree_models()).unwrap();
-        let mut stack: Vec<&Inst> = vec![&flat.root];
-        while let Some(n) = stack.pop() {
-            stack.extend(n.children.iter());
-            let Some(m) = models.get(&n.id) else {
-                assert!(btcpp::xml::builtin::builtin(&n.id).is_some(), "{}: {} has no model", f.display(), n.id);
-                continue;
-            };
-            if matches!(m.kind, ModelKind::Action | ModelKind::Condition) {
-                leaves += 1;
-            }
-            for p in &n.ports {
-                assert!(m.port(&p.port).is_some(), "{}: <{}> {} is not a declared port", f.display(), n.id, p.port);
-            }
-        }
-        // The import stops only at a Nav2 node kind.
-        let options = ImportOptions { models: vec![models_file.clone()], ..ImportOptions::default() };
-        match import(f, &options) {
-            Ok(_) => {}
-            Err(e) => {
-                let text = e.to_string();
-                let pending = PENDING.iter().any(|k| text.contains(&format!("<{k}> is not supported")));
-                assert!(pending, "{}: {text}", f.display());
-            }
-        }
+        let imported = import_nav2(f);
+        let image = imported.image().unwrap();
+        let mut nodes = vec![Node::EMPTY; imported.nodes.len()];
+        let mut values = vec![0u16; image.len()];
+        let loaded: Tree<'_, 64> = bt_core::load_with(&image, &imported, &mut nodes, &mut values)
+            .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        assert_eq!(loaded.nodes(), &imported.nodes[..]);
+        println!(
+            "{:<75} {:>3} nodes {:>5} bytes",
+            f.file_name().unwrap().to_string_lossy(),
+            imported.nodes.len(),
+            image.len()
+        );
+        all_kinds.extend(kinds(&imported.nodes));
     }
-    assert_eq!(leaves, 186);
+    all_kinds.sort_unstable();
+    all_kinds.dedup();
+    // Nav2's own nodes are all there, as bt-core kinds.
+    for k in ["PipelineSequence", "Recovery", "RoundRobin", "RateController", "Gate"] {
+        assert!(all_kinds.contains(&k), "{k} not in {all_kinds:?}");
+    }
+}
+
+#[test]
+fn navigate_to_pose_succeeds_when_every_action_does() {
+    let imported = import_nav2(&dir().join("navigate_to_pose_w_replanning_and_recovery.xml"));
+    let mut script = Script {
+        catalog: &imported,
+        tick: 0,
+        action: |_, _| Status::Success,
+        condition: |_, _| Status::Success,
+        ticked: Vec::new(),
+        per_tick: Vec::new(),
+        halts: 0,
+    };
+    let statuses = run(&imported, 1, &mut script);
+    assert_eq!(statuses, [Status::Success]);
+    // The five selectors; then `GlobalUpdatedGoal` succeeds, so its Inverter fails and
+    // with it the check whether the old path will do: the planner plans; then the
+    // controller follows. Nothing else (no recovery).
+    assert_eq!(
+        script.ticked,
+        [
+            "ProgressCheckerSelector",
+            "GoalCheckerSelector",
+            "PathHandlerSelector",
+            "ControllerSelector",
+            "PlannerSelector",
+            "GlobalUpdatedGoal",
+            "ComputePathToPose",
+            "FollowPath"
+        ],
+    );
+    assert_eq!(script.halts, 0);
+}
+
+#[test]
+fn navigate_to_pose_replans_at_the_rate_controller_s_rate_while_following() {
+    let imported = import_nav2(&dir().join("navigate_to_pose_w_replanning_and_recovery.xml"));
+    // FollowPath runs for ever; everything else succeeds.
+    let mut script = Script {
+        catalog: &imported,
+        tick: 0,
+        action: |name, _| if name == "FollowPath" { Status::Running } else { Status::Success },
+        condition: |_, _| Status::Success,
+        ticked: Vec::new(),
+        per_tick: Vec::new(),
+        halts: 0,
+    };
+    // 3 s at 10 Hz: the planner runs at tick 0 and then once per second (hz="1.0").
+    let statuses = run(&imported, 31, &mut script);
+    assert!(statuses.iter().all(|&s| s == Status::Running), "{statuses:?}");
+    let plans = script.ticked.iter().filter(|n| *n == "ComputePathToPose").count();
+    let follows = script.ticked.iter().filter(|n| *n == "FollowPath").count();
+    assert_eq!(plans, 4, "{:?}", script.ticked);
+    assert_eq!(follows, 31);
+    assert_eq!(script.halts, 0);
+}
+
+#[test]
+fn navigate_to_pose_gives_up_after_its_recoveries() {
+    let imported = import_nav2(&dir().join("navigate_to_pose_w_replanning_and_recovery.xml"));
+    // Following always fails; recoveries would help and succeed; the goal is never
+    // updated.
+    let mut script = Script {
+        catalog: &imported,
+        tick: 0,
+        action: |name, _| if name == "FollowPath" { Status::Failure } else { Status::Success },
+        condition: |name, _| if name.starts_with("WouldA") { Status::Success } else { Status::Failure },
+        ticked: Vec::new(),
+        per_tick: Vec::new(),
+        halts: 0,
+    };
+    let statuses = run(&imported, 50, &mut script);
+    let end = statuses.iter().position(|&s| s != Status::Running).expect("the tree ends");
+    assert_eq!(statuses[end], Status::Failure, "{statuses:?}");
+    // NavigateRecovery's number_of_retries="6": six rounds of RecoveryActions, one child
+    // of the RoundRobin each: the clearing Sequence, Spin, Wait, BackUp, the clearing
+    // Sequence, Spin.
+    // Every leaf answers at once, so all of it happens in the tick that fails.
+    let turns: Vec<&str> = script.ticked[..script.per_tick[end]]
+        .iter()
+        .map(String::as_str)
+        .filter(|n| ["Spin", "Wait", "BackUp"].contains(n))
+        .collect();
+    assert_eq!(end, 0);
+    assert_eq!(turns, ["Spin", "Wait", "BackUp", "Spin"]);
+}
+
+#[test]
+fn every_default_tree_runs_on_scripted_leaves_without_error() {
+    // Leaves that succeed, fail and run in a fixed pattern over the ticks.
+    fn action(name: &str, tick: u32) -> Status {
+        let h = name.bytes().fold(tick.wrapping_mul(2_654_435_761), |h, b| h.rotate_left(5) ^ u32::from(b));
+        [Status::Success, Status::Running, Status::Running, Status::Failure][(h % 4) as usize]
+    }
+    fn condition(name: &str, tick: u32) -> Status {
+        let h = name.bytes().fold(tick.wrapping_mul(40_503), |h, b| h.rotate_left(3) ^ u32::from(b));
+        if h % 3 == 0 { Status::Failure } else { Status::Success }
+    }
+    for f in &trees() {
+        let imported = import_nav2(f);
+        let mut script = Script {
+            catalog: &imported,
+            tick: 0,
+            action,
+            condition,
+            ticked: Vec::new(),
+            per_tick: Vec::new(),
+            halts: 0,
+        };
+        let statuses = run(&imported, 100, &mut script);
+        assert_eq!(statuses.len(), 100);
+        assert!(!script.ticked.is_empty(), "{}", f.display());
+        // The same script gives the same run.
+        let mut again = Script {
+            catalog: &imported,
+            tick: 0,
+            action,
+            condition,
+            ticked: Vec::new(),
+            per_tick: Vec::new(),
+            halts: 0,
+        };
+        assert_eq!(run(&imported, 100, &mut again), statuses, "{}", f.display());
+        assert_eq!(again.ticked, script.ticked);
+        assert!(imported.nodes.iter().all(|n| !matches!(n.kind(), NodeKind::Repeat(_) | NodeKind::Retry(_))));
+    }
 }

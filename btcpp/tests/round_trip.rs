@@ -1,6 +1,6 @@
 //! Exported XML imported again gives the same tree and the same image: random trees of
-//! every kind that has a BehaviorTree.CPP equivalent (all but `Timeout`, which counts
-//! ticks where BehaviorTree.CPP counts milliseconds).
+//! every kind that has a BehaviorTree.CPP or Nav2 equivalent (all but our own `Repeat`,
+//! `Retry` and `Timeout`, which count ticks), plugin decorators (gates) included.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::fmt;
@@ -68,33 +68,55 @@ fn tree(seed: u64) -> Vec<Node> {
     fn make(out: &mut Vec<Node>, depth: u32, next: &mut dyn FnMut(u64) -> u64) {
         let at = out.len();
         out.push(Node::EMPTY);
-        let pick = if depth >= 5 { 10 + next(2) } else { next(12) };
+        // 0..=8 controls, 9..=10 two or three children, 11 two, 12..=21 decorators,
+        // 22.. leaves.
+        let pick = if depth >= 5 { 22 + next(4) } else { next(26) };
         let children = match pick {
-            0..=4 => 1 + next(4) as usize,
-            5..=9 => 1,
+            0..=8 => 1 + next(4) as usize,
+            9..=10 => 2 + next(2) as usize,
+            11 => 2,
+            12..=21 => 1,
             _ => 0,
         };
         for _ in 0..children {
             make(out, depth + 1, next);
         }
+        let c = children as u64;
+        let count = |r: u64| match r % 8 {
+            0 => NodeKind::FOREVER,
+            1 => 0,
+            r => r as u16 * 61,
+        };
+        let span = |r: u64| bt_core::Span::new([0, 1, 3, 7, 250, 1000, 60_000, 16_777_215][(r % 8) as usize]).unwrap();
         let kind = match pick {
             0 => NodeKind::Sequence,
             1 => NodeKind::Fallback,
             2 => NodeKind::SequenceWithMemory,
             3 => NodeKind::FallbackWithMemory,
-            4 => {
-                let c = children as u64;
-                NodeKind::Parallel {
-                    success_threshold: 1 + next(c) as u16,
-                    failure_threshold: 1 + next(c) as u16,
-                    count_skipped: next(2) == 1,
-                }
-            }
-            5 => NodeKind::Inverter,
-            6 => NodeKind::ForceSuccess,
-            7 => NodeKind::ForceFailure,
-            8 => NodeKind::Repeat(1 + next(500) as u16),
-            9 => NodeKind::Retry(1 + next(500) as u16),
+            4 => NodeKind::SequenceStar,
+            5 => NodeKind::Parallel {
+                success_threshold: 1 + next(c) as u16,
+                failure_threshold: 1 + next(c) as u16,
+                count_skipped: next(2) == 0,
+            },
+            6 => NodeKind::ParallelAll { max_failures: next(c + 1) as u16 },
+            7 => NodeKind::PipelineSequence,
+            8 => NodeKind::RoundRobin,
+            9 => NodeKind::IfThenElse,
+            10 => NodeKind::WhileDoElse,
+            11 => NodeKind::Recovery { retries: next(7) as u16 },
+            12 => NodeKind::Inverter,
+            13 => NodeKind::ForceSuccess,
+            14 => NodeKind::ForceFailure,
+            15 => NodeKind::RepeatCycles(count(next(64))),
+            16 => NodeKind::RetryUntilSuccessful(count(next(64))),
+            17 => NodeKind::KeepRunningUntilFailure,
+            18 => NodeKind::RunOnce { then_skip: next(2) == 0 },
+            19 => NodeKind::TimeLimit(span(next(8))),
+            20 => NodeKind::Delay(span(next(8))),
+            21 => NodeKind::RateController(span(1 + next(7))),
+            22 => NodeKind::AlwaysSuccess,
+            23 => NodeKind::AlwaysFailure,
             _ => {
                 let b = next(BEHAVIORS.len() as u64) as u16;
                 let (_, kind, arity) = BEHAVIORS[usize::from(b)];
@@ -168,22 +190,51 @@ fn document(seed: u64) -> String {
             xml.push_str(&format!("</{}>", open.pop().unwrap().1));
         }
         let name = if next(4) == 0 { format!(" name=\"n{i}\"") } else { String::new() };
+        let count = |k: u16| if k == NodeKind::FOREVER { -1 } else { i32::from(k) };
         let (tag, attrs) = match *n.kind() {
             NodeKind::Sequence => ("ReactiveSequence", String::new()),
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
             NodeKind::SequenceWithMemory => ("Sequence", String::new()),
             NodeKind::FallbackWithMemory => ("Fallback", String::new()),
+            NodeKind::SequenceStar => ("SequenceWithMemory", String::new()),
             NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-                // Skipped children count towards success for a negative count only.
-                let n = bt_core::children(&nodes, i as u16).count() as i64;
-                let s = if count_skipped { i64::from(success_threshold) - n - 1 } else { i64::from(success_threshold) };
+                let children = bt_core::children(&nodes, i as u16).count() as i32;
+                let s = if count_skipped {
+                    i32::from(success_threshold) - children - 1
+                } else {
+                    i32::from(success_threshold)
+                };
                 ("Parallel", format!(" success_count=\"{s}\" failure_count=\"{failure_threshold}\""))
+            }
+            NodeKind::ParallelAll { max_failures } => ("ParallelAll", format!(" max_failures=\"{max_failures}\"")),
+            NodeKind::PipelineSequence => ("PipelineSequence", String::new()),
+            NodeKind::RoundRobin => ("RoundRobin", String::new()),
+            NodeKind::IfThenElse => ("IfThenElse", String::new()),
+            NodeKind::WhileDoElse => ("WhileDoElse", String::new()),
+            NodeKind::Recovery { retries } => ("RecoveryNode", format!(" number_of_retries=\"{retries}\"")),
+            // Half the Inverters become a plugin decorator (a gate) with a port.
+            NodeKind::Inverter if next(2) == 0 => {
+                ("Throttle", format!(" every=\"{}\"", ["0.5", "2", "{period}"][next(3) as usize]))
             }
             NodeKind::Inverter => ("Inverter", String::new()),
             NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
             NodeKind::ForceFailure => ("ForceFailure", String::new()),
-            NodeKind::Repeat(k) => ("Repeat", format!(" num_cycles=\"{k}\"")),
-            NodeKind::Retry(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{k}\"")),
+            NodeKind::RepeatCycles(k) => ("Repeat", format!(" num_cycles=\"{}\"", count(k))),
+            NodeKind::RetryUntilSuccessful(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{}\"", count(k))),
+            NodeKind::KeepRunningUntilFailure => ("KeepRunningUntilFailure", String::new()),
+            NodeKind::RunOnce { then_skip } => ("RunOnce", format!(" then_skip=\"{then_skip}\"")),
+            NodeKind::TimeLimit(t) => ("Timeout", format!(" msec=\"{}\"", t.get())),
+            NodeKind::Delay(t) => ("Delay", format!(" delay_msec=\"{}\"", t.get())),
+            // Rates as people write them; the period is what is compared.
+            NodeKind::RateController(t) => ("RateController", format!(" hz=\"{}\"", 1000.0 / f64::from(t.get()))),
+            NodeKind::AlwaysSuccess => {
+                xml.push_str(&format!("<AlwaysSuccess{name}/>"));
+                continue;
+            }
+            NodeKind::AlwaysFailure => {
+                xml.push_str(&format!("<AlwaysFailure{name}/>"));
+                continue;
+            }
             _ => {
                 let leaf = match next(3) {
                     0 => {
@@ -230,6 +281,7 @@ fn document(seed: u64) -> String {
          <output_port name=\"done\" type=\"bool\"/><input_port name=\"note\" type=\"std::string\"/>\
          <input_port name=\"tries\" type=\"unsigned int\" default=\"2\"/></Action>\
          <Action ID=\"Say\"><input_port name=\"label\" type=\"std::string\"/></Action>\
+         <Decorator ID=\"Throttle\"><input_port name=\"every\" type=\"double\"/></Decorator>\
          </TreeNodesModel></root>",
     );
     xml

@@ -143,28 +143,51 @@ pub struct NotExpressible {
 /// A built-in's kind, registration ID and parameters.
 type Builtin = (Kind, &'static str, Vec<(&'static str, String)>);
 
-/// How a bt-core kind is named and parameterized in BehaviorTree.CPP.
-fn builtin(kind: &NodeKind, nodes: &[Node], node: usize) -> Option<Builtin> {
+/// How a bt-core kind is named and parameterized in BehaviorTree.CPP (`children`: its
+/// number of children). `None` for kinds BehaviorTree.CPP has no built-in for.
+fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
+    let count = |n: u16| if n == NodeKind::FOREVER { -1 } else { i32::from(n) };
     Some(match *kind {
         NodeKind::Sequence => (Kind::ReactiveSequence, "ReactiveSequence", vec![]),
         NodeKind::Fallback => (Kind::ReactiveFallback, "ReactiveFallback", vec![]),
         NodeKind::SequenceWithMemory => (Kind::Sequence, "Sequence", vec![]),
         NodeKind::FallbackWithMemory => (Kind::Fallback, "Fallback", vec![]),
+        NodeKind::SequenceStar => (Kind::SequenceWithMemory, "SequenceWithMemory", vec![]),
         NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-            let success = crate::xml::write::success_count(success_threshold, count_skipped, nodes, node);
+            // A success count that counts skipped children was negative in the XML.
+            let success = if count_skipped {
+                i32::from(success_threshold) - i32::try_from(children).unwrap_or(i32::MAX) - 1
+            } else {
+                i32::from(success_threshold)
+            };
             (
-                Kind::Parallel { success: i32::try_from(success).ok()?, failure: i32::from(failure_threshold) },
+                Kind::Parallel { success, failure: i32::from(failure_threshold) },
                 "Parallel",
                 vec![("success_count", success.to_string()), ("failure_count", failure_threshold.to_string())],
             )
         }
+        NodeKind::ParallelAll { max_failures } => (
+            Kind::ParallelAll { max_failures: i32::from(max_failures) },
+            "ParallelAll",
+            vec![("max_failures", max_failures.to_string())],
+        ),
+        NodeKind::IfThenElse => (Kind::IfThenElse, "IfThenElse", vec![]),
+        NodeKind::WhileDoElse => (Kind::WhileDoElse, "WhileDoElse", vec![]),
         NodeKind::Inverter => (Kind::Inverter, "Inverter", vec![]),
         NodeKind::ForceSuccess => (Kind::ForceSuccess, "ForceSuccess", vec![]),
         NodeKind::ForceFailure => (Kind::ForceFailure, "ForceFailure", vec![]),
-        NodeKind::Repeat(n) => (Kind::Repeat(i32::from(n)), "Repeat", vec![("num_cycles", n.to_string())]),
-        NodeKind::Retry(n) => {
-            (Kind::Retry(i32::from(n)), "RetryUntilSuccessful", vec![("num_attempts", n.to_string())])
+        NodeKind::RepeatCycles(n) => (Kind::Repeat(count(n)), "Repeat", vec![("num_cycles", count(n).to_string())]),
+        NodeKind::RetryUntilSuccessful(n) => {
+            (Kind::Retry(count(n)), "RetryUntilSuccessful", vec![("num_attempts", count(n).to_string())])
         }
+        NodeKind::KeepRunningUntilFailure => (Kind::KeepRunningUntilFailure, "KeepRunningUntilFailure", vec![]),
+        NodeKind::RunOnce { then_skip } => {
+            (Kind::RunOnce { then_skip }, "RunOnce", vec![("then_skip", then_skip.to_string())])
+        }
+        NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
+        NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
+        // Our tick-counting Repeat, Retry and Timeout, the clocked kinds (the replay has
+        // no clock) and Nav2's plugins have no BehaviorTree.CPP built-in to replay.
         _ => return None,
     })
 }
@@ -311,7 +334,8 @@ impl LogTree {
                     (kind, element, attr_order(given, &[]), default_name)
                 }
                 other => {
-                    let Some((kind, element, params)) = builtin(other, nodes, i) else {
+                    let children = u16::try_from(i).map_or(0, |id| bt_core::children(nodes, id).count());
+                    let Some((kind, element, params)) = builtin(other, children) else {
                         return Err(NotExpressible { node: i, kind: other.name() });
                     };
                     let given = params.into_iter().map(|(k, v)| (k.to_string(), v)).collect();

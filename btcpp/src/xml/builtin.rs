@@ -13,6 +13,10 @@ pub enum Shape {
     Decorator,
     /// One or more.
     Control,
+    /// Exactly two (Nav2's `RecoveryNode`).
+    Two,
+    /// Two or three (`IfThenElse`, `WhileDoElse`).
+    TwoOrThree,
 }
 
 impl Shape {
@@ -23,6 +27,8 @@ impl Shape {
             Self::Leaf => "takes no children",
             Self::Decorator => "takes exactly one child",
             Self::Control => "takes one or more children",
+            Self::Two => "takes exactly two children",
+            Self::TwoOrThree => "takes two or three children",
         }
     }
 
@@ -33,6 +39,20 @@ impl Shape {
             Self::Leaf => n == 0,
             Self::Decorator => n == 1,
             Self::Control => n >= 1,
+            Self::Two => n == 2,
+            Self::TwoOrThree => n == 2 || n == 3,
+        }
+    }
+
+    /// The shape of a bt-core kind.
+    #[must_use]
+    pub const fn of(kind: &bt_core::NodeKind) -> Self {
+        match kind.arity() {
+            bt_core::Arity::Leaf => Self::Leaf,
+            bt_core::Arity::One => Self::Decorator,
+            bt_core::Arity::AtLeastOne => Self::Control,
+            bt_core::Arity::Two => Self::Two,
+            bt_core::Arity::TwoOrThree => Self::TwoOrThree,
         }
     }
 }
@@ -69,7 +89,7 @@ const fn r(id: &'static str, shape: Shape, ports: &'static [BuiltinPort], why: &
 }
 
 use PortType::{Any, Bool, Int, String as Str};
-use Shape::{Control, Decorator, Leaf};
+use Shape::{Control, Decorator, Leaf, Two, TwoOrThree};
 
 /// Every built-in node type of BehaviorTree.CPP 4.10.
 pub const BUILTINS: &[Builtin] = &[
@@ -80,8 +100,8 @@ pub const BUILTINS: &[Builtin] = &[
     b("ReactiveFallback", Control, &[]),
     b("Parallel", Control, &[("success_count", Int, Some("-1")), ("failure_count", Int, Some("1"))]),
     b("ParallelAll", Control, &[("max_failures", Int, Some("1"))]),
-    b("IfThenElse", Control, &[]),
-    b("WhileDoElse", Control, &[]),
+    b("IfThenElse", TwoOrThree, &[]),
+    b("WhileDoElse", TwoOrThree, &[]),
     b("Inverter", Decorator, &[]),
     b("ForceSuccess", Decorator, &[]),
     b("ForceFailure", Decorator, &[]),
@@ -120,6 +140,22 @@ pub const BUILTINS: &[Builtin] = &[
     r("SkipUnlessUpdated", Decorator, &[("entry", Any, None)], UPDATED),
     r("WaitValueUpdate", Decorator, &[("entry", Any, None)], UPDATED),
 ];
+
+/// Nav2's control and decorator nodes that bt-core has kinds for, with their ports
+/// (they are plugins: Nav2's `nav2_tree_nodes.xml` declares them, but they are read
+/// whether or not a model is given).
+pub const NAV2: &[Builtin] = &[
+    b("PipelineSequence", Control, &[]),
+    b("RecoveryNode", Two, &[("number_of_retries", Int, Some("1"))]),
+    b("RoundRobin", Control, &[("wrap_around", Bool, None)]),
+    b("RateController", Decorator, &[("hz", PortType::Double, Some("10.0"))]),
+];
+
+/// The Nav2 node with this ID.
+#[must_use]
+pub fn nav2(id: &str) -> Option<&'static Builtin> {
+    NAV2.iter().find(|b| b.id == id)
+}
 
 /// The built-in with this ID, reading the v3 names (`SequenceStar`,
 /// `RetryUntilSuccesful`) as their v4 successors.

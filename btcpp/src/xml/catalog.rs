@@ -66,7 +66,9 @@ impl Models {
         self.by_id.get(id)
     }
 
-    /// The behavior set: every Action and Condition model, by ID.
+    /// The behavior set: every Action and Condition model, and every plugin Decorator
+    /// model (its gate, asked as an action: `bt_core::NodeKind::Gate`), by ID. Nav2's
+    /// `RateController`, which bt-core has a kind for, is not a behavior.
     #[must_use]
     pub fn catalog(&self) -> XmlCatalog {
         let behaviors = self
@@ -76,6 +78,7 @@ impl Models {
                 let kind = match m.kind {
                     ModelKind::Action => LeafKind::Action,
                     ModelKind::Condition => LeafKind::Condition,
+                    ModelKind::Decorator if crate::xml::builtin::nav2(&m.id).is_none() => LeafKind::Action,
                     _ => return None,
                 };
                 Some(Behavior { id: m.id.clone(), kind, ports: m.ports.clone() })

@@ -1,15 +1,10 @@
 //! Lowering: the flattened document to bt-core nodes, leaf values, constants and
 //! blackboard slots.
 //!
-//! BehaviorTree.CPP's built-ins become the bt-core kinds with the same semantics:
-//!
-//! | BehaviorTree.CPP | bt-core |
-//! |---|---|
-//! | `ReactiveSequence`, `ReactiveFallback` | `Sequence`, `Fallback` (reactive) |
-//! | `Sequence`, `Fallback` | `SequenceWithMemory`, `FallbackWithMemory` (resume at the running child, start over after the activation ends) |
-//! | `Parallel(success_count, failure_count)` | `Parallel` (negative counts taken from the number of children as BehaviorTree.CPP does) |
-//! | `Inverter`, `ForceSuccess`, `ForceFailure` | the same |
-//! | `Repeat(num_cycles)`, `RetryUntilSuccessful(num_attempts)` | `Repeat(n)`, `Retry(n)` |
+//! BehaviorTree.CPP's built-ins and Nav2's control nodes become the bt-core kinds with
+//! the same semantics (the table is in `docs/behaviortree-cpp.md`); a plugin
+//! `<Decorator>` a model declares becomes a [`NodeKind::Gate`] whose leaf is the
+//! decorator's behavior with its ports.
 //!
 //! A leaf's values are its ports in model order, each a packed
 //! [`PortValue`](bt_core::PortValue): constants interned in first-use order, blackboard
@@ -20,10 +15,10 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use bt_core::port::{SlotInfo, UNSET};
-use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue};
+use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue, Span};
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::{Shape, builtin};
+use crate::xml::builtin::{Shape, builtin, nav2};
 use crate::xml::catalog::{Models, XmlCatalog};
 use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
 use crate::xml::model::{Literal, ModelKind, convert};
@@ -280,7 +275,7 @@ impl Lowerer<'_> {
 
     /// The bt-core kind of a node and how many children it takes.
     fn kind(&mut self, n: &Inst) -> Result<(NodeKind, Shape)> {
-        if let Some(b) = builtin(&n.id) {
+        if let Some(b) = builtin(&n.id).or_else(|| nav2(&n.id)) {
             if let Some(reason) = b.refused {
                 return Err(unsupported(&n.at, &n.id, reason));
             }
@@ -296,47 +291,25 @@ impl Lowerer<'_> {
                     ));
                 }
             }
-            let children = n.children.len();
-            let kind = match b.id {
-                "ReactiveSequence" => NodeKind::Sequence,
-                "ReactiveFallback" => NodeKind::Fallback,
-                "Sequence" => NodeKind::SequenceWithMemory,
-                "Fallback" => NodeKind::FallbackWithMemory,
-                "Inverter" => NodeKind::Inverter,
-                "ForceSuccess" => NodeKind::ForceSuccess,
-                "ForceFailure" => NodeKind::ForceFailure,
-                "Parallel" => {
-                    let s = self.int_param(n, "success_count", Some(-1))?;
-                    let f = self.int_param(n, "failure_count", Some(1))?;
-                    let resolve = |t: i64| if t < 0 { (children as i64 + t + 1).max(0) } else { t };
-                    // BehaviorTree.CPP counts skipped children towards success when
-                    // success_count is negative.
-                    let count_skipped = s < 0;
-                    let (s, f) = (resolve(s), resolve(f));
-                    for (port, v) in [("success_count", s), ("failure_count", f)] {
-                        if v < 1 || v > children as i64 {
-                            return Err(ImportError::new(
-                                &n.at,
-                                Fault::Unsupported {
-                                    construct: format!("<Parallel {port}> of {v} with {children} children"),
-                                    reason: "the threshold must be between 1 and the number of children".into(),
-                                },
-                            ));
-                        }
-                    }
-                    NodeKind::Parallel { success_threshold: s as u16, failure_threshold: f as u16, count_skipped }
-                }
-                "Repeat" => NodeKind::Repeat(self.count_param(n, "num_cycles")?),
-                "RetryUntilSuccessful" => NodeKind::Retry(self.count_param(n, "num_attempts")?),
-                _ => {
+            let kind = self.builtin_kind(n, b.id)?;
+            return Ok((kind, Shape::of(&kind)));
+        }
+        if let Some(m) = self.models.get(&n.id) {
+            match m.kind {
+                ModelKind::Control => {
                     return Err(unsupported(
                         &n.at,
                         &n.id,
-                        "bt-core has no node kind with its semantics yet (BehaviorTree.CPP's control nodes are being added)",
+                        "it is a plugin control node; bt-core runs the control nodes of BehaviorTree.CPP and Nav2's PipelineSequence, RecoveryNode and RoundRobin",
                     ));
                 }
-            };
-            return Ok((kind, b.shape));
+                ModelKind::Decorator => {
+                    // A plugin decorator: a gate asked through the behavior set.
+                    let leaf = self.model_leaf(n)?;
+                    return Ok((NodeKind::Gate(leaf), Shape::Decorator));
+                }
+                _ => {}
+            }
         }
         if let Some((k, names)) = &self.known {
             let found = n.name.as_deref().and_then(|name| names.get(name)).or_else(|| names.get(&n.id));
@@ -353,27 +326,139 @@ impl Lowerer<'_> {
             };
             return Ok((kind, Shape::Leaf));
         }
-        if let Some((behavior, b)) = self.catalog.lookup(&n.id) {
-            let kind = b.kind;
-            let values = self.leaf_values(n, behavior)?;
-            let start = u16::try_from(self.out.values.len()).unwrap_or(u16::MAX);
-            let leaf = Leaf::with_values(behavior, &values, start).map_err(|e| {
-                ImportError::new(&n.at, Fault::TooLarge(format!("<{}>: {e} (the image's value table is full)", n.id)))
-            })?;
-            if leaf.is_extended() {
-                self.out.values.extend_from_slice(&values);
-            }
-            let kind = if kind == LeafKind::Condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) };
+        if let Some((_, b)) = self.catalog.lookup(&n.id) {
+            let condition = b.kind == LeafKind::Condition;
+            let leaf = self.model_leaf(n)?;
+            let kind = if condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) };
             return Ok((kind, Shape::Leaf));
         }
-        match self.models.get(&n.id) {
-            Some(m) if matches!(m.kind, ModelKind::Control | ModelKind::Decorator) => Err(unsupported(
-                &n.at,
-                &n.id,
-                "it is a plugin control or decorator node; bt-core runs only the kinds it knows (Nav2's are being added)",
-            )),
-            _ => Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone()))),
+        Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())))
+    }
+
+    /// The leaf of a behavior of the models' set (an Action, a Condition, or a plugin
+    /// decorator's gate), its ports as values.
+    fn model_leaf(&mut self, n: &Inst) -> Result<Leaf> {
+        let Some((behavior, _)) = self.catalog.lookup(&n.id) else {
+            return Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())));
+        };
+        let values = self.leaf_values(n, behavior)?;
+        let start = u16::try_from(self.out.values.len()).unwrap_or(u16::MAX);
+        let leaf = Leaf::with_values(behavior, &values, start).map_err(|e| {
+            ImportError::new(&n.at, Fault::TooLarge(format!("<{}>: {e} (the image's value table is full)", n.id)))
+        })?;
+        if leaf.is_extended() {
+            self.out.values.extend_from_slice(&values);
         }
+        Ok(leaf)
+    }
+
+    /// The kind of a BehaviorTree.CPP built-in or a Nav2 control node, its parameters
+    /// read as BehaviorTree.CPP and Nav2 read them.
+    fn builtin_kind(&self, n: &Inst, id: &str) -> Result<NodeKind> {
+        let children = n.children.len();
+        Ok(match id {
+            "ReactiveSequence" => NodeKind::Sequence,
+            "ReactiveFallback" => NodeKind::Fallback,
+            "Sequence" => NodeKind::SequenceWithMemory,
+            "Fallback" => NodeKind::FallbackWithMemory,
+            "SequenceWithMemory" => NodeKind::SequenceStar,
+            "IfThenElse" => NodeKind::IfThenElse,
+            "WhileDoElse" => NodeKind::WhileDoElse,
+            "Inverter" => NodeKind::Inverter,
+            "ForceSuccess" => NodeKind::ForceSuccess,
+            "ForceFailure" => NodeKind::ForceFailure,
+            "KeepRunningUntilFailure" => NodeKind::KeepRunningUntilFailure,
+            "AlwaysSuccess" => NodeKind::AlwaysSuccess,
+            "AlwaysFailure" => NodeKind::AlwaysFailure,
+            "PipelineSequence" => NodeKind::PipelineSequence,
+            "RoundRobin" => {
+                if let Some(b) = n.ports.iter().find(|b| b.port == "wrap_around") {
+                    return Err(unsupported_construct(
+                        &b.at,
+                        format!("<RoundRobin wrap_around=\"{}\">", b.raw),
+                        "bt-core's RoundRobin is Nav2's classic one (Nav2 jazzy): it fails once every child has failed in turn and goes on from the first; leave wrap_around out",
+                    ));
+                }
+                NodeKind::RoundRobin
+            }
+            "Parallel" => {
+                let s = self.int_param(n, "success_count", Some(-1))?;
+                let f = self.int_param(n, "failure_count", Some(1))?;
+                let resolve = |t: i64| if t < 0 { (children as i64 + t + 1).max(0) } else { t };
+                let (rs, rf) = (resolve(s), resolve(f));
+                for (port, v) in [("success_count", rs), ("failure_count", rf)] {
+                    if v < 1 || v > children as i64 {
+                        return Err(unsupported_construct(
+                            &n.at,
+                            format!("<Parallel {port}> of {v} with {children} children"),
+                            "the threshold must be between 1 and the number of children",
+                        ));
+                    }
+                }
+                NodeKind::Parallel { success_threshold: rs as u16, failure_threshold: rf as u16, count_skipped: s < 0 }
+            }
+            "ParallelAll" => {
+                let m = self.int_param(n, "max_failures", Some(1))?;
+                let resolved = if m < 0 { (children as i64 + m + 1).max(0) } else { m };
+                if resolved > children as i64 {
+                    return Err(unsupported_construct(
+                        &n.at,
+                        format!("<ParallelAll max_failures=\"{m}\"> with {children} children"),
+                        "it could never fail (BehaviorTree.CPP refuses it when ticked)",
+                    ));
+                }
+                NodeKind::ParallelAll { max_failures: resolved as u16 }
+            }
+            "Repeat" => NodeKind::RepeatCycles(self.cycles_param(n, "num_cycles")?),
+            "RetryUntilSuccessful" => NodeKind::RetryUntilSuccessful(self.cycles_param(n, "num_attempts")?),
+            "RunOnce" => NodeKind::RunOnce { then_skip: self.bool_param(n, "then_skip", true)? },
+            "Timeout" => NodeKind::TimeLimit(self.span_param(n, "msec")?),
+            "Delay" => NodeKind::Delay(self.span_param(n, "delay_msec")?),
+            "RecoveryNode" => {
+                let r = self.int_param(n, "number_of_retries", Some(1))?;
+                let retries = u16::try_from(r).map_err(|_| {
+                    unsupported_construct(
+                        &n.at,
+                        format!("<RecoveryNode number_of_retries=\"{r}\">"),
+                        "the number of retries must be between 0 and 65535",
+                    )
+                })?;
+                NodeKind::Recovery { retries }
+            }
+            "RateController" => {
+                let (text, at) =
+                    self.param_text(n, "hz", Some("10.0"))?.unwrap_or_else(|| ("10.0".to_string(), n.at.clone()));
+                let hz = match convert(Some("double"), &text) {
+                    Some(Literal::Double(v)) => v,
+                    _ => {
+                        return Err(ImportError::new(
+                            &at,
+                            Fault::BadLiteral {
+                                node: n.id.clone(),
+                                port: "hz".into(),
+                                value: text,
+                                ty: "double".into(),
+                            },
+                        ));
+                    }
+                };
+                // The period in milliseconds, rounded up so the rate is never exceeded.
+                // (Less a hair, so that the rate written for a period reads back as it.)
+                let ms = if hz > 0.0 { (1000.0 / hz * (1.0 - 1e-12)).ceil() } else { f64::INFINITY };
+                let span = (ms.is_finite() && ms <= f64::from(Span::MAX))
+                    .then(|| Span::new(ms as u32))
+                    .flatten()
+                    .ok_or_else(|| {
+                        unsupported_construct(
+                            &at,
+                            format!("<RateController hz=\"{text}\">"),
+                            "the rate must be above 0 and its period at most 16,777,215 ms",
+                        )
+                    })?;
+                NodeKind::RateController(span)
+            }
+            other => return Err(unsupported(&n.at, other, "bt-core has no node kind with its semantics")),
+        })
     }
 
     /// The literal text of a built-in's parameter (its default when absent).
@@ -410,17 +495,49 @@ impl Lowerer<'_> {
         }
     }
 
-    fn count_param(&self, n: &Inst, port: &str) -> Result<u16> {
+    /// `num_cycles` / `num_attempts`: -1 is forever, other negative counts are 0 (the
+    /// child is not ticked), as BehaviorTree.CPP reads them.
+    fn cycles_param(&self, n: &Inst, port: &str) -> Result<u16> {
         let v = self.int_param(n, port, None)?;
-        u16::try_from(v).ok().filter(|&v| v >= 1).ok_or_else(|| {
+        match v {
+            -1 => Ok(NodeKind::FOREVER),
+            v if v < 0 => Ok(0),
+            v => u16::try_from(v).ok().filter(|&v| v != NodeKind::FOREVER).ok_or_else(|| {
+                let at = n.ports.iter().find(|b| b.port == port).map_or(&n.at, |b| &b.at);
+                unsupported_construct(
+                    at,
+                    format!("<{} {port}=\"{v}\">", n.id),
+                    "the count must be -1 (forever) or between 0 and 65534",
+                )
+            }),
+        }
+    }
+
+    /// A span in milliseconds (`msec`, `delay_msec`).
+    fn span_param(&self, n: &Inst, port: &str) -> Result<Span> {
+        let v = self.int_param(n, port, None)?;
+        u32::try_from(v).ok().and_then(Span::new).ok_or_else(|| {
             let at = n.ports.iter().find(|b| b.port == port).map_or(&n.at, |b| &b.at);
-            let reason = if v < 0 {
-                "a count below 0 (forever) has no bt-core equivalent yet"
-            } else {
-                "the count must be between 1 and 65535"
-            };
-            unsupported_construct(at, format!("<{} {port}=\"{v}\">", n.id), reason)
+            unsupported_construct(
+                at,
+                format!("<{} {port}=\"{v}\">", n.id),
+                "milliseconds must be between 0 and 16,777,215 (4 h 39 min)",
+            )
         })
+    }
+
+    fn bool_param(&self, n: &Inst, port: &str, default: bool) -> Result<bool> {
+        let d = if default { "true" } else { "false" };
+        let Some((text, at)) = self.param_text(n, port, Some(d))? else {
+            return Ok(default);
+        };
+        match convert(Some("bool"), &text) {
+            Some(Literal::Bool(b)) => Ok(b),
+            _ => Err(ImportError::new(
+                &at,
+                Fault::BadLiteral { node: n.id.clone(), port: port.into(), value: text, ty: "bool".into() },
+            )),
+        }
     }
 
     /// The literal a key starts with, when it is a SubTree-local entry no port writes.
@@ -640,6 +757,10 @@ fn leak(port: &str) -> &'static str {
         "num_attempts" => "num_attempts",
         "success_count" => "success_count",
         "failure_count" => "failure_count",
+        "max_failures" => "max_failures",
+        "msec" => "msec",
+        "delay_msec" => "delay_msec",
+        "number_of_retries" => "number_of_retries",
         _ => "a parameter",
     }
 }

@@ -197,7 +197,9 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
     let mut out = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"{tree_id}\">\n  <BehaviorTree ID=\"{tree_id}\">\n",
     );
-    let mut open: Vec<(usize, &'static str)> = Vec::new();
+    let mut open: Vec<(usize, String)> = Vec::new();
+    // Behaviors used as plugin decorators (gates): declared as `<Decorator>`.
+    let mut gates: BTreeSet<BehaviorId> = BTreeSet::new();
     // Per behavior used: its kind, arity and type ID (distinct: numbered on collision).
     let mut used: BTreeMap<BehaviorId, (LeafKind, usize, String)> = BTreeMap::new();
     let mut taken = BTreeSet::new();
@@ -227,15 +229,16 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
     }
     let indent = |depth: usize| "  ".repeat(depth + 2);
     for (i, n) in nodes.iter().enumerate() {
-        while let Some(&(end, tag)) = open.last() {
-            if end > i {
+        while let Some((end, tag)) = open.last() {
+            if *end > i {
                 break;
             }
+            let tag = tag.clone();
             open.pop();
             let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
         }
         let end = i + usize::from(n.size());
-        if n.size() == 0 || end > nodes.len() || open.last().is_some_and(|&(e, _)| end > e) {
+        if n.size() == 0 || end > nodes.len() || open.last().is_some_and(|(e, _)| end > *e) {
             return Err(XmlError::Malformed { node: i });
         }
         let pad = indent(open.len());
@@ -251,16 +254,54 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
             NodeKind::SequenceWithMemory => ("Sequence", String::new()),
             NodeKind::FallbackWithMemory => ("Fallback", String::new()),
+            NodeKind::SequenceStar => ("SequenceWithMemory", String::new()),
             NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-                let success = success_count(success_threshold, count_skipped, nodes, i);
+                // A success count that counts skipped children was negative in the XML.
+                let children = bt_core::children(nodes, u16::try_from(i).unwrap_or(u16::MAX)).count();
+                let success = if count_skipped {
+                    i64::from(success_threshold) - i64::try_from(children).unwrap_or(i64::MAX) - 1
+                } else {
+                    i64::from(success_threshold)
+                };
                 ("Parallel", format!(" success_count=\"{success}\" failure_count=\"{failure_threshold}\""))
             }
+            NodeKind::ParallelAll { max_failures } => ("ParallelAll", format!(" max_failures=\"{max_failures}\"")),
+            NodeKind::IfThenElse => ("IfThenElse", String::new()),
+            NodeKind::WhileDoElse => ("WhileDoElse", String::new()),
             NodeKind::Inverter => ("Inverter", String::new()),
             NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
             NodeKind::ForceFailure => ("ForceFailure", String::new()),
-            NodeKind::Repeat(k) => ("Repeat", format!(" num_cycles=\"{k}\"")),
-            NodeKind::Retry(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{k}\"")),
+            NodeKind::RepeatCycles(k) => ("Repeat", format!(" num_cycles=\"{}\"", count(k))),
+            NodeKind::RetryUntilSuccessful(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{}\"", count(k))),
+            NodeKind::KeepRunningUntilFailure => ("KeepRunningUntilFailure", String::new()),
+            NodeKind::RunOnce { then_skip } => ("RunOnce", format!(" then_skip=\"{then_skip}\"")),
+            NodeKind::TimeLimit(span) => ("Timeout", format!(" msec=\"{}\"", span.get())),
+            NodeKind::Delay(span) => ("Delay", format!(" delay_msec=\"{}\"", span.get())),
+            NodeKind::PipelineSequence => ("PipelineSequence", String::new()),
+            NodeKind::Recovery { retries } => ("RecoveryNode", format!(" number_of_retries=\"{retries}\"")),
+            NodeKind::RoundRobin => ("RoundRobin", String::new()),
+            // The period is whole milliseconds; the rate that gives it back.
+            NodeKind::RateController(span) => ("RateController", format!(" hz=\"{}\"", 1000.0 / f64::from(span.get()))),
+            // Our tick-counting kinds count ticks, not cycles or milliseconds: no
+            // BehaviorTree.CPP node does what they do.
+            NodeKind::Repeat(_) => return Err(XmlError::NotExpressible { node: i, kind: "Repeat" }),
+            NodeKind::Retry(_) => return Err(XmlError::NotExpressible { node: i, kind: "Retry" }),
             NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
+            NodeKind::AlwaysSuccess | NodeKind::AlwaysFailure => {
+                let tag = if matches!(n.kind(), NodeKind::AlwaysSuccess) { "AlwaysSuccess" } else { "AlwaysFailure" };
+                let _ = writeln!(out, "{pad}<{tag}{meta}/>");
+                continue;
+            }
+            NodeKind::Gate(leaf) => {
+                let b = leaf.behavior();
+                let values = leaf_values(&leaf, options.values);
+                let tag = declare(b, LeafKind::Action, values.len(), &mut used);
+                gates.insert(b);
+                let a = port_attrs(catalog, ports, b, values);
+                let _ = writeln!(out, "{pad}<{tag}{meta}{a}>");
+                open.push((end, tag));
+                continue;
+            }
             NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
                 let kind =
                     if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
@@ -274,33 +315,24 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 } else if tag != name {
                     let _ = write!(a, " name=\"{}\"", escape(&name));
                 }
-                for (pos, &v) in values.iter().enumerate() {
-                    if catalog.port(b, pos).is_some() && PortValue::from_u16(v) == PortValue::Unset {
-                        continue;
-                    }
-                    let _ = write!(
-                        a,
-                        " {}=\"{}\"",
-                        port_name(catalog, ports, b, pos),
-                        escape(&arg_text(catalog, b, pos, v))
-                    );
-                }
+                a.push_str(&port_attrs(catalog, ports, b, values));
                 let _ = writeln!(out, "{pad}<{tag}{a}/>");
                 continue;
             }
-            // The kinds for BehaviorTree.CPP's and Nav2's nodes: written by the importer's
-            // counterpart (issue 17), not by this exporter yet.
-            ref other => return Err(XmlError::NotExpressible { node: i, kind: other.name() }),
         };
         let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
-        open.push((end, tag));
+        open.push((end, tag.to_string()));
     }
     while let Some((_, tag)) = open.pop() {
         let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
     }
     out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
     for (&b, &(kind, argc, ref name)) in &used {
-        let tag = if kind == LeafKind::Condition { "Condition" } else { "Action" };
+        let tag = match kind {
+            _ if gates.contains(&b) => "Decorator",
+            LeafKind::Condition => "Condition",
+            LeafKind::Action => "Action",
+        };
         if argc == 0 {
             let _ = writeln!(out, "    <{tag} ID=\"{name}\"/>");
             continue;
@@ -330,15 +362,21 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
     Ok(out)
 }
 
-/// BehaviorTree.CPP's `success_count` for a `Parallel` at `node`: the threshold itself,
-/// or, when skipped children count towards success (which BehaviorTree.CPP does only
-/// for a negative count), the negative count that resolves to it.
-pub(crate) fn success_count(threshold: u16, count_skipped: bool, nodes: &[Node], node: usize) -> i64 {
-    if !count_skipped {
-        return i64::from(threshold);
+/// ` port="value"` for each value of a leaf, unset ports left out.
+fn port_attrs<C: Catalog + ?Sized, P: Ports + ?Sized>(catalog: &C, ports: &P, b: BehaviorId, values: &[u16]) -> String {
+    let mut a = String::new();
+    for (pos, &v) in values.iter().enumerate() {
+        if catalog.port(b, pos).is_some() && PortValue::from_u16(v) == PortValue::Unset {
+            continue;
+        }
+        let _ = write!(a, " {}=\"{}\"", port_name(catalog, ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
     }
-    let children = u16::try_from(node).map_or(0, |id| bt_core::children(nodes, id).count());
-    i64::from(threshold) - children as i64 - 1
+    a
+}
+
+/// `num_cycles` / `num_attempts` as BehaviorTree.CPP writes them: -1 for no limit.
+fn count(n: u16) -> i32 {
+    if n == NodeKind::FOREVER { -1 } else { i32::from(n) }
 }
 
 #[cfg(test)]
