@@ -43,7 +43,7 @@ fn import_writes_the_tree_or_a_located_error_and_nothing() {
     let out = sim_host(&["import", tree.to_str().unwrap(), "--format", "ascii"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.contains("Retry(3)") && text.contains("--> Dock(side=left)"), "{text}");
+    assert!(text.contains("RetryUntilSuccessful(3)") && text.contains("--> Dock(side=left)"), "{text}");
     assert!(text.ends_with(")\n"), "the view ends its last line: {text:?}");
     let summary = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -58,9 +58,9 @@ fn catalog_prints_the_set_and_its_fingerprint() {
     let out = sim_host(&["catalog", models.to_str().unwrap()]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.starts_with("behavior set 0x0176f7739cf1c528: 68 behaviors"), "{text}");
+    assert!(text.starts_with("behavior set 0xf6713800ea1f907b: 74 behaviors"), "{text}");
     let rust = String::from_utf8(sim_host(&["catalog", models.to_str().unwrap(), "--rust"]).stdout).unwrap();
-    assert!(rust.contains("pub const FINGERPRINT: u64 = 0x0176f7739cf1c528;"));
+    assert!(rust.contains("pub const FINGERPRINT: u64 = 0xf6713800ea1f907b;"));
 }
 
 fn transitions(bytes: &[u8]) -> usize {
