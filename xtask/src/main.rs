@@ -267,10 +267,20 @@ fn cross() -> Result {
 
 /// bt-core must not name std or alloc outside tests, whatever the toolchain enforces.
 fn no_std_leaks() -> Result {
-    let src = root().join("bt-core").join("src");
-    let entries = std::fs::read_dir(&src).map_err(|e| format!("{}: {e}", src.display()))?;
-    for entry in entries.flatten() {
-        let path = entry.path();
+    // Every file under src/, modules in folders included.
+    let mut dirs = vec![root().join("bt-core").join("src")];
+    let mut files = Vec::new();
+    while let Some(dir) = dirs.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() { dirs.push(path) } else { files.push(path) }
+        }
+    }
+    if files.is_empty() {
+        return Err("bt-core/src: no source files found".into());
+    }
+    for path in files {
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         for (n, line) in text.lines().enumerate() {
             let l = line.trim_start();
