@@ -102,10 +102,12 @@ pub enum PlanError {
         /// Its value table.
         values: Vec<u16>,
     },
-    /// The final tree, run from the initial state in the symbolic world, does not reach
-    /// the goal.
-    #[error("the final tree does not reach the goal from the initial state: {why}")]
+    /// The tree, run in the symbolic world from the initial state (or from the state
+    /// given to [`crate::expand_at`]), does not reach the goal.
+    #[error("the tree does not reach the goal from {from}: {why}")]
     GoalNotReached {
+        /// Where the run started: `the initial state` or `the state given`.
+        from: &'static str,
         /// What happened instead.
         why: String,
         /// The tree.
@@ -149,4 +151,19 @@ pub enum PlanError {
     /// The behavior set broke a rule while the tree was ticked.
     #[error("tick failed: {0}")]
     Tick(#[from] bt_core::TickError),
+}
+
+impl PlanError {
+    /// The tree the error is about, with its value table, when it carries one: the tree
+    /// that oscillates ([`PlanError::Oscillates`]) or does not reach the goal
+    /// ([`PlanError::GoalNotReached`]), for the caller to show.
+    #[must_use]
+    pub fn tree(&self) -> Option<(&[bt_core::Node], &[u16])> {
+        match self {
+            Self::Oscillates { nodes, values, .. } | Self::GoalNotReached { nodes, values, .. } => {
+                Some((nodes, values))
+            }
+            _ => None,
+        }
+    }
 }

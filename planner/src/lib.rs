@@ -28,7 +28,7 @@
 //! The pieces: [`model`] (domains, problems, builders) and [`pddl`] (PDDL input);
 //! [`ground`] (grounding, the paper's action refinement); [`algorithm`] (the steps of
 //! Algorithm 1) driven by a [`Planner`], offline by [`plan`] or online by
-//! [`Planner::on_failure`]; [`strips`] (the symbolic world); [`output`] (image, ASCII,
+//! [`Planner::on_failure`], from a given state by [`expand_at`] ([`run_time`]); [`strips`] (the symbolic world); [`output`] (image, ASCII,
 //! DOT, BehaviorTree.CPP XML) and [`tokens`]; [`domains`] and [`duplo`] (the shipped
 //! problems).
 #![forbid(unsafe_code)]
@@ -51,6 +51,7 @@ pub mod pddl;
 mod planner;
 pub mod refine;
 pub mod regress;
+pub mod run_time;
 pub mod search;
 pub mod state;
 pub mod strips;
@@ -63,6 +64,7 @@ pub use error::PlanError;
 pub use offline::{GaveUp, Made, Plan, plan};
 pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
+pub use run_time::{AtRunTime, Change, ChangeError, expand_at, parse_changes};
 pub use tree::DEPTH;
 
 /// Plans a brick task with explicit [`Options`] (see [`duplo::plan`]).

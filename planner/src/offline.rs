@@ -14,6 +14,9 @@ use crate::planner::{Expansion, Method, Options, Planner};
 use crate::search::{self, SearchOptions};
 use crate::strips::{self, StripsWorld, Verdict};
 
+/// Where offline runs start ([`PlanError::GoalNotReached`]).
+const INITIAL: &str = "the initial state";
+
 /// Which method made a tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Made {
@@ -98,10 +101,12 @@ pub struct GaveUp {
 /// the root returns Success with every goal condition true.
 ///
 /// # Errors
-/// [`PlanError::GoalNotReached`] when the final tree does not reach the goal (never
-/// returned as a plan); with [`Method::Algorithm1`] its own failures, such as
-/// [`PlanError::NoAchiever`], [`PlanError::Unresolvable`] or
-/// [`PlanError::Oscillates`]; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
+/// [`PlanError::GoalNotReached`] with the tree when the final tree does not reach the
+/// goal (never returned as a plan), and with [`Method::Algorithm1`] when Algorithm 1
+/// stops with a tree that fails and that it cannot expand further (no achieving
+/// action, nothing left to expand, an unresolvable conflict) or that runs without
+/// reaching the goal; [`PlanError::Oscillates`] with the tree and the repeating
+/// actions; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
 /// search.
 pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
     let mut gave_up = Vec::new();
@@ -200,7 +205,10 @@ fn run_algorithm1<C: Catalog>(
             Verdict::Failed { ticks } => {
                 planning_ticks = planning_ticks.saturating_add(ticks);
                 let belief = world.state().clone();
-                expansions.push(planner.on_failure(&states, &belief)?);
+                match planner.on_failure(&states, &belief) {
+                    Ok(e) => expansions.push(e),
+                    Err(e) => return Err(crate::run_time::stuck(e, &planner, INITIAL)),
+                }
                 if options.record_steps {
                     steps.push(planner.nodes().to_vec());
                 }
@@ -212,7 +220,9 @@ fn run_algorithm1<C: Catalog>(
                     values: planner.values().to_vec(),
                 });
             }
-            Verdict::OutOfTicks { ticks } => return Err(PlanError::NoProgress { ticks }),
+            Verdict::OutOfTicks { ticks } => {
+                return Err(crate::run_time::stuck(PlanError::NoProgress { ticks }, &planner, INITIAL));
+            }
         }
     }
     finish(planner, g, catalog, options, made, expansions, steps, planning_ticks)
@@ -246,18 +256,29 @@ fn finish<C: Catalog>(
     let ticks = match verdict {
         Verdict::Reached { ticks } => ticks,
         Verdict::Failed { ticks } => {
-            return Err(PlanError::GoalNotReached { why: format!("the root fails at tick {ticks}"), nodes, values });
+            return Err(PlanError::GoalNotReached {
+                from: INITIAL,
+                why: format!("the root fails at tick {ticks}"),
+                nodes,
+                values,
+            });
         }
         Verdict::Oscillates { actions } => {
             let names: Vec<String> = actions.iter().map(|&a| g.action_name(a)).collect();
             return Err(PlanError::GoalNotReached {
+                from: INITIAL,
                 why: format!("it oscillates, repeating {}", names.join(", ")),
                 nodes,
                 values,
             });
         }
         Verdict::OutOfTicks { ticks } => {
-            return Err(PlanError::GoalNotReached { why: format!("not reached within {ticks} ticks"), nodes, values });
+            return Err(PlanError::GoalNotReached {
+                from: INITIAL,
+                why: format!("not reached within {ticks} ticks"),
+                nodes,
+                values,
+            });
         }
     };
     let executed = fresh.executed().to_vec();

@@ -226,6 +226,12 @@ impl Planner {
         &self.g
     }
 
+    /// The settings it plans with.
+    #[must_use]
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
     /// Expansions made so far.
     #[must_use]
     pub fn expansions(&self) -> usize {

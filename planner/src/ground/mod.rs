@@ -234,7 +234,13 @@ impl Grounding {
     /// Whether the atom's predicate is static (no action changes it).
     #[must_use]
     pub fn is_static(&self, atom: AtomId) -> bool {
-        self.atom_predicate(atom).is_some_and(|p| self.statics.get(usize::from(p)).copied().unwrap_or(false))
+        self.atom_predicate(atom).is_some_and(|p| self.is_static_predicate(p))
+    }
+
+    /// Whether no action changes the predicate's atoms.
+    #[must_use]
+    pub fn is_static_predicate(&self, predicate: PredicateId) -> bool {
+        self.statics.get(usize::from(predicate)).copied().unwrap_or(false)
     }
 
     /// The actions that make `lit` true (unconditionally or under a condition), in
