@@ -72,6 +72,24 @@ fn the_blended_demo_follows_examples_1_and_2_in_both_worlds() {
 }
 
 #[test]
+fn the_cube_scenario_shows_fig_4_after_the_blocked_path_is_expanded() {
+    // Fig. 4 of seed 000 is a run-time expansion: Fig. 3(e) with the cube in the hand
+    // when the sphere blocks the path. The narration prints the tree after each
+    // expansion; after the fifth it is Fig. 4 (pinned against the paper's notation in
+    // planner/tests/shipped_trees.rs).
+    let fig_4 = "f( at(cube, goal)? s( f( path-free(goal)? s( near(sphere)? hand-empty? clear-path(sphere, goal)! ) ) \
+                 f( holding(cube)? s( f( near(cube)? s( path-free(cube)? move-to(cube)! ) ) hand-empty? pick(cube)! ) ) \
+                 f( near(goal)? s( path-free(goal)? move-to(goal)! ) ) place(cube, goal)! ) )";
+    for world in [WorldKind::Physics, WorldKind::Symbolic] {
+        let run = scenario::run(Scenario::Cube, world, None).unwrap();
+        let after_5 = &run.record.snapshots[5].nodes;
+        assert_eq!(planner::tokens::to_string(after_5, run.catalog.as_ref()).unwrap(), fig_4, "{world:?}");
+        let at = run.narration.find("expansion 5: `path-free(goal)`").unwrap();
+        assert!(run.narration[at..].contains("the tree now (25 nodes):"), "{world:?}");
+    }
+}
+
+#[test]
 fn scenarios_are_deterministic() {
     for (world, seed) in [(WorldKind::Physics, None), (WorldKind::Physics, Some(3)), (WorldKind::Symbolic, Some(3))] {
         let a = scenario::run(Scenario::Cube, world, seed).unwrap();
