@@ -7,7 +7,7 @@ use anyhow::{Context as _, bail};
 use bt_core::{Catalog, Node};
 use planner::duplo::Task;
 use planner::names::NameTable;
-use planner::{Expansion, NoPorts, Options, PddlCatalog, Ports, Refinement};
+use planner::{Expansion, Method, NoPorts, Options, PddlCatalog, PlanError, Ports, Refinement};
 
 use super::output::{self, Content, Target, out};
 use planner::output as notation;
@@ -26,6 +26,19 @@ pub enum Format {
     Tokens,
     /// The deployable image (binary; needs --out).
     Image,
+}
+
+/// Which method makes the tree.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodArg {
+    /// Algorithm 1; when it cannot finish, guided by a plan of heuristic search; as a
+    /// last resort that plan's regression tree.
+    Auto,
+    /// Algorithm 1 of seed 000 alone: fails where it cannot finish.
+    #[value(name = "algorithm-1")]
+    Algorithm1,
+    /// Heuristic search first, then backchaining guided by its plan.
+    Search,
 }
 
 /// How free action parameters are bound.
@@ -48,7 +61,14 @@ pub enum RefinementArg {
     Input is a PDDL domain and problem (STRIPS with :typing and \
     :negative-preconditions), or one of the four brick tasks of seed 003. Prints the \
     tree, the expansions made, and whether the final tree, run from the initial state \
-    in the symbolic world, reaches the goal and in how many ticks.\n\n\
+    in the symbolic world, reaches the goal and in how many ticks. A tree that does not \
+    reach the goal is never written: the command prints it (ascii, to stderr) with the \
+    reason, such as the actions it repeats when it oscillates, and exits with code 2.\n\n\
+    --expand-at STATE goes on as a robot would at run time (Example 2 of seed 000): the \
+    tree is run from the initial state changed by STATE and expanded whenever it fails \
+    (Algorithm 1, lines 9-12), until it reaches the goal. Fig. 4 of seed 000 is such a \
+    run-time expansion: the tree of Fig. 3(e) meets the cube in the hand and the path \
+    blocked.\n\n\
     The tree goes to stdout or --out FILE (written whole or not at all; `-` is stdout); \
     with --out the summary goes to stdout, otherwise (but for ascii) to stderr. An image \
     is never written to a terminal. Leaves of PDDL \
@@ -57,7 +77,11 @@ pub enum RefinementArg {
     after_help = "Examples:\n  sim-host plan --domain planner/domains/cube-sphere/domain.pddl \\\n      \
     --problem planner/domains/cube-sphere/problem-blocked.pddl\n  \
     sim-host plan --task tower --format tokens\n  \
-    sim-host plan --domain d.pddl --problem p.pddl --format image --out tree.bt"
+    sim-host plan --domain d.pddl --problem p.pddl --format image --out tree.bt\n  \
+    # Example 2: the cube in the hand when the sphere blocks the path (Fig. 4, then on to the goal)\n  \
+    sim-host plan --domain planner/domains/cube-sphere/domain.pddl \\\n      \
+    --problem planner/domains/cube-sphere/problem.pddl \\\n      \
+    --expand-at 'holding(cube), not hand-empty, not path-free(goal)'"
 )]
 pub struct Args {
     /// The PDDL domain file.
@@ -78,6 +102,18 @@ pub struct Args {
     /// How free action parameters are bound (PDDL only).
     #[arg(long, value_enum, default_value_t = RefinementArg::Cheapest)]
     pub refinement: RefinementArg,
+    /// Which method makes the tree (PDDL only).
+    #[arg(long, value_enum, default_value_t = MethodArg::Auto, conflicts_with = "task")]
+    pub method: MethodArg,
+    /// Keep the goal Sequence at the root even for a single goal condition, as seed
+    /// 003's reference planner does (the published brick trees node for node).
+    #[arg(long)]
+    pub goal_sequence: bool,
+    /// After planning, expand the tree at run time from this state (PDDL only): the
+    /// initial state with these facts changed, in the notation of the tree's
+    /// conditions, e.g. 'holding(cube), not hand-empty'.
+    #[arg(long, value_name = "STATE", conflicts_with = "task")]
+    pub expand_at: Option<String>,
 }
 
 fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
@@ -114,12 +150,36 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
 
 fn summary(expansions: &[Expansion], nodes: usize, verdict: &str) -> String {
     let mut s = format!("planned: {}, {}\n", count(expansions.len(), "expansion"), count(nodes, "node"));
-    for (i, e) in expansions.iter().enumerate() {
-        s.push_str(&format!("  {}. {e}\n", i + 1));
-    }
+    s.push_str(&numbered(expansions));
     s.push_str(verdict);
     s.push('\n');
     s
+}
+
+fn numbered(expansions: &[Expansion]) -> String {
+    let mut s = String::new();
+    for (i, e) in expansions.iter().enumerate() {
+        s.push_str(&format!("  {}. {e}\n", i + 1));
+    }
+    s
+}
+
+/// A tree as indented ascii lines, each prefixed by `indent`.
+fn indented<C: Catalog + ?Sized>(nodes: &[Node], values: &[u16], catalog: &C, indent: &str) -> String {
+    let text = notation::to_ascii_with(nodes, values, catalog)
+        .unwrap_or_else(|e| format!("(the tree cannot be shown: {e})\n"));
+    text.lines().map(|l| format!("{indent}{l}\n")).collect()
+}
+
+/// A planning error; when it is about a tree (one that oscillates or does not reach
+/// the goal), the tree goes to stderr first, so that the error line gives the reason
+/// under it.
+fn failed<C: Catalog + ?Sized>(e: PlanError, catalog: &C, doing: String) -> anyhow::Error {
+    if let Some((nodes, values)) = e.tree() {
+        let head = format!("the tree ({}), which does not reach the goal:\n", count(nodes.len(), "node"));
+        let _ = output::stderr(format!("{head}{}", indented(nodes, values, catalog, "    ")).as_bytes());
+    }
+    anyhow::Error::new(e).context(doing)
 }
 
 fn read(path: &std::path::Path) -> anyhow::Result<String> {
@@ -135,6 +195,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             RefinementArg::Cheapest => Refinement::Cheapest,
             RefinementArg::All => Refinement::All,
         },
+        method: match args.method {
+            MethodArg::Auto => Method::Auto,
+            MethodArg::Algorithm1 => Method::Algorithm1,
+            MethodArg::Search => Method::Search,
+        },
+        goal_sequence: args.goal_sequence,
         ..Options::default()
     };
     let (bytes, text) = if let Some(task) = &args.task {
@@ -165,28 +231,53 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?,
         );
         let catalog = Arc::new(PddlCatalog::new(&problem));
-        let plan =
-            planner::plan(g, catalog.clone(), options).with_context(|| format!("planning {}", ppath.display()))?;
-        let verdict = match plan.goal_ticks {
-            Some(t) => {
-                format!("symbolic world: the tree reaches the goal in {} from the initial state", count(t, "tick"))
-            }
-            None => "symbolic world: the tree does NOT reach the goal from the initial state \
-                     (planning reached it along another path)"
-                .to_string(),
+        // Read before planning: a typo in the state should not wait for the planner.
+        let changes = match &args.expand_at {
+            Some(text) => Some(planner::parse_changes(&g, text).with_context(|| format!("--expand-at `{text}`"))?),
+            None => None,
         };
+        let doing = || format!("planning {}", ppath.display());
+        let mut plan = planner::plan(g, catalog.clone(), options).map_err(|e| failed(e, catalog.as_ref(), doing()))?;
+        let ticks = plan.goal_ticks.unwrap_or(0);
+        let mut verdict =
+            format!("symbolic world: the tree reaches the goal in {} from the initial state", count(ticks, "tick"));
         let mut made = String::new();
         for gave_up in &plan.gave_up {
             let why: String = gave_up.error.to_string().chars().take(300).collect();
             made.push_str(&format!("{} gave up: {why}\n", gave_up.method.name()));
+            if let PlanError::Oscillates { nodes, values, .. } = &gave_up.error {
+                made.push_str(&format!("  the tree that oscillates ({}):\n", count(nodes.len(), "node")));
+                made.push_str(&indented(nodes, values, catalog.as_ref(), "    "));
+            }
         }
-        let verdict = format!("{made}made by {}: {}\n{verdict}", plan.method.name(), plan.method.describe());
+        let offline_nodes = plan.nodes.len();
+        let mut verdict_head = format!("{made}made by {}: {}\n", plan.method.name(), plan.method.describe());
+        if let (Some(changes), Some(text)) = (changes, &args.expand_at) {
+            let at =
+                planner::expand_at(&mut plan.planner, catalog.as_ref(), &changes, options.max_ticks).map_err(|e| {
+                    failed(e, catalog.as_ref(), format!("expanding the tree at run time from --expand-at `{text}`"))
+                })?;
+            plan.nodes = plan.planner.nodes().to_vec();
+            plan.values = plan.planner.values().to_vec();
+            verdict_head.push_str(&format!(
+                "at run time from `{text}`: {}, {}\n{}",
+                count(at.expansions.len(), "expansion"),
+                count(plan.nodes.len(), "node"),
+                numbered(&at.expansions)
+            ));
+            verdict = format!(
+                "symbolic world: the tree reaches the goal in {} from the initial state and in {} from --expand-at",
+                count(at.goal_ticks_initial, "tick"),
+                count(at.goal_ticks_given, "tick")
+            );
+        }
+        let verdict = format!("{verdict_head}{verdict}");
         // The problem's own names travel with the image: another problem of the same
         // domain has the same fingerprint but other objects.
         let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
         let names = NameTable::of_pddl(&title, &catalog);
         let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names));
-        (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
+        (bytes, summary(&plan.expansions, offline_nodes, &verdict))
     };
     let bytes = match bytes {
         Ok(bytes) => bytes,
