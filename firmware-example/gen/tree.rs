@@ -2,11 +2,16 @@
 //! planner's own output.
 //!
 //! `planner` (seed 000, Algorithm 1) plans the cube/sphere problem in which the sphere
-//! already blocks the path to the goal (`planner/domains/cube-sphere/problem-blocked.pddl`).
-//! Offline, it grows Fig. 3(a)-(e) and then expands `path-free(goal)` with
-//! `clear-path(sphere, goal)`; that subtree needs `hand-empty` while `pick(cube)` undoes
-//! it, so `IncreasePriority` moves it up a level and left, to run before the cube is
-//! picked: the arrangement of Fig. 4.
+//! already blocks the path to the goal (`planner/domains/cube-sphere/problem-blocked.pddl`):
+//! Fig. 3(a)-(e), then `path-free(goal)` expanded with `clear-path(sphere, goal)` and
+//! moved left and up by `IncreasePriority` to run before the cube is picked (the
+//! arrangement of Fig. 4), then `near(sphere)`. Planned from the initial state, the hand
+//! is empty whenever that tree checks `hand-empty`. The firmware's plant also puts the
+//! cube in the hand while the path is blocked (its `help` event), as in Example 2, so the
+//! tree is then expanded at run time from that state (`planner::expand_at`, Algorithm 1
+//! lines 9-12): `hand-empty` gets its atomic BT, with `drop(cube)`. The result is the
+//! tree at the end of Example 2, 37 nodes; `sim-host plan ... --expand-at 'holding(cube),
+//! not hand-empty'` prints the same.
 //!
 //! ```text
 //! Fallback
@@ -36,6 +41,10 @@ use crate::catalog::FINGERPRINT;
 pub const SOURCES: [&str; 2] =
     ["../planner/domains/cube-sphere/domain.pddl", "../planner/domains/cube-sphere/problem-blocked.pddl"];
 
+/// The state the tree is expanded at: the initial state of the blocked problem with the
+/// cube in the hand.
+const CUBE_IN_HAND: &str = "holding(cube), not hand-empty";
+
 /// The image of the planner's tree for the cube/sphere behavior set.
 ///
 /// # Errors
@@ -53,32 +62,9 @@ pub fn image() -> Result<Vec<u8>, String> {
     }
     let mut plan = planner::plan(grounding.clone(), catalog.clone(), planner::Options::default())
         .map_err(|e| format!("planning the cube/sphere problem: {e}"))?;
-    // Planned from the initial state, the hand is empty whenever the tree checks
-    // `hand-empty`, so Algorithm 1 never expands it. The firmware's plant puts the cube in
-    // the hand (its `help` event) while the sphere blocks the path: expand as the planner
-    // does at run time when the tree fails in that state (Algorithm 1, lines 9-12), which
-    // gives `hand-empty` its atomic BT with `drop(cube)`: the tree of Fig. 4.
-    let mut world = planner::strips::StripsWorld::new(grounding);
-    if !(world.set_named("hand-empty", &[], false) && world.set_named("holding", &["cube"], true)) {
-        return Err("the cube/sphere domain has no hand-empty or holding(cube)".into());
-    }
-    let mut states = Vec::new();
-    let outcome = planner::strips::run_with(
-        plan.planner.nodes(),
-        plan.planner.values(),
-        catalog.as_ref(),
-        &mut world,
-        1000,
-        |_, _| {},
-        &mut states,
-    )
-    .map_err(|e| format!("ticking the planned tree: {e}"))?;
-    if outcome.status != bt_core::Status::Failure {
-        return Err("the planned tree does not fail with the cube in the hand and the path blocked".into());
-    }
-    let belief = world.state().clone();
-    plan.planner
-        .on_failure(&states, &belief)
+    let changes =
+        planner::parse_changes(&grounding, CUBE_IN_HAND).map_err(|e| format!("the state `{CUBE_IN_HAND}`: {e}"))?;
+    planner::expand_at(&mut plan.planner, catalog.as_ref(), &changes, 1000)
         .map_err(|e| format!("expanding the planned tree for the cube in the hand: {e}"))?;
     planner::output::to_image(plan.planner.nodes(), catalog.as_ref()).map_err(|e| format!("encoding the image: {e}"))
 }
