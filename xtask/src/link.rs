@@ -1,7 +1,7 @@
 //! The link scenario of `cargo xtask qemu`: the link controller under QEMU and on the
 //! host, driven over TCP through the same sequence of deployments.
 //!
-//! 1. Boot with tree A (the planner's tree for the blocked cube problem, Fig. 4), tick
+//! 1. Boot with tree A (the firmware's tree: the blocked cube problem at the end of Example 2), tick
 //!    it up to tick 40 while tree B (the planner's tree for the free path, Fig. 3(e))
 //!    is deployed to swap in at tick 40. From the status stream: every action of A
 //!    that was Running is reported Idle before `Swapped`, and no node of B changes

@@ -118,7 +118,7 @@ pub fn qemu(opts: Options) -> Result {
 /// The link controller: the scenario on the host and under QEMU, the traces compared,
 /// its gates, and the link's throughput at 115200 baud.
 fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Options) -> Result {
-    step("link controller: images (planner: A = Fig. 4 blocked path, B = Fig. 3(e) free path)");
+    step("link controller: images (planner: A = end of Example 2, blocked path, B = Fig. 3(e) free path)");
     let images = crate::link::images()?;
     step("link controller: scenario on the host build (TCP)");
     let host = crate::link::host(host_bin, &images, opts.timeout)?;
