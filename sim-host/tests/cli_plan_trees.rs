@@ -71,6 +71,13 @@ fn expand_at_runs_example_2_through_fig_4_to_the_firmwares_tree() {
 }
 
 #[test]
+fn help_says_what_expand_at_does_and_that_a_failing_tree_is_never_written() {
+    let help = ok(&sim_host(&["plan", "--help"]));
+    assert!(help.contains("--expand-at STATE goes on as a robot would at run time (Example 2 of seed 000)"), "{help}");
+    assert!(help.contains("A tree that does not reach the goal is never written"), "{help}");
+}
+
+#[test]
 fn expand_at_names_the_column_of_a_bad_fact() {
     let out = plan(&cube("problem.pddl"), &["--expand-at", "holding(cube), not hand-empy"]);
     one_line_error(

@@ -60,6 +60,7 @@ enum Command {
     #[command(long_about = catalog::LONG_ABOUT)]
     Catalog(catalog::Args),
     /// Plan a tree by backchaining (seed 000) from PDDL or for a brick task.
+    #[command(long_about = plan::LONG_ABOUT)]
     Plan(plan::Args),
     /// Run one episode of a tree on a brick task; print the outcome and the fitness.
     #[command(long_about = run::LONG_ABOUT)]

@@ -50,9 +50,8 @@ pub enum RefinementArg {
     All,
 }
 
-#[derive(clap::Args, Debug)]
-#[command(
-    long_about = "Synthesizes a reactive behavior tree by backchaining from the goal \
+/// `sim-host plan --help`: what the command does.
+pub const LONG_ABOUT: &str = "Synthesizes a reactive behavior tree by backchaining from the goal \
     (Colledanchise, Almeida, Ögren, ICRA 2019, Algorithm 1): start from the goal \
     conditions, tick the tree in the problem's symbolic world, replace each failed \
     condition by its atomic BT (a Fallback of the condition and one Sequence of \
@@ -73,7 +72,11 @@ pub enum RefinementArg {
     with --out the summary goes to stdout, otherwise (but for ascii) to stderr. An image \
     is never written to a terminal. Leaves of PDDL \
     trees are behavior ids in the domain's order (predicates, then actions) with \
-    object indices as arguments.",
+    object indices as arguments.";
+
+#[derive(clap::Args, Debug)]
+#[command(
+    long_about = LONG_ABOUT,
     after_help = "Examples:\n  sim-host plan --domain planner/domains/cube-sphere/domain.pddl \\\n      \
     --problem planner/domains/cube-sphere/problem-blocked.pddl\n  \
     sim-host plan --task tower --format tokens\n  \
