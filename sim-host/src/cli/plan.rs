@@ -57,8 +57,11 @@ pub const LONG_ABOUT: &str = "Synthesizes a reactive behavior tree by backchaini
     condition by its atomic BT (a Fallback of the condition and one Sequence of \
     preconditions and action per achieving action), and move a new subtree left and up \
     until no action executed before it undoes its preconditions.\n\n\
-    Input is a PDDL domain and problem (STRIPS with :typing and \
-    :negative-preconditions), or one of the four brick tasks of seed 003. Prints the \
+    Input is a PDDL domain and problem (STRIPS with types, constants, equality, \
+    negative preconditions, action costs, and ADL's or/forall/exists/when compiled away \
+    at grounding; derived predicates and numeric fluents other than total-cost are refused \
+    with file:line:column), or one of the four brick \
+    tasks of seed 003. Prints the \
     tree, the expansions made, and whether the final tree, run from the initial state \
     in the symbolic world, reaches the goal and in how many ticks. A tree that does not \
     reach the goal is never written: the command prints it (ascii, to stderr) with the \
