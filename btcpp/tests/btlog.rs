@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use btcpp::btlog::replay::status;
-use btcpp::btlog::{Leaves, Log, LogTree, LogWriter, Replay};
+use btcpp::btlog::{Leaves, Log, LogTree, LogWriter, Replay, Ticking};
 use btcpp::xml::{ImportOptions, import_text};
 
 /// One harness case.
@@ -105,7 +105,7 @@ fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
         let mut replay = Replay::new(&tree);
         let mut ours = LogWriter::new(&tree, theirs.first_usec);
         for tick in 0..case.ticks {
-            let (_, transitions) = replay.tick(&mut leaves);
+            let (_, transitions) = replay.tick(&mut leaves, tick as u32, Ticking::ExactlyOnce);
             for (uid, s) in transitions {
                 ours.transition(theirs.first_usec + tick as i64 * 1000, uid, s);
             }
@@ -116,4 +116,49 @@ fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
         compared += 1;
     }
     assert_eq!(compared, 3);
+}
+
+/// The `_uid` attributes of a document, in order.
+fn uids(xml: &str) -> Vec<u16> {
+    xml.split(" _uid=\"").skip(1).map(|r| r.split('"').next().unwrap().parse().unwrap()).collect()
+}
+
+/// What `export` and `import --format xml` write numbers every node as the log of the
+/// same tree does: for an image, by position (as BehaviorTree.CPP numbers the document
+/// written); for an imported document, as BehaviorTree.CPP numbers the original
+/// (SubTree nodes counted). Parameters go back as the document wrote them.
+#[test]
+fn exported_xml_numbers_the_nodes_as_the_logs_do() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btlog");
+    let all = cases(&std::fs::read_to_string(dir.join("cases.txt")).unwrap());
+    let subtree = all.iter().find(|c| c.name == "subtree").unwrap();
+    let xml = with_models(subtree).replace(
+        "<ForceSuccess><A4/></ForceSuccess>",
+        r#"<ForceSuccess><Parallel failure_count="-1"><A4/><AlwaysSuccess/></Parallel></ForceSuccess>"#,
+    );
+    let imported = import_text(Path::new("subtree.xml"), &xml, &ImportOptions::default()).unwrap();
+    let log = LogTree::of_imported(&imported).unwrap();
+    let by_core = |t: &LogTree| {
+        let mut v: Vec<(usize, u16)> = t.nodes.iter().filter_map(|n| n.core.map(|c| (c, n.uid))).collect();
+        v.sort_unstable();
+        v.into_iter().map(|(_, u)| u).collect::<Vec<u16>>()
+    };
+    let exported = imported.to_xml().unwrap();
+    assert_eq!(uids(&exported), by_core(&log), "{exported}");
+    // The SubTree node (uid 3) is in the log, not in the flattened export.
+    assert!(log.xml().contains(r#"<SubTree ID="Sub" _fullpath="inner" _uid="3""#), "{}", log.xml());
+    assert!(exported.contains(r#"<Parallel _uid="5" failure_count="-1">"#), "{exported}");
+    assert!(
+        log.xml().contains(r#"<Parallel name="Parallel" _uid="5" success_count="-1" failure_count="-1">"#),
+        "{}",
+        log.xml()
+    );
+
+    // An image's nodes: export and log number them 1, 2, ... in pre-order.
+    let image_log = LogTree::new(&imported.nodes, &imported, &btcpp::xml::NoPorts).unwrap();
+    let plain = btcpp::xml::to_xml(&imported.nodes, &imported, &btcpp::xml::NoPorts).unwrap();
+    let n = u16::try_from(imported.nodes.len()).unwrap();
+    assert_eq!(uids(&plain), (1..=n).collect::<Vec<_>>());
+    assert_eq!(by_core(&image_log), (1..=n).collect::<Vec<_>>());
+    assert_eq!(uids(&image_log.xml()), (1..=n).collect::<Vec<_>>());
 }

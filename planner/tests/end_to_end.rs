@@ -65,7 +65,12 @@ fn dot_and_xml_describe_the_same_tree() {
     let dot = output::to_dot(&p.nodes, c.as_ref());
     assert_eq!(dot.matches(" -> ").count(), p.nodes.len() - 1);
     assert!(dot.contains("label=\"hand-over(left, right, chassis)\", shape=box"));
-    let xml = output::to_xml(&p.nodes, c.as_ref(), c.as_ref()).unwrap();
+    let numbered = output::to_xml(&p.nodes, c.as_ref(), c.as_ref()).unwrap();
+    // Every node numbered from 1 in pre-order, as BehaviorTree.CPP numbers it (`_uid`).
+    let uids: Vec<usize> =
+        numbered.split(" _uid=\"").skip(1).map(|r| r.split('"').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(uids, (1..=p.nodes.len()).collect::<Vec<_>>());
+    let xml = without_uids(&numbered);
     assert!(xml.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\""));
     assert!(xml.contains("<hand-over from=\"left\" to=\"right\" p=\"chassis\"/>"), "{xml}");
     assert!(xml.contains("<Inverter>"));
@@ -91,7 +96,7 @@ fn dot_and_xml_describe_the_same_tree() {
     assert_eq!(xml.matches("<Condition ID=").count() + xml.matches("<Action ID=").count(), kinds.len());
     let tree = &xml[..xml.find("<TreeNodesModel>").unwrap()];
     assert!(!tree.contains("<Action") && !tree.contains("<Condition"), "{tree}");
-    let plain = output::to_xml(&p.nodes, c.as_ref(), &NoPorts).unwrap();
+    let plain = without_uids(&output::to_xml(&p.nodes, c.as_ref(), &NoPorts).unwrap());
     assert!(plain.contains("<hand-over arg0=\"left\" arg1=\"right\" arg2=\"chassis\"/>"));
 }
 
@@ -119,4 +124,17 @@ fn refinement_all_keeps_every_grounding_and_still_reaches_the_goal() {
     assert_eq!(out.status, Status::Success);
     let hand = out.expansions.iter().find(|e| e.1.condition == "hand-empty").unwrap();
     assert_eq!(hand.1.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);
+}
+
+/// The document without its ` _uid="N"` attributes.
+fn without_uids(xml: &str) -> String {
+    let mut out = String::new();
+    let mut rest = xml;
+    while let Some(at) = rest.find(" _uid=\"") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 7..];
+        rest = &after[after.find('"').map_or(after.len(), |q| q + 1)..];
+    }
+    out.push_str(rest);
+    out
 }

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 mod cli_common;
-use cli_common::sim_host;
+use cli_common::{ok, sim_host};
 
 const TREE: &str = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
@@ -126,4 +126,114 @@ fn runs_and_controller_traces_become_replay_logs() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("run.txt:1: tick 0: BehaviorTree.CPP ticks node 1"));
+}
+
+/// A tick of a run: its leaf calls, and which nodes are Running after it.
+type RunTick = (Vec<(usize, bt_core::Status)>, Vec<bool>);
+
+/// The run's leaf calls and Running nodes, tick by tick, from the episode itself.
+#[derive(Default)]
+struct Calls {
+    ticks: Vec<RunTick>,
+    current: Vec<(usize, bt_core::Status)>,
+}
+
+impl sim_host::episode::Recorder for Calls {
+    fn start<W: sim_host::world::BrickWorld + ?Sized>(&mut self, _: &W, _: usize) {}
+
+    fn tick<W: sim_host::world::BrickWorld + ?Sized>(
+        &mut self,
+        _: u32,
+        _: bt_core::Status,
+        states: &[bt_core::NodeState],
+        _: &W,
+    ) {
+        let running = states.iter().map(|s| s.status() == bt_core::NodeStatus::Running).collect();
+        self.ticks.push((std::mem::take(&mut self.current), running));
+    }
+
+    fn leaf(&mut self, node: bt_core::NodeId, status: bt_core::Status) {
+        self.current.push((usize::from(node), status));
+    }
+}
+
+#[test]
+fn run_btlog_of_an_imported_tree_with_wake_ups_is_the_run() {
+    // Repeat and SequenceWithMemory end a tick after a child that finished at once (a
+    // wake-up): the log must follow the run tick by tick.
+    let dir = tempfile::tempdir().unwrap();
+    let xml = dir.path().join("t.xml");
+    std::fs::write(
+        &xml,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Tower">
+  <Repeat num_cycles="2">
+    <SequenceWithMemory>
+      <Inverter><picked_0 name="picked 0?"/></Inverter>
+      <pick_0 name="pick 0!"/>
+      <place_at name="place at (0.0, 0.05, 0.0)!"/>
+    </SequenceWithMemory>
+  </Repeat>
+</BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let image = dir.path().join("t.bt");
+    ok(&sim_host(&["import", xml.to_str().unwrap(), "--behaviors", "tower", "--out", image.to_str().unwrap()]));
+    let log_file = dir.path().join("t.btlog");
+    let out = ok(&sim_host(&[
+        "run",
+        "--task",
+        "tower",
+        "--tree",
+        image.to_str().unwrap(),
+        "--btlog",
+        log_file.to_str().unwrap(),
+    ]));
+    assert!(out.contains("btlog    "), "{out}");
+    let log = btcpp::btlog::Log::parse(&std::fs::read(&log_file).unwrap()).unwrap();
+    for element in [
+        "<Repeat name=\"Repeat\" _uid=\"1\" num_cycles=\"2\">",
+        "<SequenceWithMemory name=\"SequenceWithMemory\" _uid=\"2\">",
+    ] {
+        assert!(log.xml.contains(element), "{}", log.xml);
+    }
+
+    // The same episode, in process.
+    let spec = planner::duplo::Task::Tower.spec();
+    let bytes = std::fs::read(&image).unwrap();
+    let mut nodes = vec![bt_core::Node::EMPTY; 6];
+    let tree: bt_core::Tree<'_, 16> = bt_core::load(&bytes, &spec, &mut nodes).unwrap();
+    let mut runner =
+        sim_host::episode::Runner::new(sim_host::symbolic::SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
+    let mut run = Calls::default();
+    runner.run_recorded(tree, &mut run).unwrap();
+    // Ticks that end after the Inverter's condition (SequenceWithMemory's wake-up).
+    let wake_ups = run.ticks.iter().filter(|(calls, _)| calls.len() == 1 && calls[0].0 == 3).count();
+    assert!(wake_ups > 0, "the tree does not test wake-ups: {:?}", run.ticks);
+
+    // Tick k is at k x 100 ms in the log. Per tick: the leaves that changed status are
+    // the run's calls, in order, but for an action Running since the last tick that
+    // runs on; the nodes Running after the tick are the run's (uid = node + 1).
+    let leaves = [3usize, 4, 5];
+    let mut status = [0u8; 7];
+    let mut before = vec![false; 6];
+    for (k, (calls, running)) in run.ticks.iter().enumerate() {
+        let mut changed = vec![];
+        for &(_, uid, s) in log.transitions.iter().filter(|t| t.0 / 100_000 == k as u64) {
+            let node = usize::from(uid) - 1;
+            if s != 0 && leaves.contains(&node) {
+                changed.push((node, s));
+            }
+            status[usize::from(uid)] = s;
+        }
+        let expected: Vec<(usize, u8)> = calls
+            .iter()
+            .map(|&(node, s)| (node, btcpp::btlog::status_of(s)))
+            .filter(|&(node, s)| !(s == 1 && before[node]))
+            .collect();
+        assert_eq!(changed, expected, "tick {k}: the leaf transitions are not the run's calls");
+        let logged: Vec<bool> = (1..=6).map(|uid| status[uid] == 1).collect();
+        assert_eq!(&logged, running, "tick {k}: Running nodes");
+        before.clone_from(running);
+    }
+    assert!(log.transitions.iter().all(|t| t.0 / 100_000 < run.ticks.len() as u64));
 }

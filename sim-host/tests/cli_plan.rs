@@ -35,7 +35,7 @@ fn image_round_trips_through_inspect_and_export() {
     assert!(text.contains("--> place(cube, goal)"), "{text}");
     let out = sim_host(&["export", img.to_str().unwrap(), "--format", "xml"]);
     let xml = String::from_utf8(out.stdout).unwrap();
-    assert!(xml.contains("<place i=\"cube\" s=\"goal\"/>"), "{xml}");
+    assert!(xml.contains("<place _uid=\"") && xml.contains("\" i=\"cube\" s=\"goal\"/>"), "{xml}");
     assert!(xml.contains("<Action ID=\"place\">"), "{xml}");
     let out = sim_host(&["export", img.to_str().unwrap(), "--format", "dot"]);
     assert!(String::from_utf8(out.stdout).unwrap().starts_with("digraph bt {"));

@@ -24,8 +24,9 @@ pub mod tree;
 
 use std::fmt::Write as _;
 
-pub use replay::{Leaves, Replay};
+pub use replay::{Leaves, Replay, Ticking};
 pub use run::{Mismatch, RunLog, status_of};
+use tree::Kind;
 pub use tree::{LogTree, NotExpressible};
 
 /// The first bytes of every log.
@@ -34,6 +35,10 @@ pub const MAGIC: &[u8; 18] = b"BTCPP4-FileLogger2";
 /// The models of BehaviorTree.CPP's built-in nodes as 4.10.0 writes them (recorded by
 /// `btcpp/tools/record-builtin-models.sh`).
 const BUILTIN_MODELS: &str = include_str!("builtin-models.xml");
+
+/// The model of Nav2's `RateController` (its port as Nav2 declares it:
+/// `InputPort<double>("hz", 10.0, "Rate")`) as BehaviorTree.CPP 4.10.0 writes it.
+const NAV2_RATE_CONTROLLER: &str = "        <Decorator ID=\"RateController\">\n            <input_port name=\"hz\" type=\"double\" default=\"10.000000\">Rate</input_port>\n        </Decorator>\n";
 
 fn escape_attr(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
@@ -94,6 +99,9 @@ impl LogTree {
         }
         o.push_str("    <TreeNodesModel>\n");
         let mut entries = builtin_models();
+        if self.nodes.iter().any(|n| matches!(n.kind, Kind::RateController(_))) {
+            entries.push(("RateController".to_string(), NAV2_RATE_CONTROLLER.to_string()));
+        }
         for m in &self.models {
             if entries.iter().any(|(id, _)| *id == m.id) {
                 continue;

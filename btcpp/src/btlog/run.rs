@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 
 use crate::btlog::LogWriter;
-use crate::btlog::replay::{Leaves, Replay, status};
+use crate::btlog::replay::{Leaves, Replay, Ticking, status};
 use crate::btlog::tree::LogTree;
 
 /// BehaviorTree.CPP would tick another leaf than our executor did: the log would not
@@ -24,6 +24,7 @@ pub struct RunLog<'t> {
     tree: &'t LogTree,
     replay: Replay<'t>,
     writer: LogWriter,
+    ticking: Ticking,
 }
 
 struct Queue<'a> {
@@ -61,20 +62,30 @@ impl Leaves for Queue<'_> {
 }
 
 impl<'t> RunLog<'t> {
-    /// A log of `tree` whose clock starts at `first_usec`.
+    /// A log of `tree` whose clock starts at `first_usec`, of a run ticked as
+    /// `Tree::tickExactlyOnce()` (bt-core's `Executor::tick`, once per tick).
     #[must_use]
     pub fn new(tree: &'t LogTree, first_usec: i64) -> Self {
-        Self { tree, replay: Replay::new(tree), writer: LogWriter::new(tree, first_usec) }
+        Self { tree, replay: Replay::new(tree), writer: LogWriter::new(tree, first_usec), ticking: Ticking::default() }
     }
 
-    /// Tick `tick` at `usec`: the leaves the run ticked, in order, with what each
-    /// returned (bt-core node, [`status`] number).
+    /// The same, for a run ticked as `ticking` says (with [`Ticking::Once`], each tick's
+    /// calls are those of all its passes).
+    #[must_use]
+    pub fn ticked(mut self, ticking: Ticking) -> Self {
+        self.ticking = ticking;
+        self
+    }
+
+    /// Tick `tick` at `usec` (the log's clock), for which the run gave bt-core `now`:
+    /// the leaves the run ticked, in order, with what each returned (bt-core node,
+    /// [`status`] number).
     ///
     /// # Errors
     /// [`Mismatch`] when BehaviorTree.CPP's model ticks other leaves.
-    pub fn tick(&mut self, tick: u32, usec: i64, calls: &[(usize, u8)]) -> Result<u8, Mismatch> {
+    pub fn tick(&mut self, tick: u32, usec: i64, now: u32, calls: &[(usize, u8)]) -> Result<u8, Mismatch> {
         let mut q = Queue { calls: calls.iter().copied().collect(), wrong: None, tree: self.tree };
-        let (root, transitions) = self.replay.tick(&mut q);
+        let (root, transitions) = self.replay.tick(&mut q, now, self.ticking);
         if let Some(what) = q.wrong {
             return Err(Mismatch { tick, what });
         }

@@ -54,6 +54,12 @@ pub enum Kind {
         /// `then_skip`.
         then_skip: bool,
     },
+    /// `Timeout`: its `msec`.
+    Timeout(u32),
+    /// `Delay`: its `delay_msec`.
+    Delay(u32),
+    /// Nav2's `RateController`: its period in milliseconds.
+    RateController(u32),
     /// `AlwaysSuccess`.
     AlwaysSuccess,
     /// `AlwaysFailure`.
@@ -79,6 +85,9 @@ impl Kind {
                 | Self::Retry(_)
                 | Self::KeepRunningUntilFailure
                 | Self::RunOnce { .. }
+                | Self::Timeout(_)
+                | Self::Delay(_)
+                | Self::RateController(_)
                 | Self::SubTree
         )
     }
@@ -184,10 +193,19 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         NodeKind::RunOnce { then_skip } => {
             (Kind::RunOnce { then_skip }, "RunOnce", vec![("then_skip", then_skip.to_string())])
         }
+        NodeKind::TimeLimit(span) => (Kind::Timeout(span.get()), "Timeout", vec![("msec", span.get().to_string())]),
+        NodeKind::Delay(span) => (Kind::Delay(span.get()), "Delay", vec![("delay_msec", span.get().to_string())]),
+        // Nav2's, with the rate that gives the period back (as the XML export writes it).
+        NodeKind::RateController(span) => (
+            Kind::RateController(span.get()),
+            "RateController",
+            vec![("hz", (1000.0 / f64::from(span.get())).to_string())],
+        ),
         NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
         NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
-        // Our tick-counting Repeat, Retry and Timeout, the clocked kinds (the replay has
-        // no clock) and Nav2's plugins have no BehaviorTree.CPP built-in to replay.
+        // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
+        // equivalent; Nav2's other control nodes and plugin decorators are not modelled
+        // (yet).
         _ => return None,
     })
 }
@@ -244,7 +262,7 @@ impl LogTree {
     ) -> Result<Self, NotExpressible> {
         let uids: Vec<u16> = (1..=nodes.len()).map(|u| u16::try_from(u).unwrap_or(u16::MAX)).collect();
         let names: Vec<Option<String>> = vec![None; nodes.len()];
-        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], |leaf| leaf.args().to_vec())
+        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], &[], |leaf| leaf.args().to_vec())
     }
 
     /// The tree of an imported document, SubTree nodes and names included.
@@ -254,6 +272,8 @@ impl LogTree {
     pub fn of_imported(imported: &Imported) -> Result<Self, NotExpressible> {
         let uids: Vec<u16> = imported.meta.iter().map(|m| m.uid).collect();
         let names: Vec<Option<String>> = imported.meta.iter().map(|m| m.name.clone()).collect();
+        let params: Vec<Option<&[(String, String)]>> =
+            imported.meta.iter().map(|m| Some(m.params.as_slice())).collect();
         Self::build(
             &imported.nodes,
             imported,
@@ -261,6 +281,7 @@ impl LogTree {
             &imported.main,
             &uids,
             &names,
+            &params,
             &imported.subtrees,
             |leaf| imported.leaf_values(leaf).to_vec(),
         )
@@ -274,6 +295,7 @@ impl LogTree {
         main: &str,
         uids: &[u16],
         names: &[Option<String>],
+        params: &[Option<&[(String, String)]>],
         subtrees: &[crate::xml::lower::SubtreeMeta],
         values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
     ) -> Result<Self, NotExpressible> {
@@ -335,10 +357,15 @@ impl LogTree {
                 }
                 other => {
                     let children = u16::try_from(i).map_or(0, |id| bt_core::children(nodes, id).count());
-                    let Some((kind, element, params)) = builtin(other, children) else {
+                    let Some((kind, element, canonical)) = builtin(other, children) else {
                         return Err(NotExpressible { node: i, kind: other.name() });
                     };
-                    let given = params.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+                    // The attributes as the document wrote them (`failure_count="-1"`),
+                    // else as the kind gives them back.
+                    let given = match params.get(i).copied().flatten() {
+                        Some(written) => written.to_vec(),
+                        None => canonical.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
+                    };
                     (kind, element.to_string(), attr_order(given, builtin_defaults(element)), None)
                 }
             };

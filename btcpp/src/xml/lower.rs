@@ -43,6 +43,10 @@ pub struct NodeMeta {
     pub name: Option<String>,
     /// BehaviorTree.CPP's node id.
     pub uid: u16,
+    /// A built-in node's parameters as written (`num_cycles="-1"`), in document order:
+    /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
+    /// resolved value. Empty for leaves and plugin decorators (their ports are values).
+    pub params: Vec<(String, String)>,
 }
 
 /// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
@@ -256,7 +260,13 @@ impl Lowerer<'_> {
             return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
         }
         self.out.nodes.push(Node::EMPTY);
-        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid });
+        // A built-in's parameters as written (a leaf's or a gate's ports are its values).
+        let params = if builtin(&n.id).or_else(|| nav2(&n.id)).is_some() {
+            n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect()
+        } else {
+            Vec::new()
+        };
+        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(

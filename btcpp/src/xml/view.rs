@@ -126,16 +126,24 @@ impl Imported {
     }
 
     /// The tree as BehaviorTree.CPP XML: one tree (SubTrees expanded), every behavior
-    /// of the set declared, node names and `_uid`s kept. Importing it gives the same
-    /// nodes, values, constants, slots and fingerprint.
+    /// of the set declared, node names, `_uid`s and the built-ins' parameters as the
+    /// document wrote them kept. Importing it gives the same nodes, values, constants,
+    /// slots and fingerprint.
     ///
     /// # Errors
     /// [`XmlError`] for kinds without a BehaviorTree.CPP equivalent.
     pub fn to_xml(&self) -> Result<String, XmlError> {
         let names: Vec<Option<String>> = self.meta.iter().map(|m| m.name.clone()).collect();
         let uids: Vec<u16> = self.meta.iter().map(|m| m.uid).collect();
-        let options =
-            XmlOptions { values: &self.values, all_behaviors: true, names: &names, uids: &uids, tree_id: &self.main };
+        let params: Vec<&[(String, String)]> = self.meta.iter().map(|m| m.params.as_slice()).collect();
+        let options = XmlOptions {
+            values: &self.values,
+            all_behaviors: true,
+            names: &names,
+            uids: &uids,
+            params: &params,
+            tree_id: &self.main,
+        };
         to_xml_with(&self.nodes, self, &NoPorts, &options)
     }
 }

@@ -163,8 +163,15 @@ pub struct XmlOptions<'a> {
     pub all_behaviors: bool,
     /// Per node, a `name` attribute.
     pub names: &'a [Option<String>],
-    /// Per node, BehaviorTree.CPP's node id, written as `_uid` (as Groot2 logs show it).
+    /// Per node, BehaviorTree.CPP's node id, written as `_uid` (as Groot2 logs show it);
+    /// when empty, the node's position from 1, which is how BehaviorTree.CPP numbers the
+    /// document written (and how [`LogTree::new`](crate::btlog::LogTree::new) numbers
+    /// the logs of these nodes).
     pub uids: &'a [u16],
+    /// Per node, the parameters of a built-in as its document wrote them
+    /// (`failure_count="-1"`), written instead of those the kind gives back; when
+    /// empty, every node's are the kind's.
+    pub params: &'a [&'a [(String, String)]],
     /// The tree's ID (`MainTree` when empty).
     pub tree_id: &'a str,
 }
@@ -243,11 +250,20 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
         }
         let pad = indent(open.len());
         let mut meta = String::new();
+        let named = matches!(options.names.get(i), Some(Some(_)));
         if let Some(Some(name)) = options.names.get(i) {
             let _ = write!(meta, " name=\"{}\"", escape(name));
         }
-        if let Some(uid) = options.uids.get(i) {
-            let _ = write!(meta, " _uid=\"{uid}\"");
+        // BehaviorTree.CPP numbers the nodes of a document with one tree and no SubTree
+        // nodes in pre-order from 1: the uids its logs (and ours) show.
+        match options.uids.get(i) {
+            Some(uid) => {
+                let _ = write!(meta, " _uid=\"{uid}\"");
+            }
+            None if options.uids.is_empty() => {
+                let _ = write!(meta, " _uid=\"{}\"", i + 1);
+            }
+            None => {}
         }
         let (tag, attrs): (&'static str, String) = match *n.kind() {
             NodeKind::Sequence => ("ReactiveSequence", String::new()),
@@ -310,15 +326,18 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 let values = leaf_values(&leaf, options.values);
                 let tag = declare(b, kind, values.len(), &mut used);
                 let mut a = String::new();
-                if !meta.is_empty() {
-                    a.push_str(&meta);
-                } else if tag != name {
+                if !named && tag != name {
                     let _ = write!(a, " name=\"{}\"", escape(&name));
                 }
+                a.push_str(&meta);
                 a.push_str(&port_attrs(catalog, ports, b, values));
                 let _ = writeln!(out, "{pad}<{tag}{a}/>");
                 continue;
             }
+        };
+        let attrs = match options.params.get(i) {
+            Some(written) => written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect(),
+            None => attrs,
         };
         let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
         open.push((end, tag.to_string()));

@@ -100,7 +100,9 @@ mod tests {
         let plan = crate::duplo::plan(crate::duplo::Task::Tower).unwrap();
         let spec = crate::duplo::Task::Tower.spec();
         let xml = super::to_xml(&plan.nodes, &spec, &crate::catalog::NoPorts).unwrap();
-        assert!(xml.contains("<pick_0 name=\"pick 0!\"/>"), "{xml}");
+        // Numbered as BehaviorTree.CPP numbers the document (and our replay logs do).
+        assert!(xml.contains("<pick_0 name=\"pick 0!\" _uid=\""), "{xml}");
+        assert!(xml.contains(&format!(" _uid=\"{}\"", plan.nodes.len())) && xml.contains(" _uid=\"1\""), "{xml}");
         assert!(xml.contains("<Action ID=\"pick_0\"/>"), "{xml}");
         assert!(!xml[..xml.find("<TreeNodesModel>").unwrap()].contains("ID=\"pick"), "{xml}");
     }

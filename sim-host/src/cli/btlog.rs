@@ -92,7 +92,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                     .find_map(|w| w.strip_prefix("ran="))
                     .ok_or_else(|| anyhow!("{}: tick line without ran=", at()))?;
                 let calls = ran(list).ok_or_else(|| anyhow!("{}: cannot read ran={list} (cut line?)", at()))?;
-                log.tick(k, i64::from(k) * period_usec, &calls).map_err(|e| anyhow!("{}: {e}", at()))?;
+                // The controller gives bt-core milliseconds: tick k at k periods.
+                let now = u32::try_from(i64::from(k) * period_usec / 1000).unwrap_or(u32::MAX);
+                log.tick(k, i64::from(k) * period_usec, now, &calls).map_err(|e| anyhow!("{}: {e}", at()))?;
                 ticks += 1;
             }
             _ => {}

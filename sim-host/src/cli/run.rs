@@ -211,9 +211,11 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
             let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec, &btcpp::xml::NoPorts)
                 .map_err(|err| anyhow!("{source}: no replay log: {err}"))?;
             let mut log = btcpp::btlog::RunLog::new(&log_tree, 0);
+            // The episode gives bt-core the tick number as `now`.
             for (k, calls) in rec.calls.iter().enumerate() {
                 let k = u32::try_from(k).unwrap_or(u32::MAX);
-                log.tick(k, i64::from(k) * TICK_USEC, calls).map_err(|err| anyhow!("{source}: replay log: {err}"))?;
+                log.tick(k, i64::from(k) * TICK_USEC, k, calls)
+                    .map_err(|err| anyhow!("{source}: replay log: {err}"))?;
             }
             Some(log.into_bytes())
         }

@@ -116,7 +116,8 @@ fn btlog(run: &scenario::Run) -> anyhow::Result<(Vec<u8>, u32, u32)> {
     for (tick, calls) in record.leaf_calls.iter().filter(|(t, _)| *t > from) {
         let calls: Vec<(usize, u8)> =
             calls.iter().map(|&(n, s)| (usize::from(n), btcpp::btlog::status_of(s))).collect();
-        log.tick(*tick, i64::from(*tick) * 100_000, &calls).map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
+        // The driver gives bt-core the tick number as `now`.
+        log.tick(*tick, i64::from(*tick) * 100_000, *tick, &calls).map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
         ticks += 1;
     }
     Ok((log.into_bytes(), from + 1, ticks))
