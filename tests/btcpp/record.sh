@@ -8,8 +8,10 @@
 # /tmp/btcpp-work), builds the harness (harness.cpp) against it, writes the random
 # cases (cargo run -p integration-tests --bin btcpp-cases) and the trees of
 # BehaviorTree.CPP's own tests (cases/*.spec), runs them, and replaces fixtures/*.txt
-# and fixtures/btlog/. With BTCPP_INSTALL set to an installed BehaviorTree.CPP, the
-# build is skipped. Needs cmake (pip install cmake), a C++17 compiler and cargo.
+# and fixtures/btlog/ (the Groot2 logs of every tenth random case and of every case
+# the differential test compares only up to a restart by halt before start). With
+# BTCPP_INSTALL set to an installed BehaviorTree.CPP, the build is skipped. Needs cmake
+# (pip install cmake), a C++17 compiler and cargo.
 set -euo pipefail
 
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -53,15 +55,15 @@ fixtures="$here/fixtures"
 mkdir -p "$fixtures/btlog"
 rm -f "$fixtures"/random-*.txt "$fixtures"/btlog/*.btlog
 tmp="$work/run"
-rm -rf "$tmp" && mkdir -p "$tmp"
+rm -rf "$tmp" && mkdir -p "$tmp/logs"
 total=$((count + count * 3 / 10))
 chunk=100
 n=0
 for from in $(seq 0 $chunk $((total - 1))); do
-  # Every 10th case also writes its Groot2 log.
-  "$gen" "$seed" "$from" "$chunk" | awk -v dir="$fixtures/btlog" '
+  # Every case also writes its Groot2 log; some are kept (below).
+  "$gen" "$seed" "$from" "$chunk" | awk -v dir="$tmp/logs" '
     /^case / { name = $2 }
-    /^end$/ { if (substr(name, length(name)) == "0") print "btlog " dir "/" name ".btlog" }
+    /^end$/ { print "btlog " dir "/" name ".btlog" }
     { print }' > "$tmp/in-$from.txt"
   ( "$harness" "$tmp/in-$from.txt" > "$tmp/out-$from.txt" ) &
   n=$((n + 1))
@@ -69,19 +71,29 @@ for from in $(seq 0 $chunk $((total - 1))); do
 done
 wait
 # Keep `count` cases BehaviorTree.CPP ran to the end, 100 per file.
-for from in $(seq 0 $chunk $((total - 1))); do cat "$tmp/out-$from.txt"; done | awk -v count="$count" -v dir="$fixtures" -v logs="$fixtures/btlog" '
-  /^case / { buf = ""; bad = 0; name = $2 }
+for from in $(seq 0 $chunk $((total - 1))); do cat "$tmp/out-$from.txt"; done | awk -v count="$count" -v dir="$fixtures" '
+  /^case / { buf = ""; bad = 0 }
   /^(error|runaway)/ { bad = 1 }
   { buf = buf $0 "\n" }
   /^end$/ {
-    if (bad) { system("rm -f " logs "/" name ".btlog"); next }
+    if (bad) { next }
     if (kept < count) {
       file = sprintf("%s/random-%02d.txt", dir, int(kept / 100))
       printf "%s", buf > file
       kept++
-    } else { system("rm -f " logs "/" name ".btlog") }
+    }
   }
   END { printf "kept %d random cases\n", kept > "/dev/stderr" }'
+
+# The Groot2 logs kept: every tenth random case, and every case that the differential
+# test compares only up to the tick where halt before start restarted a branch (the
+# .btlog test checks what it allows there).
+(cd "$repo" && cargo build -q -p integration-tests --bin btcpp-check)
+{
+  grep -h '^case r[0-9]*0$' "$fixtures"/random-*.txt | cut -d' ' -f2
+  "$repo/target/debug/btcpp-check" --restarted "$fixtures"/random-*.txt || true
+} | sort -u | while read -r name; do cp "$tmp/logs/$name.btlog" "$fixtures/btlog/"; done
+echo "kept $(ls "$fixtures"/btlog/*.btlog | wc -l) Groot2 logs" >&2
 
 # The trees of BehaviorTree.CPP's own tests.
 for f in "$here"/cases/*.spec; do

@@ -1,6 +1,9 @@
 //! Compares fixture files recorded from BehaviorTree.CPP with our executor and prints
 //! every disagreement: `btcpp-check tests/btcpp/fixtures/*.txt`. The test
 //! `tests/tests/btcpp.rs` does the same and fails on the first.
+//!
+//! `btcpp-check --restarted FILES` prints only the names of the cases compared up to a
+//! tick where halt before start restarted a branch (`record.sh` keeps their `.btlog`).
 
 use std::process::ExitCode;
 
@@ -12,8 +15,10 @@ fn main() -> ExitCode {
     let mut cases = 0usize;
     let mut refused = 0usize;
     let mut restarted = 0usize;
-    for path in std::env::args().skip(1) {
-        let text = match std::fs::read_to_string(&path) {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let names_only = args.first().is_some_and(|a| a == "--restarted");
+    for path in args.iter().skip(usize::from(names_only)) {
+        let text = match std::fs::read_to_string(path) {
             Ok(t) => t,
             Err(e) => {
                 eprintln!("{path}: {e}");
@@ -42,15 +47,25 @@ fn main() -> ExitCode {
                     total.halts_moved_earlier += c.halts_moved_earlier;
                     if c.restarted_at.is_some() {
                         restarted += 1;
+                        if names_only {
+                            println!("{}", rec.case.name);
+                        }
                     }
                     total.ticks_with_other_statuses += c.ticks_with_other_statuses;
                 }
                 Err(e) => {
                     bad += 1;
-                    println!("{e}");
+                    if names_only {
+                        eprintln!("{e}");
+                    } else {
+                        println!("{e}");
+                    }
                 }
             }
         }
+    }
+    if names_only {
+        return if bad == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE };
     }
     println!(
         "{cases} cases ({refused} refused by BehaviorTree.CPP not counted), {} ticks compared: {bad} disagree; \

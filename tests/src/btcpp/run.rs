@@ -174,6 +174,13 @@ impl BehaviorSet for Scripted<'_> {
     }
 }
 
+/// The `now` tick `k` of a case gives bt-core: milliseconds for clocked cases (the
+/// harness ticks every `period_ms` of real time), else the tick number.
+#[must_use]
+pub fn now(case: &Case, k: u32) -> u32 {
+    if case.period_ms == 0 { k } else { k * case.period_ms }
+}
+
 /// Runs the case on our executor: one [`Tick`] per tick, in the harness's notation.
 ///
 /// # Errors
@@ -187,7 +194,7 @@ pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
     let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![] };
     let mut out = vec![];
     for k in 0..case.ticks {
-        let now = if case.period_ms == 0 { k } else { k * case.period_ms };
+        let now = now(case, k);
         let mut root = exec.tick(&mut world, now).map_err(|e| format!("tick {k}: {e}"))?;
         if case.once {
             // BehaviorTree.CPP's tickOnce(): again while Running and woken.
