@@ -259,3 +259,101 @@ fn every_default_tree_runs_on_scripted_leaves_without_error() {
         assert!(imported.nodes.iter().all(|n| !matches!(n.kind(), NodeKind::Repeat(_) | NodeKind::Retry(_))));
     }
 }
+
+/// A script that also records every call by node, for the replay log.
+struct Calls<'s, 'c> {
+    script: &'s mut Script<'c>,
+    calls: Vec<(usize, u8)>,
+}
+
+impl BehaviorSet for Calls<'_, '_> {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
+        let node = usize::from(ctx.node);
+        let s = self.script.condition(leaf, ctx);
+        self.calls.push((node, btcpp::btlog::status_of(s)));
+        s
+    }
+
+    fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
+        let node = usize::from(ctx.node);
+        let s = self.script.action(leaf, ctx);
+        self.calls.push((node, btcpp::btlog::status_of(s)));
+        s
+    }
+
+    fn halt(&mut self, leaf: &Leaf, node: NodeId) {
+        self.script.halt(leaf, node);
+    }
+}
+
+#[test]
+fn replay_logs_follow_the_runs_of_the_default_trees() {
+    use btcpp::btlog::{Log, LogTree, RunLog, Ticking};
+    fn action(name: &str, tick: u32) -> Status {
+        let h = name.bytes().fold(tick.wrapping_mul(2_654_435_761), |h, b| h.rotate_left(5) ^ u32::from(b));
+        [Status::Success, Status::Running, Status::Running, Status::Failure][(h % 4) as usize]
+    }
+    fn condition(name: &str, tick: u32) -> Status {
+        let h = name.bytes().fold(tick.wrapping_mul(40_503), |h, b| h.rotate_left(3) ^ u32::from(b));
+        if h % 3 == 0 { Status::Failure } else { Status::Success }
+    }
+    let mut logged = 0;
+    for f in &trees() {
+        let imported = import_nav2(f);
+        let tree = match LogTree::of_imported(&imported) {
+            Ok(t) => t,
+            Err(e) => {
+                // Plugin decorators change status each in their own way: not modelled.
+                assert!(imported.nodes.iter().any(|n| matches!(n.kind(), NodeKind::Gate(_))), "{}: {e}", f.display());
+                assert!(e.to_string().contains("Gate"), "{e}");
+                continue;
+            }
+        };
+        let mut script = Script {
+            catalog: &imported,
+            tick: 0,
+            action,
+            condition,
+            ticked: Vec::new(),
+            per_tick: Vec::new(),
+            halts: 0,
+        };
+        let bt: Tree<'_, 64> = Tree::validate_with(&imported.nodes, &imported.values, &imported).unwrap();
+        let mut state = vec![NodeState::IDLE; imported.nodes.len()];
+        let mut exec = Executor::new(bt, &mut state).unwrap();
+        let mut log = RunLog::new(&tree, 0).ticked(Ticking::Once);
+        let mut running = Vec::new();
+        for t in 0..100u32 {
+            script.tick = t;
+            let mut calls = Calls { script: &mut script, calls: Vec::new() };
+            let mut s = exec.tick(&mut calls, t * 100).unwrap();
+            while s == Status::Running && exec.take_woken() {
+                s = exec.tick(&mut calls, t * 100).unwrap();
+            }
+            let calls = calls.calls;
+            log.tick(t, i64::from(t) * 100_000, t * 100, &calls).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+            running.push(exec.states().iter().map(|s| s.status() == bt_core::NodeStatus::Running).collect::<Vec<_>>());
+        }
+        // After every tick, the log's Running nodes are the run's.
+        let log = Log::parse(&log.into_bytes()).unwrap();
+        let mut status = vec![0u8; tree.nodes.len() + 1];
+        for (t, run) in running.iter().enumerate() {
+            for &(_, uid, s) in log.transitions.iter().filter(|x| x.0 / 100_000 == t as u64) {
+                status[usize::from(uid)] = s;
+            }
+            for n in tree.nodes.iter().filter(|n| n.core.is_some()) {
+                let core = n.core.unwrap();
+                assert_eq!(
+                    status[usize::from(n.uid)] == 1,
+                    run[core],
+                    "{}: tick {t}: node {core} ({})",
+                    f.display(),
+                    n.name
+                );
+            }
+        }
+        logged += 1;
+    }
+    // The 10 trees without plugin decorators.
+    assert_eq!(logged, 10);
+}

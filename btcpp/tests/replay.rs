@@ -1,6 +1,7 @@
 //! The replay model on runs of bt-core's executor: wake-ups (ticked exactly once and as
-//! `tickOnce()`), and the clocked kinds (`Timeout`, `Delay`, Nav2's `RateController`),
-//! with the transitions BehaviorTree.CPP makes for them written out by hand.
+//! `tickOnce()`), the clocked kinds (`Timeout`, `Delay`, Nav2's `RateController`) and
+//! Nav2's control nodes, with the transitions BehaviorTree.CPP (and Nav2's code on it)
+//! makes for them written out by hand.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::collections::BTreeMap;
@@ -155,7 +156,7 @@ fn expired_timeouts_halt_before_the_tick_in_the_order_they_expired() {
 }
 
 #[test]
-fn a_delay_waits_then_ticks_its_child_and_a_rate_controller_throttles_it() {
+fn a_delay_waits_then_ticks_its_child_and_a_reset_rate_controller_ticks_at_once() {
     // Delay 150 ms (1) of A (2).
     let xml = doc(r#"<Delay delay_msec="150"><A/></Delay>"#, r#"<Action ID="A"/>"#);
     let ticks = run(&xml, &[("A", "S")], &[0, 100, 200], Ticking::ExactlyOnce);
@@ -181,4 +182,36 @@ fn a_delay_waits_then_ticks_its_child_and_a_rate_controller_throttles_it() {
     // Idle again: a new activation ticks A at once.
     assert_eq!(ticks[2].1, vec![(2, R), (3, R)]);
     assert_eq!(ticks[3].1, vec![(3, S), (2, S), (3, I), (2, I)]);
+}
+
+#[test]
+fn nav2_control_nodes_change_status_as_nav2_s_code_does() {
+    // PipelineSequence (1) over RateController 5 Hz (2) of A (3), and B (4), which
+    // runs on. The pipeline sets no status before its children; the rate controller
+    // keeps its Success under it, so it waits for its period (200 ms) before ticking A
+    // again.
+    let xml = doc(r#"<PipelineSequence><RateController hz="5"><A/></RateController><B/></PipelineSequence>"#, TWO);
+    let ticks = run(&xml, &[("A", "S"), ("B", "R")], &[0, 100, 200, 300], Ticking::Once);
+    assert_eq!(ticks[0].1, vec![(2, R), (3, S), (2, S), (3, I), (4, R), (1, R)]);
+    assert_eq!(ticks[1].1, vec![(2, R)]);
+    assert_eq!(ticks[2].1, vec![(3, S), (2, S), (3, I)]);
+    assert_eq!(ticks[3].1, vec![(2, R)]);
+
+    // RecoveryNode (1), one retry, over A (2), which fails, and B (3), which recovers.
+    // When it gives up it halts itself (Idle) before it takes its result.
+    let xml = doc(r#"<RecoveryNode number_of_retries="1"><A/><B/></RecoveryNode>"#, TWO);
+    let ticks = run(&xml, &[("A", "F"), ("B", "S")], &[0], Ticking::ExactlyOnce);
+    assert_eq!(
+        ticks[0],
+        (Status::Failure, vec![(1, R), (2, F), (2, I), (3, S), (3, I), (2, F), (2, I), (1, I), (1, F), (1, I)])
+    );
+
+    // RoundRobin (1) over A (2), which fails, and B (3): the turn goes on from where it
+    // stopped.
+    let xml = doc("<RoundRobin><A/><B/></RoundRobin>", TWO);
+    let ticks = run(&xml, &[("A", "F"), ("B", "RS")], &[0, 1, 2], Ticking::ExactlyOnce);
+    assert_eq!(ticks[0], (Status::Running, vec![(1, R), (2, F), (3, R)]));
+    assert_eq!(ticks[1], (Status::Success, vec![(3, S), (2, I), (3, I), (1, S), (1, I)]));
+    // Next activation starts after B, with A.
+    assert_eq!(ticks[2].1[..2], [(1, R), (2, F)]);
 }

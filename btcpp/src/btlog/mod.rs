@@ -26,7 +26,6 @@ use std::fmt::Write as _;
 
 pub use replay::{Leaves, Replay, Ticking};
 pub use run::{Mismatch, RunLog, status_of};
-use tree::Kind;
 pub use tree::{LogTree, NotExpressible};
 
 /// The first bytes of every log.
@@ -36,9 +35,20 @@ pub const MAGIC: &[u8; 18] = b"BTCPP4-FileLogger2";
 /// `btcpp/tools/record-builtin-models.sh`).
 const BUILTIN_MODELS: &str = include_str!("builtin-models.xml");
 
-/// The model of Nav2's `RateController` (its port as Nav2 declares it:
-/// `InputPort<double>("hz", 10.0, "Rate")`) as BehaviorTree.CPP 4.10.0 writes it.
-const NAV2_RATE_CONTROLLER: &str = "        <Decorator ID=\"RateController\">\n            <input_port name=\"hz\" type=\"double\" default=\"10.000000\">Rate</input_port>\n        </Decorator>\n";
+/// The models of Nav2's control nodes and `RateController` (their ports as Nav2 jazzy
+/// declares them) as BehaviorTree.CPP 4.10.0 writes them.
+const NAV2_MODELS: [(&str, &str); 4] = [
+    ("PipelineSequence", "        <Control ID=\"PipelineSequence\"/>\n"),
+    (
+        "RateController",
+        "        <Decorator ID=\"RateController\">\n            <input_port name=\"hz\" type=\"double\" default=\"10.000000\">Rate</input_port>\n        </Decorator>\n",
+    ),
+    (
+        "RecoveryNode",
+        "        <Control ID=\"RecoveryNode\">\n            <input_port name=\"number_of_retries\" type=\"int\" default=\"1\">Number of retries</input_port>\n        </Control>\n",
+    ),
+    ("RoundRobin", "        <Control ID=\"RoundRobin\"/>\n"),
+];
 
 fn escape_attr(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
@@ -99,8 +109,12 @@ impl LogTree {
         }
         o.push_str("    <TreeNodesModel>\n");
         let mut entries = builtin_models();
-        if self.nodes.iter().any(|n| matches!(n.kind, Kind::RateController(_))) {
-            entries.push(("RateController".to_string(), NAV2_RATE_CONTROLLER.to_string()));
+        // Nav2's nodes, when the tree has them (a Nav2 factory registers every plugin;
+        // the log of one without Nav2 lists the nodes it has).
+        for (id, text) in NAV2_MODELS {
+            if self.nodes.iter().any(|n| n.element == id && n.subtree.is_none()) {
+                entries.push((id.to_string(), text.to_string()));
+            }
         }
         for m in &self.models {
             if entries.iter().any(|(id, _)| *id == m.id) {

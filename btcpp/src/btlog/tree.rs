@@ -60,6 +60,12 @@ pub enum Kind {
     Delay(u32),
     /// Nav2's `RateController`: its period in milliseconds.
     RateController(u32),
+    /// Nav2's `PipelineSequence`.
+    PipelineSequence,
+    /// Nav2's `RecoveryNode`: its `number_of_retries`.
+    Recovery(i32),
+    /// Nav2's `RoundRobin`.
+    RoundRobin,
     /// `AlwaysSuccess`.
     AlwaysSuccess,
     /// `AlwaysFailure`.
@@ -201,11 +207,16 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
             "RateController",
             vec![("hz", (1000.0 / f64::from(span.get())).to_string())],
         ),
+        NodeKind::PipelineSequence => (Kind::PipelineSequence, "PipelineSequence", vec![]),
+        NodeKind::Recovery { retries } => {
+            (Kind::Recovery(i32::from(retries)), "RecoveryNode", vec![("number_of_retries", retries.to_string())])
+        }
+        NodeKind::RoundRobin => (Kind::RoundRobin, "RoundRobin", vec![]),
         NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
         NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
         // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
-        // equivalent; Nav2's other control nodes and plugin decorators are not modelled
-        // (yet).
+        // equivalent; Nav2's plugin decorators (gates) each change status in their own
+        // way, which the replay does not model.
         _ => return None,
     })
 }
@@ -217,6 +228,8 @@ fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
         "Parallel" => &[("failure_count", "1"), ("success_count", "-1")],
         "ParallelAll" => &[("max_failures", "1")],
         "RunOnce" => &[("then_skip", "true")],
+        "RecoveryNode" => &[("number_of_retries", "1")],
+        "RateController" => &[("hz", "10.000000")],
         _ => &[],
     }
 }

@@ -1,275 +1,12 @@
-//! BehaviorTree.CPP's status transitions for a run: a model of how its nodes set,
-//! reset and halt, driven by what the leaves returned.
-//!
-//! Groot2 replays a log as the list of every status change BehaviorTree.CPP's nodes
-//! made, transitions to Idle included, in the order they made them. Control nodes
-//! become Running when ticked, reset their children when they finish, decorators reset
-//! a finished child, and the root is reset when it finishes. This module ticks the same
-//! tree the way BehaviorTree.CPP 4.10 does, asking a [`Leaves`] for each leaf's status,
-//! and records the transitions. Fed the leaf results of one of our runs, it gives the
-//! log BehaviorTree.CPP would have written for the same leaf results (and it checks
-//! that it asks for the leaves our executor ticked, in the same order).
-//!
-//! Two things make one call of [`Replay::tick`] more than one pass over the tree:
-//!
-//! - **Wake-up.** `SequenceWithMemory`, `Repeat` and `RetryUntilSuccessful` end a pass
-//!   with Running after a child that was Idle finished, and ask to be ticked again at
-//!   once (BehaviorTree.CPP's `emitWakeUpSignal`, bt-core's `Executor::woken`). Ticked
-//!   as `tickOnce()` ([`Ticking::Once`]), the replay ticks the root again while it is
-//!   Running and a node asked; every transition of every pass goes into the log, as
-//!   BehaviorTree.CPP's logger records them.
-//! - **Time.** `Timeout`, `Delay` and Nav2's `RateController` measure spans of the
-//!   tick's `now` (the same `now` the run gave bt-core; milliseconds for imported trees).
-//!   What BehaviorTree.CPP's timer threads do between two ticks happens at the start of
-//!   the next one, before the root is ticked, in the order the timers expired: an
-//!   expired `Timeout` halts its Running child (its transitions to Idle come first in
-//!   the tick) and asks for a wake-up, a `Delay` whose span has passed asks for one.
-//!
-//! Where bt-core's decisions differ from BehaviorTree.CPP's in documented corner cases
-//! (a `Timeout` found expired with a child that is not Running fails; timers are read
-//! at ticks), the replay takes bt-core's, so that it asks for the leaves the run ticked;
-//! the transitions are BehaviorTree.CPP's.
+//! How each kind ticks, as BehaviorTree.CPP 4.10's nodes (and Nav2's on it) do: what
+//! [`Replay`] runs for one node.
 
-use crate::btlog::tree::{Kind, LogTree};
+use super::status::{FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS};
+use super::{Leaves, Replay};
+use crate::btlog::tree::Kind;
 
-/// A node's status as BehaviorTree.CPP numbers it in logs.
-pub mod status {
-    /// Not ticked, or reset.
-    pub const IDLE: u8 = 0;
-    /// Running.
-    pub const RUNNING: u8 = 1;
-    /// Success.
-    pub const SUCCESS: u8 = 2;
-    /// Failure.
-    pub const FAILURE: u8 = 3;
-    /// Skipped (never stored as a node's status).
-    pub const SKIPPED: u8 = 4;
-}
-use status::{FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS};
-
-/// What the leaves do.
-pub trait Leaves {
-    /// Leaf `core` (its bt-core node) is ticked: Running, Success or Failure (as
-    /// [`status`] numbers them).
-    fn tick(&mut self, core: usize) -> u8;
-    /// Running action `core` is halted.
-    fn halt(&mut self, core: usize);
-}
-
-#[derive(Clone, Debug, Default)]
-struct Rt {
-    status: u8,
-    /// Sequence/Fallback child index; reactive nodes' running child; IfThenElse child.
-    idx: usize,
-    /// Repeat/Retry count; Parallel successes; ParallelAll failures.
-    count: i32,
-    /// Parallel failures.
-    count2: i32,
-    /// Parallel / ParallelAll: children finished in this activation.
-    done: Vec<bool>,
-    /// RunOnce: already ticked, and what it returned.
-    once: Option<u8>,
-    /// Timeout, Delay, RateController: when its span started (`now`).
-    start: u32,
-    /// Sequence, SequenceWithMemory, Fallback: children that skipped in this
-    /// activation.
-    skipped: usize,
-}
-
-/// How the root is ticked.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Ticking {
-    /// `Tree::tickExactlyOnce()`: one pass per tick (bt-core's `Executor::tick`).
-    #[default]
-    ExactlyOnce,
-    /// `Tree::tickOnce()`: another pass while the root is Running and a node asked for
-    /// a wake-up (bt-core: `Executor::tick` in a loop on `Executor::take_woken`).
-    Once,
-}
-
-/// Spans are measured in 24 bits of `now`, as bt-core keeps start times.
-const SPAN_MASK: u32 = bt_core::Span::MAX;
-
-/// A replay of one tree.
-#[derive(Debug)]
-pub struct Replay<'t> {
-    tree: &'t LogTree,
-    rt: Vec<Rt>,
-    transitions: Vec<(u16, u8)>,
-    /// A node asked to be ticked again at once (kept until a pass of
-    /// [`Ticking::Once`] takes it, as BehaviorTree.CPP keeps its signal).
-    woken: bool,
-    /// The `now` of the tick being replayed.
-    now: u32,
-}
-
-impl<'t> Replay<'t> {
-    /// A replay with every node Idle.
-    #[must_use]
-    pub fn new(tree: &'t LogTree) -> Self {
-        let rt = tree.nodes.iter().map(|n| Rt { done: vec![false; n.children.len()], ..Rt::default() }).collect();
-        Self { tree, rt, transitions: Vec::new(), woken: false, now: 0 }
-    }
-
-    /// One tick of the root at `now`, ticked as `ticking` says: the root's status, and
-    /// the transitions (uid, new status) made, in order (those of every pass).
-    pub fn tick(&mut self, leaves: &mut dyn Leaves, now: u32, ticking: Ticking) -> (u8, Vec<(u16, u8)>) {
-        self.transitions.clear();
-        let mut root = self.pass(leaves, now);
-        if ticking == Ticking::Once {
-            while root == RUNNING && std::mem::take(&mut self.woken) {
-                root = self.pass(leaves, now);
-            }
-        }
-        if root == SUCCESS || root == FAILURE {
-            self.reset_status(0);
-        }
-        (root, std::mem::take(&mut self.transitions))
-    }
-
-    /// Whether a node asked to be ticked again at once and no pass has taken it yet.
-    #[must_use]
-    pub fn woken(&self) -> bool {
-        self.woken
-    }
-
-    /// One pass from the root at `now`, after what the timers did since the last one.
-    fn pass(&mut self, leaves: &mut dyn Leaves, now: u32) -> u8 {
-        self.now = now;
-        if self.tree.nodes.is_empty() {
-            return IDLE;
-        }
-        self.timers(leaves);
-        self.execute(0, leaves)
-    }
-
-    /// Milliseconds (units of `now`) since node `i`'s span started.
-    fn elapsed(&self, i: usize) -> u32 {
-        self.now.wrapping_sub(self.rt[i].start) & SPAN_MASK
-    }
-
-    /// What BehaviorTree.CPP's timer threads did since the last pass, in the order its
-    /// timers expired (those that expired together in tree order): an expired
-    /// `Timeout` whose child runs halts it, a `Delay` whose span has passed while its
-    /// child waits asks for a wake-up. The conditions are bt-core's (`Executor::tick`).
-    fn timers(&mut self, leaves: &mut dyn Leaves) {
-        // (how long ago it expired, node)
-        let mut due: Vec<(u32, usize)> = Vec::new();
-        for (i, n) in self.tree.nodes.iter().enumerate() {
-            if self.rt[i].status != RUNNING {
-                continue;
-            }
-            let span = match n.kind {
-                Kind::Timeout(ms) if ms > 0 => ms,
-                Kind::Delay(ms) => ms,
-                _ => continue,
-            };
-            let elapsed = self.elapsed(i);
-            if elapsed >= span {
-                due.push((elapsed - span, i));
-            }
-        }
-        due.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-        for (_, i) in due {
-            let c = self.child(i, 0);
-            if self.rt[i].status != RUNNING {
-                continue;
-            }
-            match self.tree.nodes[i].kind {
-                Kind::Timeout(_) if self.rt[c].status == RUNNING => {
-                    self.halt_child(i, 0, leaves);
-                    self.woken = true;
-                }
-                Kind::Delay(_) if self.rt[c].status == IDLE => self.woken = true,
-                _ => {}
-            }
-        }
-    }
-
-    /// The status of every node (uid order).
-    #[must_use]
-    pub fn statuses(&self) -> Vec<u8> {
-        self.rt.iter().map(|r| r.status).collect()
-    }
-
-    fn set_status(&mut self, i: usize, s: u8) {
-        if self.rt[i].status != s {
-            self.rt[i].status = s;
-            self.transitions.push((self.tree.nodes[i].uid, s));
-        }
-    }
-
-    fn reset_status(&mut self, i: usize) {
-        if self.rt[i].status != IDLE {
-            self.rt[i].status = IDLE;
-            self.transitions.push((self.tree.nodes[i].uid, IDLE));
-        }
-    }
-
-    fn child(&self, i: usize, k: usize) -> usize {
-        self.tree.nodes[i].children[k]
-    }
-
-    fn execute(&mut self, i: usize, leaves: &mut dyn Leaves) -> u8 {
-        let s = self.tick_node(i, leaves);
-        if s != SKIPPED {
-            self.set_status(i, s);
-        }
-        if self.tree.nodes[i].kind.is_decorator() {
-            let c = self.child(i, 0);
-            if matches!(self.rt[c].status, SUCCESS | FAILURE) {
-                self.reset_status(c);
-            }
-        }
-        s
-    }
-
-    /// `haltNode()` of node `i`.
-    fn halt(&mut self, i: usize, leaves: &mut dyn Leaves) {
-        let node = &self.tree.nodes[i];
-        match node.kind {
-            Kind::Action => {
-                if let Some(core) = node.core {
-                    leaves.halt(core);
-                }
-            }
-            Kind::Condition | Kind::AlwaysSuccess | Kind::AlwaysFailure => {}
-            k if k.is_decorator() => {
-                let r = &mut self.rt[i];
-                r.count = 0;
-                self.halt_child(i, 0, leaves);
-                self.reset_status(i);
-            }
-            kind => {
-                let r = &mut self.rt[i];
-                // SequenceWithMemory keeps its place when halted.
-                if kind != Kind::SequenceWithMemory {
-                    r.idx = 0;
-                }
-                r.count = 0;
-                r.count2 = 0;
-                r.done.iter_mut().for_each(|d| *d = false);
-                self.reset_children(i, leaves);
-                self.reset_status(i);
-            }
-        }
-    }
-
-    fn halt_child(&mut self, i: usize, k: usize, leaves: &mut dyn Leaves) {
-        let c = self.child(i, k);
-        if self.rt[c].status == RUNNING {
-            self.halt(c, leaves);
-        }
-        self.reset_status(c);
-    }
-
-    fn reset_children(&mut self, i: usize, leaves: &mut dyn Leaves) {
-        for k in 0..self.tree.nodes[i].children.len() {
-            self.halt_child(i, k, leaves);
-        }
-    }
-
-    fn tick_node(&mut self, i: usize, leaves: &mut dyn Leaves) -> u8 {
+impl Replay<'_> {
+    pub(super) fn tick_node(&mut self, i: usize, leaves: &mut dyn Leaves) -> u8 {
         let node = &self.tree.nodes[i];
         let n = node.children.len();
         match node.kind {
@@ -598,6 +335,55 @@ impl<'t> Replay<'t> {
                 }
                 s
             }
+            Kind::PipelineSequence => {
+                // Nav2: every child every tick; Running stops the tick only at the
+                // furthest child reached (`idx`). It sets no status of its own first.
+                let mut skipped = 0;
+                for k in 0..n {
+                    match self.execute(self.child(i, k), leaves) {
+                        FAILURE => {
+                            self.reset_children(i, leaves);
+                            self.rt[i].idx = 0;
+                            return FAILURE;
+                        }
+                        SKIPPED => skipped += 1,
+                        RUNNING if k >= self.rt[i].idx => {
+                            self.rt[i].idx = k;
+                            return RUNNING;
+                        }
+                        _ => {}
+                    }
+                }
+                self.reset_children(i, leaves);
+                self.rt[i].idx = 0;
+                if skipped == n { SKIPPED } else { SUCCESS }
+            }
+            Kind::Recovery(retries) => self.recovery(i, retries, leaves),
+            Kind::RoundRobin => {
+                // Nav2: one child per turn (`idx`), failures counted (`count`) until
+                // every child has failed in turn.
+                self.set_status(i, RUNNING);
+                let mut skipped = 0;
+                while (self.rt[i].count + skipped) < n as i32 {
+                    let s = self.execute(self.child(i, self.rt[i].idx), leaves);
+                    if s != RUNNING {
+                        self.rt[i].idx = (self.rt[i].idx + 1) % n;
+                    }
+                    match s {
+                        SUCCESS => {
+                            self.rt[i].count = 0;
+                            self.reset_children(i, leaves);
+                            return SUCCESS;
+                        }
+                        FAILURE => self.rt[i].count += 1,
+                        SKIPPED => skipped += 1,
+                        _ => return RUNNING,
+                    }
+                }
+                // `halt()`: children and the node itself reset, the turn back to the first.
+                self.halt(i, leaves);
+                if skipped == n as i32 { SKIPPED } else { FAILURE }
+            }
             Kind::SubTree => {
                 if self.rt[i].status == IDLE {
                     self.set_status(i, RUNNING);
@@ -609,6 +395,54 @@ impl<'t> Replay<'t> {
                 s
             }
         }
+    }
+
+    /// Nav2's `RecoveryNode`: the child ticked is `idx`, the recoveries made `count`.
+    /// Where it finishes it calls its own `halt()`, which resets the node to Idle before
+    /// it takes its result.
+    fn recovery(&mut self, i: usize, retries: i32, leaves: &mut dyn Leaves) -> u8 {
+        self.set_status(i, RUNNING);
+        while self.rt[i].idx < 2 && self.rt[i].count <= retries {
+            let k = self.rt[i].idx;
+            let s = self.execute(self.child(i, k), leaves);
+            match (k, s) {
+                (_, RUNNING) => return RUNNING,
+                (0, SKIPPED) => {
+                    self.halt(i, leaves);
+                    return SKIPPED;
+                }
+                (0, SUCCESS) => {
+                    self.halt_child(i, 1, leaves);
+                    self.halt(i, leaves);
+                    return SUCCESS;
+                }
+                (0, _) if self.rt[i].count < retries => {
+                    self.halt_child(i, 0, leaves);
+                    self.rt[i].idx = 1;
+                }
+                (0, _) => {
+                    self.halt(i, leaves);
+                    return FAILURE;
+                }
+                // A recovery that skipped: no recovery possible, not counted.
+                (_, SKIPPED) => {
+                    self.rt[i].idx = 0;
+                    self.halt_child(i, 1, leaves);
+                    return FAILURE;
+                }
+                (_, SUCCESS) => {
+                    self.halt_child(i, 1, leaves);
+                    self.rt[i].count += 1;
+                    self.rt[i].idx = 0;
+                }
+                _ => {
+                    self.halt(i, leaves);
+                    return FAILURE;
+                }
+            }
+        }
+        self.halt(i, leaves);
+        FAILURE
     }
 
     fn clear_parallel(&mut self, i: usize) {
