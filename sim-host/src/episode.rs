@@ -37,6 +37,13 @@ use crate::world::{BrickWorld, MAX_BRICKS};
 /// [`planner::DEPTH`].
 pub const DEPTH: usize = planner::DEPTH;
 
+/// Milliseconds of simulated time per tick: the `now` bt-core gets on tick `k` is
+/// `k * TICK_MS`. Ten ticks a second, the rate of the worlds and of the example
+/// firmware, so that an imported BehaviorTree.CPP tree's `Timeout`, `Delay` and
+/// `RateController` (milliseconds) last what they say. The kinds of seed 003 count
+/// ticks and never read `now`.
+pub const TICK_MS: u32 = 100;
+
 /// The constants of Eq. (1) and (2), Table I of seed 003.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitnessParams {
@@ -429,9 +436,9 @@ impl<W: BrickWorld> Runner<W> {
         let mut succeeded = false;
         while ticks < limit {
             let root = if R::ENABLED {
-                exec.tick(&mut Spy { world: &mut *world, recorder: &mut *recorder }, ticks)?
+                exec.tick(&mut Spy { world: &mut *world, recorder: &mut *recorder }, ticks.saturating_mul(TICK_MS))?
             } else {
-                exec.tick(&mut *world, ticks)?
+                exec.tick(&mut *world, ticks.saturating_mul(TICK_MS))?
             };
             world.step();
             if R::ENABLED {

@@ -237,3 +237,32 @@ fn run_btlog_of_an_imported_tree_with_wake_ups_is_the_run() {
     }
     assert!(log.transitions.iter().all(|t| t.0 / 100_000 < run.ticks.len() as u64));
 }
+
+#[test]
+fn an_imported_delay_counts_milliseconds_of_simulated_time() {
+    // An episode's tick k is at k x 100 ms: Delay(300 ms) lets its child run on tick 3,
+    // as it would on a controller ticking at 10 Hz (not on tick 300).
+    assert_eq!(sim_host::episode::TICK_MS, 100);
+    let dir = tempfile::tempdir().unwrap();
+    let xml = dir.path().join("t.xml");
+    std::fs::write(
+        &xml,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Tower">
+  <Delay delay_msec="300"><pick_0 name="pick 0!"/></Delay>
+</BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let image = dir.path().join("t.bt");
+    ok(&sim_host(&["import", xml.to_str().unwrap(), "--behaviors", "tower", "--out", image.to_str().unwrap()]));
+    let spec = planner::duplo::Task::Tower.spec();
+    let bytes = std::fs::read(&image).unwrap();
+    let mut nodes = vec![bt_core::Node::EMPTY; 2];
+    let tree: bt_core::Tree<'_, 16> = bt_core::load(&bytes, &spec, &mut nodes).unwrap();
+    assert!(matches!(tree.nodes()[0].kind(), bt_core::NodeKind::Delay(d) if d.get() == 300));
+    let mut runner =
+        sim_host::episode::Runner::new(sim_host::symbolic::SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
+    let mut run = Calls::default();
+    runner.run_recorded(tree, &mut run).unwrap();
+    let first = run.ticks.iter().position(|(calls, _)| calls.iter().any(|&(node, _)| node == 1));
+    assert_eq!(first, Some(3), "{:?}", run.ticks);
+}

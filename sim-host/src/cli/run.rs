@@ -7,7 +7,7 @@ use anyhow::{anyhow, bail};
 use bt_core::{Catalog as _, Node, Tree};
 use planner::DEPTH;
 use planner::duplo::{Mode, Spec, Task};
-use sim_host::episode::{End, Episode, Runner, Trace};
+use sim_host::episode::{End, Episode, Runner, TICK_MS, Trace};
 use sim_host::physics::PhysicsBrickWorld;
 use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
@@ -123,7 +123,7 @@ impl sim_host::episode::Recorder for Recording {
 }
 
 /// Microseconds of simulated time per tick (10 Hz) in replay logs.
-const TICK_USEC: i64 = 100_000;
+const TICK_USEC: i64 = TICK_MS as i64 * 1000;
 
 fn parse_task(s: &str) -> Result<Task, String> {
     Task::from_name(s).ok_or_else(|| {
@@ -211,10 +211,10 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
             let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec, &btcpp::xml::NoPorts)
                 .map_err(|err| anyhow!("{source}: no replay log: {err}"))?;
             let mut log = btcpp::btlog::RunLog::new(&log_tree, 0);
-            // The episode gives bt-core the tick number as `now`.
+            // The episode gives bt-core `now` = tick x TICK_MS.
             for (k, calls) in rec.calls.iter().enumerate() {
                 let k = u32::try_from(k).unwrap_or(u32::MAX);
-                log.tick(k, i64::from(k) * TICK_USEC, k, calls)
+                log.tick(k, i64::from(k) * TICK_USEC, k.saturating_mul(TICK_MS), calls)
                     .map_err(|err| anyhow!("{source}: replay log: {err}"))?;
             }
             Some(log.into_bytes())

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
+use sim_host::episode::TICK_MS;
 use sim_host::scenario::{self, Scenario, WorldKind};
 
 use super::output::{self, Content, Target, out};
@@ -111,13 +112,14 @@ fn btlog(run: &scenario::Run) -> anyhow::Result<(Vec<u8>, u32, u32)> {
     let from = record.expansions.last().map_or(0, |(t, _)| *t);
     let tree = btcpp::btlog::LogTree::new(&last.nodes, run.catalog.as_ref(), &btcpp::xml::NoPorts)
         .map_err(|e| anyhow::anyhow!("no replay log: {e}"))?;
-    let mut log = btcpp::btlog::RunLog::new(&tree, i64::from(from + 1) * 100_000);
+    let mut log = btcpp::btlog::RunLog::new(&tree, i64::from((from + 1).saturating_mul(TICK_MS)) * 1000);
     let mut ticks = 0;
     for (tick, calls) in record.leaf_calls.iter().filter(|(t, _)| *t > from) {
         let calls: Vec<(usize, u8)> =
             calls.iter().map(|&(n, s)| (usize::from(n), btcpp::btlog::status_of(s))).collect();
-        // The driver gives bt-core the tick number as `now`.
-        log.tick(*tick, i64::from(*tick) * 100_000, *tick, &calls).map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
+        // The driver gives bt-core `now` = tick x TICK_MS.
+        log.tick(*tick, i64::from(tick.saturating_mul(TICK_MS)) * 1000, tick.saturating_mul(TICK_MS), &calls)
+            .map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
         ticks += 1;
     }
     Ok((log.into_bytes(), from + 1, ticks))

@@ -10,6 +10,8 @@
 use std::fmt::Write as _;
 
 use bt_core::{Catalog, Executor, Node, NodeId, NodeState, NodeStatus, Observer, Status, Tree};
+
+use crate::episode::TICK_MS;
 use planner::Planner;
 use planner::ground::Grounding;
 use planner::state::State;
@@ -172,8 +174,9 @@ pub fn run<W: Live, C: Catalog + ?Sized>(
             tick += 1;
             let mut changes = Changes::default();
             let mut calls = Calls { world: &mut *world, calls: Vec::new() };
-            let status =
-                exec.tick_observed(&mut calls, tick, &mut changes).map_err(|e| anyhow::anyhow!("tick {tick}: {e}"))?;
+            let status = exec
+                .tick_observed(&mut calls, tick.saturating_mul(TICK_MS), &mut changes)
+                .map_err(|e| anyhow::anyhow!("tick {tick}: {e}"))?;
             record.leaf_calls.push((tick, calls.calls));
             narrate_actions(out, &mut record, &mut quiet, tick, &nodes, catalog, &changes.0);
             let running = running_action(&nodes, exec.states(), catalog);

@@ -190,7 +190,7 @@ impl StripsRunner {
                 acts += u32::from(disturb(p, world, rate, rng, scratch));
             }
             let mut b = Behaviors { p, world, running };
-            let root = exec.tick(&mut b, ticks).map_err(|e| anyhow!("{e}"))?;
+            let root = exec.tick(&mut b, ticks.saturating_mul(crate::episode::TICK_MS)).map_err(|e| anyhow!("{e}"))?;
             match root {
                 Status::Failure => {
                     end = StripsEnd::Failure;
