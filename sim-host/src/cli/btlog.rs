@@ -9,6 +9,7 @@ use btcpp::btlog::{LogTree, RunLog, replay::status};
 
 use planner::DEPTH;
 use sim_host::input::{self, Limit};
+use sim_host::text::count;
 
 use super::catalogs;
 use super::output::{self, Content};
@@ -103,6 +104,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     let bytes = log.into_bytes();
     output::write_file(&args.out, &bytes, Content::Binary("a replay log"))?;
-    output::stderr(format!("wrote {} ({ticks} ticks, {} bytes)\n", args.out.display(), bytes.len()).as_bytes())?;
+    output::stderr(
+        format!("wrote {} ({}, {})\n", args.out.display(), count(ticks, "tick"), count(bytes.len(), "byte")).as_bytes(),
+    )?;
     Ok(())
 }

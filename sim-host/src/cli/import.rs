@@ -105,9 +105,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     );
     output::write(&target, &bytes, content)?;
     match &target {
-        Target::File(path) => {
-            output::stderr(format!("{summary}\nwrote {} ({} bytes)\n", path.display(), bytes.len()).as_bytes())?
-        }
+        Target::File(path) => output::stderr(
+            format!("{summary}\nwrote {} ({})\n", path.display(), count(bytes.len(), "byte")).as_bytes(),
+        )?,
         Target::Stdout => output::stderr(format!("{summary}\n").as_bytes())?,
     }
     Ok(())
