@@ -117,3 +117,18 @@ fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
     }
     assert_eq!(compared, 3);
 }
+
+#[test]
+fn extended_leaves_take_their_ports_from_the_value_table() {
+    use bt_core::{BehaviorInfo, Leaf, Node, NodeKind};
+    const SET: [BehaviorInfo<'static>; 1] = [BehaviorInfo::action("drive-truck", 4)];
+    let nodes = [Node::new(NodeKind::Action(Leaf::extended(0, 0, 4).unwrap()), 1)];
+    let values = [7, 1, 2, 3];
+    let tree = LogTree::with_values(&nodes, &values, &SET[..], &btcpp::xml::NoPorts).unwrap();
+    let attrs: Vec<&str> = tree.nodes[0].attrs.iter().map(|(_, v)| v.as_str()).collect();
+    let mut sorted = attrs.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, ["1", "2", "3", "7"], "{:?}", tree.nodes[0].attrs);
+    // Without the table, the leaf has no values to show.
+    assert!(LogTree::new(&nodes, &SET[..], &btcpp::xml::NoPorts).unwrap().nodes[0].attrs.is_empty());
+}

@@ -90,10 +90,7 @@ fn gnu_parallel_and_index_runs_equal_one_process() {
         ok(&sim_host(&refs(&grid(out, &["--index", &i.to_string()]))));
     }
     assert_eq!(tree(indexed.path()), expected, "--index");
-    one_line_error(
-        &sim_host(&refs(&grid(out, &["--index", "8"]))),
-        "--index 8: the grid has 8 runs, numbered 0 to 7",
-    );
+    one_line_error(&sim_host(&refs(&grid(out, &["--index", "8"]))), "--index 8: the grid has 8 runs, numbered 0 to 7");
 }
 
 #[test]

@@ -91,7 +91,7 @@ impl Live {
             Some(p) => p.as_ref(),
             None => &btcpp::xml::NoPorts,
         };
-        let tree = LogTree::new(&self.nodes, self.catalog.as_ref(), ports)
+        let tree = LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref(), ports)
             .map_err(|e| anyhow::anyhow!("--btlog: image {:08x}: {e}; record it with --trace instead", self.crc))?;
         let mut uid = vec![None; self.nodes.len()];
         for n in &tree.nodes {
