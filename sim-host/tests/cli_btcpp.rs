@@ -183,3 +183,26 @@ fn a_trace_of_a_tree_with_a_value_table_becomes_a_replay_log() {
         "--format tokens cannot write leaves with more than 3 arguments",
     );
 }
+
+#[test]
+fn imported_leaves_with_more_than_three_ports_keep_them_in_every_notation() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = dir.path().join("move.xml");
+    std::fs::write(
+        &xml,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence><IsReady/><MoveTo x="1" y="2" z="3" speed="fast" frame="map"/></ReactiveSequence></BehaviorTree>
+<TreeNodesModel><Condition ID="IsReady"/><Action ID="MoveTo"><input_port name="x"/><input_port name="y"/><input_port name="z"/><input_port name="speed"/><input_port name="frame"/></Action></TreeNodesModel></root>"#,
+    )
+    .unwrap();
+    let x = xml.to_str().unwrap();
+    for format in ["ascii", "dot"] {
+        let out = sim_host(&["import", x, "--format", format]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{format}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(text.contains("MoveTo(x=1, y=2, z=3, speed=fast, frame=map)"), "{format}: {text}");
+    }
+    cli_common::one_line_error(
+        &sim_host(&["import", x, "--format", "tokens"]),
+        "--format tokens cannot write leaves with more than 3 arguments",
+    );
+}
