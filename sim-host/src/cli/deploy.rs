@@ -65,7 +65,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             count(info.image_capacity, "byte")
         );
     }
-    out!("controller {name}: link protocol {}, behavior set {set}", info.version)?;
+    out!("controller {name}: link protocol {}, behavior set {set}\n", info.version)?;
     let started = Instant::now();
     let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let took = started.elapsed();
