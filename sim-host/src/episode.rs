@@ -274,7 +274,7 @@ impl Recorder for Trace {
 #[non_exhaustive]
 pub enum RunnerError {
     /// The task has more bricks than an episode keeps.
-    #[error("task {task}: {count} bricks, episodes keep at most {MAX_BRICKS}")]
+    #[error("task {task}: {}, episodes keep at most {MAX_BRICKS}", crate::text::count(*.count, "brick"))]
     TooManyBricks {
         /// The task's name.
         task: &'static str,

@@ -19,6 +19,9 @@ mod tests {
     fn singular_for_one_only() {
         assert_eq!(super::count(1u32, "tick"), "1 tick");
         assert_eq!(super::count(0usize, "tick"), "0 ticks");
+        assert_eq!(super::count(2u16, "node"), "2 nodes");
+        assert_eq!(super::count(1u64, "run"), "1 run");
+        assert_eq!(super::count_as(1usize, "copy", "copies"), "1 copy");
         assert_eq!(super::count_as(2u64, "entry", "entries"), "2 entries");
     }
 }

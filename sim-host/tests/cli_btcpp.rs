@@ -266,3 +266,85 @@ fn an_imported_delay_counts_milliseconds_of_simulated_time() {
     let first = run.ticks.iter().position(|(calls, _)| calls.iter().any(|&(node, _)| node == 1));
     assert_eq!(first, Some(3), "{:?}", run.ticks);
 }
+
+#[test]
+fn a_trace_of_a_tree_with_a_value_table_becomes_a_replay_log() {
+    // IPC 2006 storage: `lift` and `drop` have five parameters, so the planner's tree has
+    // extended leaves and its image a value table.
+    let ipc = Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/fixtures/ipc/storage");
+    let (d, p) = (ipc.join("domain.pddl"), ipc.join("p01.pddl"));
+    let dir = tempfile::tempdir().unwrap();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let image = dir.path().join("storage.bt");
+    let out = sim_host(&["plan", "--domain", &s(&d), "--problem", &s(&p), "--format", "image", "--out", &s(&image)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let tree = String::from_utf8(sim_host(&["inspect", &s(&image)]).stdout).unwrap();
+    // Node ids in pre-order (the root is 0): where the trace's leaves are.
+    let id = |label: &str| tree.lines().skip_while(|l| !l.is_empty()).skip(1).position(|l| l.contains(label)).unwrap();
+    let (stored, at_area, lifting) = (id("--> in(crate0, depot0)"), id("--> at(hoist0, loadarea)"), id("lifting("));
+    let lift = id("--> lift(hoist0, crate0, container-0-0, loadarea, container0)");
+    assert_eq!((stored, at_area, lifting, lift), (1, 4, 9, 15), "{tree}");
+    // The hoist is at the load area and lifts the crate (conditions 11 to 14 hold), then
+    // the crate is stored.
+    let trace = dir.path().join("run.txt");
+    std::fs::write(
+        &trace,
+        "boot image=460B nodes=19 hz=20\n\
+         tick 0 RUNNING ran=1F,4S,9F,11S,12S,13S,14S,15R halt=-\n\
+         tick 1 SUCCESS ran=1S halt=15\n",
+    )
+    .unwrap();
+    let log = dir.path().join("run.btlog");
+    let out = sim_host(&["btlog", "--from-trace", &s(&trace), "--image", &s(&image), "--out", &s(&log)]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("(2 ticks, "), "{}", String::from_utf8_lossy(&out.stderr));
+    let parsed = btcpp::btlog::Log::parse(&std::fs::read(&log).unwrap()).unwrap();
+    // The extended leaf keeps its five arguments as ports (in BehaviorTree.CPP's order).
+    assert!(
+        parsed.xml.contains(
+            r#"<lift name="lift" _uid="16" h="hoist0" a2="loadarea" c="crate0" a1="container-0-0" p="container0"/>"#
+        ),
+        "{}",
+        parsed.xml
+    );
+    // uid 16 (node 15, lift) starts Running at tick 0 and is halted (Idle) at tick 1.
+    let lift_changes: Vec<(u64, u8)> =
+        parsed.transitions.iter().filter(|t| t.1 == 16).map(|&(usec, _, status)| (usec, status)).collect();
+    assert_eq!(lift_changes, [(0, 1), (50_000, 0)], "{:?}", parsed.transitions);
+
+    // `export` writes the same arguments in every notation that has room for them.
+    let xml = String::from_utf8(sim_host(&["export", &s(&image), "--format", "xml"]).stdout).unwrap();
+    assert!(
+        xml.contains(r#"<lift _uid="16" h="hoist0" c="crate0" a1="container-0-0" a2="loadarea" p="container0"/>"#),
+        "{xml}"
+    );
+    let dot = String::from_utf8(sim_host(&["export", &s(&image), "--format", "dot"]).stdout).unwrap();
+    assert!(dot.contains("lift(hoist0, crate0, container-0-0, loadarea, container0)"), "{dot}");
+    cli_common::one_line_error(
+        &sim_host(&["export", &s(&image), "--format", "tokens"]),
+        "--format tokens cannot write leaves with more than 3 arguments",
+    );
+}
+
+#[test]
+fn imported_leaves_with_more_than_three_ports_keep_them_in_every_notation() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = dir.path().join("move.xml");
+    std::fs::write(
+        &xml,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence><IsReady/><MoveTo x="1" y="2" z="3" speed="fast" frame="map"/></ReactiveSequence></BehaviorTree>
+<TreeNodesModel><Condition ID="IsReady"/><Action ID="MoveTo"><input_port name="x"/><input_port name="y"/><input_port name="z"/><input_port name="speed"/><input_port name="frame"/></Action></TreeNodesModel></root>"#,
+    )
+    .unwrap();
+    let x = xml.to_str().unwrap();
+    for format in ["ascii", "dot"] {
+        let out = sim_host(&["import", x, "--format", format]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{format}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(text.contains("MoveTo(x=1, y=2, z=3, speed=fast, frame=map)"), "{format}: {text}");
+    }
+    cli_common::one_line_error(
+        &sim_host(&["import", x, "--format", "tokens"]),
+        "--format tokens cannot write leaves with more than 3 arguments",
+    );
+}

@@ -130,3 +130,23 @@ fn a_physics_run_records_the_worlds_settings() {
     let row: Vec<&str> = table.lines().nth(1).unwrap_or_default().split_whitespace().collect();
     assert_eq!(row.get(..3), Some(&["tower", "physics", "baseline"][..]), "{table}");
 }
+
+#[test]
+fn counts_of_one_are_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let learn = |seeds: &str, threads: &str| {
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_sim-host"))
+            .args(["learn", "--task", "croissant", "--generations", "2", "--seeds", seeds, "--force", "--out", out])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        ok(&run)
+    };
+    let one = learn("1", "1");
+    let summary = one.lines().find(|l| l.contains(" in ") && l.contains("episodes/s")).unwrap();
+    assert!(summary.starts_with("1 run, ") && summary.ends_with(" on 1 thread"), "{one}");
+    let two = learn("1,2", "2");
+    let summary = two.lines().find(|l| l.contains(" in ") && l.contains("episodes/s")).unwrap();
+    assert!(summary.starts_with("2 runs, ") && summary.ends_with(" on 2 threads"), "{two}");
+}

@@ -90,10 +90,7 @@ fn gnu_parallel_and_index_runs_equal_one_process() {
         ok(&sim_host(&refs(&grid(out, &["--index", &i.to_string()]))));
     }
     assert_eq!(tree(indexed.path()), expected, "--index");
-    one_line_error(
-        &sim_host(&refs(&grid(out, &["--index", "8"]))),
-        "--index 8: the grid has 8 run(s), numbered 0 to 7",
-    );
+    one_line_error(&sim_host(&refs(&grid(out, &["--index", "8"]))), "--index 8: the grid has 8 runs, numbered 0 to 7");
 }
 
 #[test]
@@ -120,7 +117,7 @@ fn a_run_being_made_elsewhere_is_refused_and_interrupted_ones_are_cleaned() {
     }
     let made = sim_host(&run);
     ok(&made);
-    assert!(String::from_utf8_lossy(&made.stderr).contains("removed 1 temporary folder(s) of an interrupted run"));
+    assert!(String::from_utf8_lossy(&made.stderr).contains("removed 1 temporary folder of an interrupted run"));
     assert!(!mine.exists() && other.exists());
     assert!(!lock.exists(), "the lock file goes with the run");
     assert!(dir.path().join("tower-baseline-symbolic-seed1/best.xml").exists());

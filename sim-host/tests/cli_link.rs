@@ -119,6 +119,9 @@ fn deploy_prints_the_verdict_and_the_swap() {
     assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("behavior set") && text.contains("cube-sphere"), "{text}");
     assert!(text.contains("accepted: ") && text.contains("swaps in at the next tick"), "{text}");
+    // One line each: the controller, the verdict, the swap, the start.
+    let starts: Vec<&str> = text.lines().map(|l| l.split(' ').next().unwrap_or("")).collect();
+    assert_eq!(starts, ["controller", "accepted:", "swapped", "ticking"], "{text}");
     assert!(text.contains("swapped in before tick 0"), "{text}");
     assert!(text.contains("ticking from tick 0 every 5 ms"), "{text}");
     handle.join().unwrap();

@@ -54,9 +54,9 @@ fn temporaries_incomplete_folders_and_copies_are_skipped_and_counted() {
     let err = String::from_utf8_lossy(&done.stderr);
     assert!(err.contains("skipping"), "{err}");
     assert!(
-        err.contains("skipped 1 hidden temporary folder(s)")
-            && err.contains("1 incomplete run folder(s)")
-            && err.contains("1 copy(ies) of a run already read"),
+        err.contains("skipped 1 hidden temporary folder (")
+            && err.contains("1 incomplete run folder,")
+            && err.contains("1 copy of a run already read"),
         "{err}"
     );
     // A copy that differs is two results for one run: refused, naming both.

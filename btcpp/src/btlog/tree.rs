@@ -263,8 +263,9 @@ fn attr_order(given: Vec<(String, String)>, defaults: &[(&str, &str)]) -> Vec<(S
 
 impl LogTree {
     /// The tree of bt-core `nodes` whose leaves `catalog` names, numbered as
-    /// BehaviorTree.CPP numbers the XML [`to_xml`](crate::xml::to_xml) writes for it.
-    /// `values` is the value table; `ports` the port names of grounded arguments.
+    /// BehaviorTree.CPP numbers the XML [`to_xml`](crate::xml::to_xml) writes for it;
+    /// `ports` names the ports of grounded arguments. For a tree without a value table
+    /// (no extended leaves); otherwise [`LogTree::with_values`].
     ///
     /// # Errors
     /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
@@ -273,9 +274,25 @@ impl LogTree {
         catalog: &C,
         ports: &P,
     ) -> Result<Self, NotExpressible> {
+        Self::with_values(nodes, &[], catalog, ports)
+    }
+
+    /// [`LogTree::new`] for a tree with a value table (`values`, as
+    /// [`Tree::values`](bt_core::Tree::values) gives it): extended leaves (more than
+    /// [`bt_core::MAX_ARGS`] arguments) get their port attributes from it, as
+    /// [`to_xml_with`](crate::xml::to_xml_with) writes them.
+    ///
+    /// # Errors
+    /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
+    pub fn with_values<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
+        nodes: &[Node],
+        values: &[u16],
+        catalog: &C,
+        ports: &P,
+    ) -> Result<Self, NotExpressible> {
         let uids: Vec<u16> = (1..=nodes.len()).map(|u| u16::try_from(u).unwrap_or(u16::MAX)).collect();
         let names: Vec<Option<String>> = vec![None; nodes.len()];
-        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], &[], |leaf| leaf.args().to_vec())
+        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], &[], |leaf| leaf.args_in(values).to_vec())
     }
 
     /// The tree of an imported document, SubTree nodes and names included.

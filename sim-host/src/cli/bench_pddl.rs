@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, bail};
 use planner::coverage::{self, Instance, Outcome, Run, Settings};
+use sim_host::text::count;
 
 pub const LONG_ABOUT: &str = "Measures the planner on a folder of PDDL benchmarks: one sub-folder per \
     domain, each problem with its domain file (`domain.pddl`, or `domain_P.pddl`, `domain-P.pddl`, \
@@ -103,10 +104,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut out: Vec<u8> = Vec::new();
     writeln!(
         out,
-        "{} instances, timeout {} s, {} disturbed episodes each (seed {})",
-        list.len(),
+        "{}, timeout {} s, {} each (seed {})",
+        count(list.len(), "instance"),
         args.timeout,
-        args.episodes,
+        count(args.episodes, "disturbed episode"),
         args.seed
     )?;
     super::output::stdout(&out)?;
@@ -265,10 +266,10 @@ fn line(r: &Row) -> String {
     let o = &r.ours;
     let ours = match &o.outcome {
         Outcome::Solved => format!(
-            "solved {:.2}s {} {} nodes, plan {} cost {} {}, disturbed {}/{}",
+            "solved {:.2}s {} {}, plan {} cost {} {}, disturbed {}/{}",
             o.seconds,
             o.method.map_or("?", planner::Made::name),
-            o.nodes,
+            count(o.nodes, "node"),
             o.plan.len(),
             o.cost,
             yes(r.valid),

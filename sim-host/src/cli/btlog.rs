@@ -9,6 +9,7 @@ use btcpp::btlog::{LogTree, RunLog, replay::status};
 
 use planner::DEPTH;
 use sim_host::input::{self, Limit};
+use sim_host::text::count;
 
 use super::catalogs;
 use super::output::{self, Content};
@@ -59,13 +60,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = input::read(&args.image, Limit::IMAGE)?;
     let (known, header) = catalogs::for_image(&args.image, &bytes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let tree: Tree<'_, DEPTH> = bt_core::load(&bytes, known.catalog.as_ref(), &mut storage)
+    // The value table (extended leaves' arguments) has fewer entries than the image bytes.
+    let mut values = vec![0u16; bytes.len()];
+    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
     let ports: &dyn btcpp::xml::Ports = match &known.ports {
         Some(p) => p.as_ref(),
         None => &btcpp::xml::NoPorts,
     };
-    let log_tree = LogTree::new(tree.nodes(), known.catalog.as_ref(), ports)
+    let log_tree = LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref(), ports)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
     let text = input::read_text(&args.from_trace, Limit::TRACE)?;
     let mut period_usec: i64 = 100_000;
@@ -105,6 +108,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     let bytes = log.into_bytes();
     output::write_file(&args.out, &bytes, Content::Binary("a replay log"))?;
-    output::stderr(format!("wrote {} ({ticks} ticks, {} bytes)\n", args.out.display(), bytes.len()).as_bytes())?;
+    output::stderr(
+        format!("wrote {} ({}, {})\n", args.out.display(), count(ticks, "tick"), count(bytes.len(), "byte")).as_bytes(),
+    )?;
     Ok(())
 }

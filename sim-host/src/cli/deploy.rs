@@ -59,13 +59,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     if image.len() > info.image_capacity as usize {
         bail!(
-            "{}: {} bytes, the controller at {name} holds images of at most {}",
+            "{}: {}, the controller at {name} holds images of at most {}",
             path.display(),
-            image.len(),
-            info.image_capacity
+            count(image.len(), "byte"),
+            count(info.image_capacity, "byte")
         );
     }
-    out!("controller {name}: link protocol {}, behavior set {set}", info.version)?;
+    out!("controller {name}: link protocol {}, behavior set {set}\n", info.version)?;
     let started = Instant::now();
     let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let took = started.elapsed();
@@ -73,9 +73,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Verdict::Accepted { crc, nodes, swap_at } => {
             let when = swap_at.map_or_else(|| "at the next tick".to_string(), |t| format!("before tick {t}"));
             out!(
-                "accepted: {} ({} bytes, {nodes} nodes, CRC {crc:08x}) in {} ms; swaps in {when}\n",
+                "accepted: {} ({}, {}, CRC {crc:08x}) in {} ms; swaps in {when}\n",
                 path.display(),
-                image.len(),
+                count(image.len(), "byte"),
+                count(nodes, "node"),
                 took.as_millis()
             )?;
         }

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use bt_core::{Node, Tree};
+use bt_core::{MAX_ARGS, Node, Tree};
 use planner::DEPTH;
 
 use super::catalogs;
@@ -43,8 +43,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut values = vec![0u16; usize::from(u16::MAX)];
     let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let values = tree.values();
     let text = match args.format {
         Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),
+        Format::Tokens if !values.is_empty() => anyhow::bail!(
+            "{}: --format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
+             write it with --format ascii, dot or xml",
+            path.display()
+        ),
         Format::Tokens => {
             let mut t = planner::tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
                 anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
@@ -52,13 +58,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             t.push('\n');
             t
         }
-        Format::Dot => planner::output::to_dot(tree.nodes(), known.catalog.as_ref()),
+        Format::Dot => planner::output::to_dot_with(tree.nodes(), values, known.catalog.as_ref()),
         Format::Xml => {
             let ports: &dyn planner::Ports = match &known.ports {
                 Some(p) => p.as_ref(),
                 None => &planner::NoPorts,
             };
-            planner::output::to_xml(tree.nodes(), known.catalog.as_ref(), ports)
+            let options = planner::output::XmlOptions { values, ..planner::output::XmlOptions::default() };
+            planner::output::to_xml_with(tree.nodes(), known.catalog.as_ref(), ports, &options)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
         }
     };

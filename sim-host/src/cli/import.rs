@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use bt_core::MAX_ARGS;
 use btcpp::xml::{ImportOptions, Imported, import};
 
 use sim_host::text::count;
@@ -105,9 +106,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     );
     output::write(&target, &bytes, content)?;
     match &target {
-        Target::File(path) => {
-            output::stderr(format!("{summary}\nwrote {} ({} bytes)\n", path.display(), bytes.len()).as_bytes())?
-        }
+        Target::File(path) => output::stderr(
+            format!("{summary}\nwrote {} ({})\n", path.display(), count(bytes.len(), "byte")).as_bytes(),
+        )?,
         Target::Stdout => output::stderr(format!("{summary}\n").as_bytes())?,
     }
     Ok(())
@@ -124,9 +125,13 @@ fn lines(mut text: String) -> Vec<u8> {
 fn render(format: Format, imported: &Imported) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
         Format::Image => imported.image()?,
-        Format::Ascii => lines(planner::output::to_ascii(&imported.nodes, imported)?),
-        Format::Dot => planner::output::to_dot(&imported.nodes, imported).into_bytes(),
+        Format::Ascii => lines(planner::output::to_ascii_with(&imported.nodes, &imported.values, imported)?),
+        Format::Dot => planner::output::to_dot_with(&imported.nodes, &imported.values, imported).into_bytes(),
         Format::Xml => imported.to_xml()?.into_bytes(),
+        Format::Tokens if !imported.values.is_empty() => anyhow::bail!(
+            "--format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
+             write it with --format ascii, dot, xml or image"
+        ),
         Format::Tokens => {
             let mut t = planner::tokens::to_string(&imported.nodes, imported)?;
             t.push('\n');

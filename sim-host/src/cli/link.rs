@@ -9,6 +9,7 @@ use bt_link::Fault;
 use bt_link::host::{Client, ControllerInfo};
 
 use super::catalogs;
+use sim_host::text::count;
 
 /// How a controller is reached.
 #[derive(clap::Args, Debug)]
@@ -80,13 +81,15 @@ pub fn describe(fault: &Fault) -> String {
         Fault::Load { node: Some(n), .. } => format!("{code} at node {n}"),
         Fault::Load { .. } => code.to_string(),
         Fault::TooLarge { len, capacity } => {
-            format!("{code}: the image has {len} bytes, the controller holds {capacity}")
+            format!("{code}: the image has {}, the controller holds {capacity}", count(len, "byte"))
         }
-        Fault::Incomplete { received, len } => format!("{code}: {received} of {len} bytes arrived"),
+        Fault::Incomplete { received, len } => format!("{code}: {received} of {} arrived", count(len, "byte")),
         Fault::TransferCrc { expected, computed } => {
             format!("{code}: the bytes arrived with CRC-32 {computed:08x}, {expected:08x} was sent")
         }
-        Fault::Overrun { offset, len } => format!("{code}: a chunk of {len} bytes at {offset} ends past the image"),
+        Fault::Overrun { offset, len } => {
+            format!("{code}: a chunk of {} at {offset} ends past the image", count(len, "byte"))
+        }
         Fault::NoTransfer => format!("{code}: chunk or commit without a deployment"),
         Fault::Superseded { crc } => format!("{code}: the transfer of image {crc:08x} was replaced by a newer one"),
         Fault::NoTree => format!("{code}: the controller has no tree"),

@@ -31,7 +31,7 @@ pub fn one_line(s: &str) -> String {
     let cut = total > MAX_LINE;
     for (i, c) in s.chars().enumerate() {
         if cut && i == HEAD {
-            let _ = write!(escaped, " [... {} characters cut ...] ", total - HEAD - TAIL);
+            let _ = write!(escaped, " [... {} cut ...] ", sim_host::text::count(total - HEAD - TAIL, "character"));
         }
         if cut && i >= HEAD && i < total - TAIL {
             continue;

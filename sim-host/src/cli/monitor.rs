@@ -91,7 +91,7 @@ impl Live {
             Some(p) => p.as_ref(),
             None => &btcpp::xml::NoPorts,
         };
-        let tree = LogTree::new(&self.nodes, self.catalog.as_ref(), ports)
+        let tree = LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref(), ports)
             .map_err(|e| anyhow::anyhow!("--btlog: image {:08x}: {e}; record it with --trace instead", self.crc))?;
         let mut uid = vec![None; self.nodes.len()];
         for n in &tree.nodes {
@@ -208,7 +208,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut out: Vec<u8> = Vec::new();
     let tty = std::io::stdout().is_terminal();
     let mut trace = String::new();
-    writeln!(out, "controller {name}: behavior set {set}, image {:08x}, {} nodes", live.crc, live.nodes.len())?;
+    writeln!(
+        out,
+        "controller {name}: behavior set {set}, image {:08x}, {}",
+        live.crc,
+        count(live.nodes.len(), "node")
+    )?;
     trace.push_str(&format!("image {:08x} nodes={}\n", live.crc, live.nodes.len()));
     if args.start {
         let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
@@ -245,7 +250,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                         crossterm::queue!(out, cursor::MoveUp(drawn as u16))?;
                     }
                     crossterm::queue!(out, terminal::Clear(terminal::ClearType::FromCursorDown))?;
-                    writeln!(out, "tick {tick}: {} ({n} changes, {micros} µs)", root.name())?;
+                    writeln!(out, "tick {tick}: {} ({}, {micros} µs)", root.name(), count(n, "change"))?;
                     let lines = live.lines();
                     for l in &lines {
                         writeln!(out, "{l}")?;
@@ -272,9 +277,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 writeln!(
                     out,
-                    "swap before tick {tick}: image {:08x}, {} nodes ({} of the old tree halted)",
+                    "swap before tick {tick}: image {:08x}, {} ({} of the old tree halted)",
                     image.crc,
-                    image.nodes,
+                    count(image.nodes, "node"),
                     count(halted, "action")
                 )?;
                 drawn = 0;
@@ -300,7 +305,7 @@ fn write_log(out: &mut impl Write, path: &Path, n: u32, g: Groot) -> anyhow::Res
     let file = numbered(path, n);
     let bytes = g.writer.into_bytes();
     output::write_file(&file, &bytes, output::Content::Binary("a replay log"))?;
-    writeln!(out, "btlog {} ({} bytes; open it in Groot2)", file.display(), bytes.len())?;
+    writeln!(out, "btlog {} ({}; open it in Groot2)", file.display(), count(bytes.len(), "byte"))?;
     Ok(())
 }
 

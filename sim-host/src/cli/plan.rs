@@ -296,7 +296,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     match &target {
         Target::File(path) => {
             output::write_file(path, &bytes, content)?;
-            out!("{text}wrote {} ({} bytes)\n", path.display(), bytes.len())?;
+            out!("{text}wrote {} ({})\n", path.display(), count(bytes.len(), "byte"))?;
         }
         Target::Stdout => {
             output::write(&target, &bytes, content)?;

@@ -11,6 +11,7 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use sim_host::learn::{self, Folder, Recorded, Skipped};
+use sim_host::text::{count, count_as};
 
 use super::output::{self, Content, Target};
 
@@ -125,15 +126,15 @@ fn report(s: &Skipped) -> anyhow::Result<()> {
     let mut parts = Vec::new();
     if s.temporary > 0 {
         parts.push(format!(
-            "{} hidden temporary folder(s) (runs being written, or interrupted; the next `learn` of that run removes them)",
-            s.temporary
+            "{} (runs being written, or interrupted; the next `learn` of that run removes them)",
+            count(s.temporary, "hidden temporary folder")
         ));
     }
     if s.incomplete > 0 {
-        parts.push(format!("{} incomplete run folder(s)", s.incomplete));
+        parts.push(count(s.incomplete, "incomplete run folder"));
     }
     if s.copies > 0 {
-        parts.push(format!("{} copy(ies) of a run already read", s.copies));
+        parts.push(format!("{} of a run already read", count_as(s.copies, "copy", "copies")));
     }
     if !parts.is_empty() {
         output::stderr(format!("skipped {}\n", parts.join(", ")).as_bytes())?;
@@ -244,7 +245,7 @@ fn table(runs: &[Recorded], panels: &[Panel]) -> String {
                 "never".to_string()
             } else {
                 let m = reached.iter().sum::<u64>() as f64 / reached.len() as f64;
-                format!("{m:.0} ({}/{} seeds)", reached.len(), group.len())
+                format!("{m:.0} ({}/{})", reached.len(), count(group.len(), "seed"))
             };
             table.push_str(&format!(
                 "{:<tw$} {:<ww$} {:<vw$} {:>5} {:>10.3} {:>10.3} {:>9.3} {:>22}\n",
@@ -316,7 +317,7 @@ fn draw<DB: DrawingBackend>(
 }
 
 /// A number of episodes, short: 950, 12k, 1.2M.
-fn count(x: f64) -> String {
+fn short(x: f64) -> String {
     if x >= 1e6 {
         format!("{}M", trim(x / 1e6, 1))
     } else if x >= 1e3 {
@@ -451,7 +452,7 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, runs: &[Recorded], p
         .configure_mesh()
         .x_desc("episodes (unique simulations)")
         .y_desc("best fitness, mean ± 1 sd (log scale)")
-        .x_label_formatter(&|x| count(*x))
+        .x_label_formatter(&|x| short(*x))
         .y_label_formatter(&|y| label_of(*y))
         .label_style(("sans-serif", 13))
         .max_light_lines(0)

@@ -14,6 +14,7 @@ use sim_host::symbolic::SymbolicBrickWorld;
 use sim_host::world::BrickWorld;
 
 use sim_host::input::{self, Limit};
+use sim_host::text::count;
 
 use super::catalogs;
 use super::output::{self, Content, Target};
@@ -229,7 +230,7 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
         Mode::Blocking => "blocking",
     };
     let _ = writeln!(out, "task     {} ({mode} mode), {} world", spec.task.name(), args.world.name());
-    let _ = writeln!(out, "tree     {source}: {} nodes, depth {}", tree.len(), tree.depth());
+    let _ = writeln!(out, "tree     {source}: {}, depth {}", count(tree.len(), "node"), tree.depth());
     let _ = writeln!(out, "\nthe tree, with each node's status after the last tick:");
     let _ = write!(out, "{}", tree.display(&spec).with_states(runner.states()));
     out.push('\n');
@@ -250,7 +251,7 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
     }
     if let (Some(path), Some(bytes)) = (&args.btlog, &log) {
         output::write_file(path, bytes, Content::Binary("a replay log"))?;
-        let _ = writeln!(out, "btlog    {} ({} bytes; open it in Groot2)", path.display(), bytes.len());
+        let _ = writeln!(out, "btlog    {} ({}; open it in Groot2)", path.display(), count(bytes.len(), "byte"));
     }
     if args.svg == Some(Target::Stdout) {
         // The picture took stdout: the report goes to stderr.
@@ -268,7 +269,7 @@ fn report(out: &mut String, spec: &Spec, e: &Episode, limit: u32) {
         End::Timeout => "Timeout: neither Failure nor Success twice in a row",
     };
     let limit_note = if e.timed_out && e.end != End::Timeout { " (the tick limit: timeout too)" } else { "" };
-    let _ = writeln!(out, "outcome  {how}, after {} of {limit} ticks{limit_note}", e.ticks);
+    let _ = writeln!(out, "outcome  {how}, after {} of {}{limit_note}", e.ticks, count(limit, "tick"));
     for (b, p) in e.positions().iter().enumerate() {
         let at = fmt_pos(*p);
         match spec.goal.get(b).copied().flatten() {

@@ -9,6 +9,7 @@ use anyhow::{Context as _, anyhow, bail};
 use bt_core::Node;
 use sim_host::learn::StripsProblem;
 use sim_host::learn::strips::{StripsEnd, StripsRunner};
+use sim_host::text::count;
 
 /// Most episodes one command runs.
 const MAX_EPISODES: u32 = 100_000;
@@ -93,33 +94,35 @@ pub fn run(args: &Args, tree: Option<&Path>) -> anyhow::Result<()> {
     let reached = results.iter().filter(|e| e.goal_reached()).count();
     let mut ticks: Vec<u32> = results.iter().map(|e| e.ticks).collect();
     ticks.sort_unstable();
-    let count = |end: StripsEnd| results.iter().filter(|e| e.end == end).count();
+    let ended = |end: StripsEnd| results.iter().filter(|e| e.end == end).count();
     let acts: u32 = results.iter().map(|e| e.disturbances).sum();
     let fitness = results.iter().map(|e| e.fitness).sum::<f64>() / n as f64;
     let _ = writeln!(out, "problem  {} (domain {})", pp.display(), d.display());
-    let _ = writeln!(out, "tree     {source}: {} nodes as learned (a negative condition is one)", nodes.len());
+    let _ = writeln!(out, "tree     {source}: {} as learned (a negative condition is one)", count(nodes.len(), "node"));
     match args.disturb {
         None => {
-            let _ = writeln!(out, "episodes 1, undisturbed, at most {tick_limit} ticks");
+            let _ = writeln!(out, "episodes 1, undisturbed, at most {}", count(tick_limit, "tick"));
         }
         Some(rate) => {
             let _ = writeln!(
                 out,
-                "episodes {n}, agents act before a tick with chance {rate} (seed {}): {acts} acts; at most {tick_limit} ticks",
-                args.disturb_seed
+                "episodes {n}, agents act before a tick with chance {rate} (seed {}): {}; at most {}",
+                args.disturb_seed,
+                count(acts, "act"),
+                count(tick_limit, "tick")
             );
         }
     }
-    let _ = writeln!(out, "goal     reached in {reached} of {n} episode{}", if n == 1 { "" } else { "s" });
+    let _ = writeln!(out, "goal     reached in {reached} of {}", count(n, "episode"));
     let mean = f64::from(ticks.iter().sum::<u32>()) / n as f64;
     let _ =
         writeln!(out, "ticks    mean {mean:.1}, median {}, most {}", ticks[n / 2], ticks.last().copied().unwrap_or(0));
     let _ = writeln!(
         out,
         "ended    success {}, failure {}, timeout {}",
-        count(StripsEnd::Success),
-        count(StripsEnd::Failure),
-        count(StripsEnd::Timeout)
+        ended(StripsEnd::Success),
+        ended(StripsEnd::Failure),
+        ended(StripsEnd::Timeout)
     );
     let _ = writeln!(out, "fitness  {fitness:.3} (mean)");
     super::output::stdout(out.as_bytes())?;

@@ -155,7 +155,11 @@ fn show(
     if let Some(path) = btlog_path {
         let (bytes, from, ticks) = btlog(&run)?;
         output::write_file(path, &bytes, Content::Binary("a replay log"))?;
-        text.push_str(&format!("btlog: {} ({ticks} ticks of the final tree, from tick {from})\n", path.display()));
+        text.push_str(&format!(
+            "btlog: {} ({} of the final tree, from tick {from})\n",
+            path.display(),
+            sim_host::text::count(ticks, "tick")
+        ));
     }
     if svg == Some(&Target::Stdout) {
         // The picture took stdout: the narration goes to stderr.

@@ -27,6 +27,7 @@ use planner::duplo::Task;
 use planner::{NoPorts, output};
 
 use super::{RunOutcome, Subject, bricks, strips::StripsFitnessParams};
+use crate::text::count;
 
 /// The files every finished run folder holds (folders of earlier versions have no
 /// `best.xml`; they still count as finished).
@@ -249,11 +250,16 @@ pub fn read_folder(path: &Path) -> anyhow::Result<Folder> {
     let curve = gp::read_csv(&curve_text).map_err(|e| anyhow!("{}: {e}", csv.display()))?;
     check_curve(&csv, &curve)?;
     if curve.len() < rows {
-        let missing = format!("curve.csv rows: {} of the {rows} generations run", curve.len());
+        let missing = format!("curve.csv rows: {} of the {} run", curve.len(), count(rows, "generation"));
         return Ok(Folder::Incomplete { path: path.to_path_buf(), missing });
     }
     if curve.len() > rows {
-        bail!("{}: {} rows, but run.txt says {rows} generations were run", csv.display(), curve.len());
+        bail!(
+            "{}: {}, but run.txt records {} run",
+            csv.display(),
+            count(curve.len(), "row"),
+            count(rows, "generation")
+        );
     }
     Ok(Folder::Run(Recorded {
         path: path.to_path_buf(),
@@ -300,7 +306,7 @@ fn check_curve(csv: &Path, curve: &[GenerationLog]) -> anyhow::Result<()> {
             bail!("{at}: best_length {} is not a tree's length (1 to 65535 nodes)", row.best_length);
         }
         if row.episodes > 1 << 40 {
-            bail!("{at}: {} episodes is beyond any run", row.episodes);
+            bail!("{at}: {} is beyond any run", count(row.episodes, "episode"));
         }
         if let Some(prev) = last {
             if row.episodes < prev.episodes {

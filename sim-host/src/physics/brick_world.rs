@@ -94,6 +94,7 @@ use super::PhysicsError;
 use super::bricks::{self, STUD_HEIGHT};
 use super::engine;
 use crate::symbolic::HaltRule;
+use crate::text::count;
 use crate::world::BrickWorld;
 
 /// Length of the step that finds contacts after bodies were moved by hand, s.
@@ -360,14 +361,14 @@ impl PhysicsBrickWorld {
         let bad = |what: String| PhysicsError::BadSpec { task: spec.task.name(), what };
         if spec.start.len() != spec.bricks.len() || spec.goal.len() != spec.bricks.len() {
             return Err(bad(format!(
-                "{} bricks, {} start positions, {} goals",
-                spec.bricks.len(),
-                spec.start.len(),
-                spec.goal.len()
+                "{}, {}, {}",
+                count(spec.bricks.len(), "brick"),
+                count(spec.start.len(), "start position"),
+                count(spec.goal.len(), "goal")
             )));
         }
         if spec.bricks.len() > usize::from(u8::MAX) {
-            return Err(bad(format!("{} bricks; at most 255", spec.bricks.len())));
+            return Err(bad(format!("{}; at most 255", count(spec.bricks.len(), "brick"))));
         }
         if let Some(i) = spec.start.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
             return Err(bad(format!("start position of brick {i} is not finite")));

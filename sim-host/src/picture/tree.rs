@@ -170,10 +170,10 @@ pub(super) fn tree_panel(s: &mut String, run: &Run<'_>, columns: &[usize], top: 
     if run.trace.ticks.len() > columns.len() {
         let _ = writeln!(
             s,
-            r##"<text x="{MARGIN}" y="{:.1}" font-size="10" fill="#555">{} of {} ticks shown: the first, the last, those where the root's status changed (bold), then those where a node's did.</text>"##,
+            r##"<text x="{MARGIN}" y="{:.1}" font-size="10" fill="#555">{} of {} shown: the first, the last, those where the root's status changed (bold), then those where a node's did.</text>"##,
             y + 32.0,
             columns.len(),
-            run.trace.ticks.len()
+            crate::text::count(run.trace.ticks.len(), "tick")
         );
     }
     let root_line = run.trace.ticks.iter().map(|r| match r.root {

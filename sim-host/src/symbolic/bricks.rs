@@ -66,6 +66,7 @@
 use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
 use planner::duplo::{BRICK_HEIGHT, Behavior, Mode, Spec};
 
+use crate::text::count;
 use crate::world::{BrickWorld, MAX_BRICKS, SYMBOLIC_TICK_LIMIT};
 
 /// Metres a picked brick is lifted.
@@ -92,7 +93,7 @@ pub const BLOCKING_CONE_LIFT: f32 = 0.05;
 #[non_exhaustive]
 pub enum SymbolicError {
     /// More bricks than [`MAX_BRICKS`].
-    #[error("task {task}: {count} bricks, the symbolic world holds at most {MAX_BRICKS}")]
+    #[error("task {task}: {}, the symbolic world holds at most {MAX_BRICKS}", crate::text::count(*.count, "brick"))]
     TooManyBricks {
         /// The task's name.
         task: &'static str,
@@ -186,7 +187,12 @@ impl SymbolicBrickWorld {
             return Err(SymbolicError::TooManyBricks { task, count: n });
         }
         if spec.start.len() != n || spec.goal.len() != n {
-            let what = format!("{n} bricks, {} start and {} goal positions", spec.start.len(), spec.goal.len());
+            let what = format!(
+                "{}, {} and {}",
+                count(n, "brick"),
+                count(spec.start.len(), "start position"),
+                count(spec.goal.len(), "goal position")
+            );
             return Err(SymbolicError::BadSpec { task, what });
         }
         let brick = |b: u8| {

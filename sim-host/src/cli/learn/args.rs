@@ -9,6 +9,7 @@ use gp::islands::IslandParams;
 use planner::duplo::Task;
 use sim_host::learn::{self, Disturbance, RunSpec, StripsProblem, Subject};
 use sim_host::scenario::WorldKind;
+use sim_host::text::count;
 
 use crate::cli::scenario::World;
 
@@ -246,11 +247,12 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
     let total = subjects.len() * args.variants.0.len() * args.seeds.0.len();
     if total > MAX_RUNS {
         bail!(
-            "{} task(s) x {} variant(s) x {} seed(s) = {total} runs, over the limit of {MAX_RUNS} per command; \
+            "{} x {} x {} = {}, over the limit of {MAX_RUNS} per command; \
              split the grid (e.g. by --seeds) or spread it with --list",
-            subjects.len(),
-            args.variants.0.len(),
-            args.seeds.0.len()
+            count(subjects.len(), "task"),
+            count(args.variants.0.len(), "variant"),
+            count(args.seeds.0.len(), "seed"),
+            count(total, "run")
         );
     }
     let mut specs = Vec::with_capacity(total);

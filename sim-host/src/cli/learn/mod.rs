@@ -12,6 +12,7 @@ use anyhow::Context as _;
 use gp::Evaluation;
 use rayon::prelude::*;
 use sim_host::learn::{self, RunOutcome, RunSpec};
+use sim_host::text::count;
 
 use super::output::{self, out};
 
@@ -67,8 +68,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Some(i) => match specs.get(i) {
             Some(s) => vec![s.clone()],
             None => anyhow::bail!(
-                "--index {i}: the grid has {} run(s), numbered 0 to {}",
-                specs.len(),
+                "--index {i}: the grid has {}, numbered 0 to {}",
+                count(specs.len(), "run"),
                 specs.len().saturating_sub(1)
             ),
         },
@@ -95,7 +96,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             }
             let removed = folders::remove_temporaries(&args.out, &name, &claim)?;
             if removed > 0 {
-                progress.note(&format!("{name}: removed {removed} temporary folder(s) of an interrupted run"));
+                progress.note(&format!("{name}: removed {} of an interrupted run", count(removed, "temporary folder")));
             }
             let bar = progress.start(spec);
             let outcome = learn::learn(spec, evaluation, |row| bar.row(row))?;
@@ -147,10 +148,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         return Err(e);
     }
     out!(
-        "{} runs, {episodes} episodes in {secs:.2} s: {:.0} episodes/s on {} threads\nplot them: sim-host plot {}\n",
-        outcomes.len(),
+        "{}, {} in {secs:.2} s: {:.0} episodes/s on {}\nplot them: sim-host plot {}\n",
+        count(outcomes.len(), "run"),
+        count(episodes, "episode"),
         episodes as f64 / secs.max(1e-9),
-        rayon::current_num_threads(),
+        count(rayon::current_num_threads(), "thread"),
         args.out.display()
     )?;
     Ok(())

@@ -6,6 +6,7 @@ use std::sync::Mutex;
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use sim_host::learn::{RunOutcome, RunSpec};
+use sim_host::text::count;
 
 pub struct Progress {
     multi: Option<MultiProgress>,
@@ -21,7 +22,7 @@ impl RunBar {
     pub fn row(&self, row: &gp::GenerationLog) {
         if let Some(b) = &self.bar {
             b.set_position(u64::from(row.generation) + 1);
-            b.set_message(format!("{} episodes, best {:.3}", row.episodes, row.best_fitness));
+            b.set_message(format!("{}, best {:.3}", count(row.episodes, "episode"), row.best_fitness));
         }
     }
 }
@@ -72,9 +73,9 @@ impl Progress {
         match &self.total {
             Some(t) => t.inc(1),
             None => self.note(&format!(
-                "done {}: {} episodes, best {:.3} (planner {:.3}), {:.1} s",
+                "done {}: {}, best {:.3} (planner {:.3}), {:.1} s",
                 o.spec.folder(),
-                o.episodes,
+                count(o.episodes, "episode"),
                 o.best.fitness,
                 o.planner_fitness,
                 o.seconds

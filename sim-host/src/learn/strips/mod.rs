@@ -52,6 +52,8 @@ use bt_core::{BehaviorInfo, Catalog, Leaf, LeafKind, Node, NodeKind};
 use planner::ground::{ActionId, Grounding, Lit};
 use planner::{Options, PddlCatalog};
 
+use crate::text::count_as;
+
 /// Most levels a tree may have in an episode: as many as the planner makes.
 pub const DEPTH: usize = planner::tree::DEPTH;
 
@@ -157,7 +159,10 @@ impl StripsProblem {
         let mut letters: Vec<Letter> = conditions.into_iter().map(Letter::Condition).collect();
         letters.extend((0..g.actions().len() as ActionId).map(Letter::Action));
         if letters.len() > usize::from(u16::MAX) {
-            bail!("{problem_file}: {} grounded conditions and actions; learning handles at most 65535", letters.len());
+            bail!(
+                "{problem_file}: {}; learning handles at most 65535",
+                count_as(letters.len(), "grounded condition or action", "grounded conditions and actions")
+            );
         }
         let leaves: Vec<(String, LeafKind)> = letters
             .iter()
