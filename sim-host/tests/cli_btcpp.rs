@@ -348,3 +348,38 @@ fn imported_leaves_with_more_than_three_ports_keep_them_in_every_notation() {
         "--format tokens cannot write leaves with more than 3 arguments",
     );
 }
+
+#[test]
+fn the_models_name_an_imported_images_behaviors() {
+    // An imported image carries no names; the files `import` read give them back to
+    // inspect, export and btlog, and models of another set are refused.
+    let x = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/btcpp-examples");
+    let (tree, models) = (x.join("t05_crossdoor.xml"), x.join("example_nodes.xml"));
+    let (tree, models) = (tree.to_str().unwrap(), models.to_str().unwrap());
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("t05.bt");
+    let image = image.to_str().unwrap();
+    ok(&sim_host(&["import", tree, "--nodes", models, "--main", "MainTree", "--out", image]));
+    let bare = ok(&sim_host(&["inspect", image]));
+    assert!(bare.contains("--> #14") && !bare.contains("IsDoorClosed"), "{bare}");
+    let named = ok(&sim_host(&["inspect", image, "--nodes", tree, "--nodes", models]));
+    assert!(named.contains("--> IsDoorClosed") && named.contains("--> PassThroughDoor"), "{named}");
+    let xml = ok(&sim_host(&["export", image, "--format", "xml", "--nodes", models]));
+    assert!(xml.contains("<IsDoorClosed"), "{xml}");
+
+    let trace = dir.path().join("run.txt");
+    std::fs::write(&trace, "tick 0 RUNNING ran=3S,5F,7R\ntick 1 SUCCESS ran=7S,9S\n").unwrap();
+    let log = dir.path().join("run.btlog");
+    let t = trace.to_str().unwrap();
+    ok(&sim_host(&["btlog", "--from-trace", t, "--image", image, "--out", log.to_str().unwrap(), "--nodes", models]));
+    let parsed = btcpp::btlog::Log::parse(&std::fs::read(&log).unwrap()).unwrap();
+    assert!(parsed.xml.contains("<IsDoorClosed") && parsed.xml.contains("<PickLock"), "{}", parsed.xml);
+
+    // Models of another behavior set: one line naming both fingerprints, exit 2.
+    let other = dir.path().join("other.xml");
+    std::fs::write(&other, r#"<root><TreeNodesModel><Action ID="Fly"/></TreeNodesModel></root>"#).unwrap();
+    cli_common::one_line_error(
+        &sim_host(&["inspect", image, "--nodes", other.to_str().unwrap()]),
+        "but the models of --nodes",
+    );
+}

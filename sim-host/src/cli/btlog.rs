@@ -35,6 +35,10 @@ pub struct Args {
     /// The log to write (give it the .btlog extension Groot2 expects).
     #[arg(long, value_name = "FILE.btlog")]
     pub out: PathBuf,
+    /// For an image imported from BehaviorTree.CPP XML: the files `import` read (its tree
+    /// file and its --nodes), whose models name the behaviors in the log.
+    #[arg(long = "nodes", value_name = "MODELS.xml")]
+    pub nodes: Vec<PathBuf>,
 }
 
 /// The leaf calls of a `ran=` list: `2F,4S,9R` or `-`.
@@ -58,7 +62,7 @@ fn ran(list: &str) -> Option<Vec<(usize, u8)>> {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = input::read(&args.image, Limit::IMAGE)?;
-    let (known, header) = catalogs::for_image(&args.image, &bytes)?;
+    let (known, header) = catalogs::for_image_with(&args.image, &bytes, &args.nodes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
     // The value table (extended leaves' arguments) has fewer entries than the image bytes.
     let mut values = vec![0u16; bytes.len()];

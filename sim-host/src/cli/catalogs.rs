@@ -93,8 +93,47 @@ pub fn by_fingerprint(fingerprint: u64) -> Option<Known> {
 /// # Errors
 /// A bad envelope, node or section (as its `LoadError`), naming the file.
 pub fn for_image(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<(Known, bt_core::image::Header)> {
+    for_image_with(path, bytes, &[])
+}
+
+/// [`for_image`], first trying the behavior set of BehaviorTree.CPP models read from
+/// `models` (the files given to `import`): an image imported from XML carries no names,
+/// its models give them back. Models of another behavior set are an error, naming both
+/// fingerprints.
+///
+/// # Errors
+/// As [`for_image`]; a model file that does not read; models of another set.
+pub fn for_image_with(
+    path: &std::path::Path,
+    bytes: &[u8],
+    models: &[std::path::PathBuf],
+) -> anyhow::Result<(Known, bt_core::image::Header)> {
     let fail = |e: bt_core::LoadError| anyhow::anyhow!("{}: {e}", path.display());
     let header = bt_core::image::read_header(bytes).map_err(fail)?;
+    if !models.is_empty() {
+        let doc = btcpp::xml::document::read_models(models)?;
+        let catalog = btcpp::xml::Models::new(&doc.models)?.catalog();
+        let files: Vec<String> = models.iter().map(|f| f.display().to_string()).collect();
+        if catalog.fingerprint() != header.fingerprint {
+            anyhow::bail!(
+                "{}: made for behavior set {:#018x}, but the models of --nodes {} give {:#018x}; give the files \
+                 `import` read (its tree file and its --nodes)",
+                path.display(),
+                header.fingerprint,
+                files.join(", "),
+                catalog.fingerprint()
+            );
+        }
+        let known = Known {
+            name: format!("BehaviorTree.CPP models of {}", files.join(", ")),
+            short: "",
+            catalog: Box::new(catalog),
+            grounded: None,
+            ports: None,
+            note: None,
+        };
+        return Ok((known, header));
+    }
     let mut note = None;
     if let Some(body) = bt_core::image::section(bytes, bt_core::image::SECTION_NAMES).map_err(fail)? {
         match NameTable::from_bytes(body) {

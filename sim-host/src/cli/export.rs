@@ -33,12 +33,16 @@ pub struct Args {
     /// Write here instead of stdout (`-`: stdout).
     #[arg(long, value_name = "FILE", value_parser = Target::parse)]
     pub out: Option<Target>,
+    /// For an image imported from BehaviorTree.CPP XML: the files `import` read (its tree
+    /// file and its --nodes), whose models name the behaviors.
+    #[arg(long = "nodes", value_name = "MODELS.xml")]
+    pub nodes: Vec<PathBuf>,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
     let bytes = sim_host::input::read(path, sim_host::input::Limit::IMAGE)?;
-    let (known, header) = catalogs::for_image(path, &bytes)?;
+    let (known, header) = catalogs::for_image_with(path, &bytes, &args.nodes)?;
     let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
     let mut values = vec![0u16; usize::from(u16::MAX)];
     let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
