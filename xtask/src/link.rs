@@ -204,7 +204,9 @@ fn drive(stream: TcpStream, img: &Images, report: &mut Vec<String>) -> Result<(u
     wait_for(&mut link, &mut log, "Swapped", |s| matches!(s, Seen::Swapped { tick, .. } if *tick == SWAP_B))?;
     let halted = check_swap(&log, SWAP_B, &img.actions.0)?;
     report.push(format!(
-        "A -> B at tick {SWAP_B}: {halted} action(s) of A halted before B's first tick ({during} ticks of A ran while B was sent)"
+        "A -> B at tick {SWAP_B}: {} of A halted before B's first tick ({} of A ran while B was sent)",
+        halted_actions(halted),
+        count(during, "tick", "ticks")
     ));
 
     // 2. Faults while B ticks on.
@@ -282,7 +284,7 @@ fn drive(stream: TcpStream, img: &Images, report: &mut Vec<String>) -> Result<(u
     }
     wait_for(&mut link, &mut log, "Swapped", |s| matches!(s, Seen::Swapped { tick, .. } if *tick == SWAP_A))?;
     let halted = check_swap(&log, SWAP_A, &img.actions.1)?;
-    report.push(format!("B -> A at tick {SWAP_A}: {halted} action(s) of B halted before A's first tick"));
+    report.push(format!("B -> A at tick {SWAP_A}: {} of B halted before A's first tick", halted_actions(halted)));
     link.start(Some(END), PERIOD_MS, &mut |r| record(&mut log, r)).map_err(e)?;
     wait_for(&mut link, &mut log, "the last Tick", |s| matches!(s, Seen::Tick(t) if t + 1 == END))?;
     let stopped = link.stop(&mut |r| record(&mut log, r)).map_err(e)?;
@@ -291,7 +293,7 @@ fn drive(stream: TcpStream, img: &Images, report: &mut Vec<String>) -> Result<(u
     if ticks != (0..END).collect::<Vec<_>>() {
         return Err(format!("ticks reported: {} (expected 0..{END} once each, in order)", ticks.len()));
     }
-    report.push(format!("stop at tick {}: {} action(s) halted", stopped.tick, stopped.halted));
+    report.push(format!("stop at tick {}: {} halted", stopped.tick, halted_actions(stopped.halted as usize)));
     let _ = link.io().shutdown(Shutdown::Both);
     Ok((state.stack_used, (img.b.len(), took)))
 }
@@ -424,4 +426,14 @@ pub fn paced_deploy(elf: &Path, img: &Images, baud: Option<u32>, timeout: Durati
     let _ = child.kill();
     let _ = child.wait();
     result
+}
+
+/// `n` with its noun: `1 tick`, `2 ticks`.
+fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// `1 action halted`-style counts of actions.
+fn halted_actions(n: usize) -> String {
+    count(n, "action", "actions")
 }
