@@ -445,18 +445,17 @@ fn from_wire(id: NodeId, offset: usize, w: WireNode) -> Result<Node, LoadError> 
         WireKind::ConditionExt(l) => NodeKind::Condition(extended_of(id, l)?),
         WireKind::ActionExt(l) => NodeKind::Action(extended_of(id, l)?),
         #[cfg(feature = "btcpp")]
-        other => from_wire_btcpp(id, other)?,
+        other => from_wire_btcpp(id, offset, other)?,
         // Without the feature these tags do not decode (see `decode_nodes`).
         #[cfg(not(feature = "btcpp"))]
         _ => return Err(LoadError::MalformedNode { node: id, offset }),
     };
-    let _ = offset;
     Ok(Node::new(kind, w.size))
 }
 
 /// The kinds for BehaviorTree.CPP's and Nav2's nodes (tags 15 and up).
 #[cfg(feature = "btcpp")]
-fn from_wire_btcpp(id: NodeId, kind: WireKind) -> Result<NodeKind, LoadError> {
+fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind, LoadError> {
     Ok(match kind {
         WireKind::ParallelCountSkipped { success_threshold, failure_threshold } => {
             NodeKind::Parallel { success_threshold, failure_threshold, count_skipped: true }
@@ -494,7 +493,7 @@ fn from_wire_btcpp(id: NodeId, kind: WireKind) -> Result<NodeKind, LoadError> {
         | WireKind::Condition(_)
         | WireKind::Action(_)
         | WireKind::ConditionExt(_)
-        | WireKind::ActionExt(_) => return Err(LoadError::MalformedNode { node: id, offset: 0 }),
+        | WireKind::ActionExt(_) => return Err(LoadError::MalformedNode { node: id, offset }),
     })
 }
 

@@ -196,7 +196,7 @@ pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
 /// children).
 #[inline(always)]
 fn supported(kind: &NodeKind) -> bool {
-    cfg!(feature = "btcpp")
+    crate::exec::BTCPP
         || matches!(
             kind,
             NodeKind::Sequence

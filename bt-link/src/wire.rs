@@ -222,13 +222,10 @@ pub enum WireStatus {
 impl WireStatus {
     /// The status in capitals, as bt-core names it.
     #[must_use]
-    pub const fn name(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
-            Self::Idle => "IDLE",
-            Self::Success => "SUCCESS",
-            Self::Failure => "FAILURE",
-            Self::Running => "RUNNING",
-            Self::Skipped => "SKIPPED",
+            Self::Skipped => Status::Skipped.name(),
+            s => NodeStatus::from(s).name(),
         }
     }
 }

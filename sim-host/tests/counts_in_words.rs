@@ -6,7 +6,10 @@
 //! noun, be added to `NOT_COUNTS` with the reason.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+mod source_scan;
+use source_scan::rust_files;
 
 /// Words after a placeholder that are verbs, units or function words, never the noun of
 /// a count.
@@ -23,17 +26,6 @@ const NOT_COUNTS: &[&str] = &[
     // input.rs: a size limit with thousands separators; limits are far above 1 byte.
     "{out} bytes",
 ];
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
 
 /// The contents of the string literals of `code` (ordinary and raw), with the line each
 /// starts on. Comments and char literals are skipped.

@@ -4,18 +4,10 @@
 //! also covers the libraries the CLI calls and fails if the lint attributes go.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
+mod source_scan;
+use source_scan::rust_files;
 
 #[test]
 fn no_print_macros_in_the_cli_or_the_libraries_it_calls() {

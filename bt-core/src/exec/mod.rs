@@ -427,7 +427,7 @@ const fn oob(node: usize) -> TickError {
 /// feature. Without it no kind returns Skipped, a leaf that does is a
 /// [`TickError::LeafSkipped`], and the compiler drops every Skipped path and every check
 /// for those kinds from the tick loop: they cost a controller's flash.
-const BTCPP: bool = cfg!(feature = "btcpp");
+pub(crate) const BTCPP: bool = cfg!(feature = "btcpp");
 
 /// A leaf returned Skipped in a build without the `btcpp` feature.
 #[cold]
@@ -852,7 +852,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     success: success_threshold,
                     failure: failure_threshold,
                     skipped: 0,
-                    count_skipped: BTCPP && count_skipped,
+                    count_skipped,
                     child_was_idle: false,
                 };
                 // As BehaviorTree.CPP, the counts are totals of the activation: the

@@ -118,8 +118,8 @@ fn btlog(run: &scenario::Run) -> anyhow::Result<(Vec<u8>, u32, u32)> {
         let calls: Vec<(usize, u8)> =
             calls.iter().map(|&(n, s)| (usize::from(n), btcpp::btlog::status_of(s))).collect();
         // The driver gives bt-core `now` = tick x TICK_MS.
-        log.tick(*tick, i64::from(tick.saturating_mul(TICK_MS)) * 1000, tick.saturating_mul(TICK_MS), &calls)
-            .map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
+        let now = tick.saturating_mul(TICK_MS);
+        log.tick(*tick, i64::from(now) * 1000, now, &calls).map_err(|e| anyhow::anyhow!("replay log: {e}"))?;
         ticks += 1;
     }
     Ok((log.into_bytes(), from + 1, ticks))
