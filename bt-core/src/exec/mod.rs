@@ -852,7 +852,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     success: success_threshold,
                     failure: failure_threshold,
                     skipped: 0,
-                    count_skipped,
+                    // Also guarded here: without the feature the store is then a constant
+                    // (12 B of the firmware's flash).
+                    count_skipped: BTCPP && count_skipped,
                     child_was_idle: false,
                 };
                 // As BehaviorTree.CPP, the counts are totals of the activation: the
