@@ -151,6 +151,12 @@ struct Session {
     period_us: u32,
     /// When the last tick started, on the board's clock.
     last_tick: Option<u32>,
+    /// The tree's clock, in milliseconds: the `now` the next tick gets (see [`serve`]).
+    now_ms: u32,
+    /// Microseconds of the tree's clock not yet counted in `now_ms`.
+    carry_us: u32,
+    /// When the previous tick started, on the board's clock (None before the first).
+    previous_tick: Option<u32>,
 }
 
 /// Sends one reply as a frame.
@@ -212,6 +218,16 @@ fn halt_all<B: Board, A: App, const DEPTH: usize>(
 /// Runs the controller: boots `boot` (if any) into the first slot, then ticks and
 /// answers the link until [`Board::closed`]. Ticking starts on the host's `Start`.
 ///
+/// # The tree's clock
+///
+/// The executor's `now` (what `Timeout`, `Delay` and `RateController` measure, and
+/// [`Context::now`](bt_core::Context::now)) is in milliseconds, 0 at the first tick.
+/// Each later tick is one period (`Start`'s `period_ms`) after the one before, so a
+/// tree ticked every 100 ms gets tick x 100 ms, the clock of the host's simulated runs:
+/// the controller's run is the host's, whatever the jitter of the board's timer. With
+/// period 0 (ticks back to back) there is no schedule, and the clock advances by the
+/// board's measured time between the two ticks' starts.
+///
 /// Never panics and never allocates, whatever bytes arrive.
 pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize>(
     storage: &mut Storage<NODES, BYTES, VALUES>,
@@ -247,6 +263,9 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usiz
         until: None,
         period_us: 0,
         last_tick: None,
+        now_ms: 0,
+        carry_us: 0,
+        previous_tick: None,
     };
     let mut decoder = Decoder::<MAX_FRAME>::new();
     loop {
@@ -343,10 +362,9 @@ impl Session {
         let tick = self.tick;
         app.before_tick(tick);
         let started = board.micros();
+        let now = self.advance_clock(started);
         let mut reporter = Reporter { board, tick, changes: 0 };
-        // The tree's clock is simulated: tick number times the period the controller
-        // was built for is the app's business; the executor gets the tick number.
-        let result = exec.tick_observed(app, tick, &mut reporter);
+        let result = exec.tick_observed(app, now, &mut reporter);
         let changes = reporter.changes;
         let micros = board.micros().wrapping_sub(started);
         app.after_tick(tick, result, exec.tree().nodes());
@@ -360,6 +378,19 @@ impl Session {
         };
         send(board, &Reply::Tick { tick, status, changes, micros });
         self.tick = tick.wrapping_add(1);
+    }
+
+    /// The tree's clock for a tick that started at `started` on the board's clock.
+    fn advance_clock(&mut self, started: u32) -> u32 {
+        if let Some(previous) = self.previous_tick {
+            let step_us = if self.period_us == 0 { started.wrapping_sub(previous) } else { self.period_us };
+            let us = u64::from(self.carry_us) + u64::from(step_us);
+            // `us / 1000` < 2^33 / 1000 fits u32; wrapping is the clock's contract.
+            self.now_ms = self.now_ms.wrapping_add((us / 1000) as u32);
+            self.carry_us = (us % 1000) as u32;
+        }
+        self.previous_tick = Some(started);
+        self.now_ms
     }
 
     fn state(&self, token: u32, running: Option<ImageInfo>, halted: u16, stack_used: u32) -> Reply<'static> {

@@ -64,10 +64,13 @@ enum Seen {
 struct Log {
     seen: Vec<Seen>,
     ticks: Vec<(u32, Result<Status, TickError>)>,
+    /// The `now` each condition call saw.
+    nows: Vec<u32>,
 }
 
 impl BehaviorSet for Log {
-    fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
+    fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
+        self.nows.push(ctx.now);
         if leaf.behavior() == OK { Status::Success } else { Status::Failure }
     }
     fn action(&mut self, _leaf: &Leaf, ctx: Context<'_>) -> Status {
@@ -108,6 +111,8 @@ struct Host {
     replies: Vec<Reply<'static>>,
     decoder: Decoder<MAX_FRAME>,
     clock: u32,
+    /// Microseconds the clock advances per `micros` call.
+    clock_step: u32,
     last_tick: Option<u32>,
 }
 
@@ -119,6 +124,7 @@ impl Host {
             replies: Vec::new(),
             decoder: Decoder::new(),
             clock: 0,
+            clock_step: 1,
             last_tick: None,
         }
     }
@@ -186,7 +192,7 @@ impl Board for Host {
     }
 
     fn micros(&mut self) -> u32 {
-        self.clock = self.clock.wrapping_add(1);
+        self.clock = self.clock.wrapping_add(self.clock_step);
         self.clock
     }
 
@@ -459,6 +465,48 @@ fn stop_halts_the_running_actions_and_start_goes_on() {
     assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Stop(3), Seen::Start(2)]);
     assert!(host.replies.iter().any(|r| matches!(r, Reply::State { halted: 1, ticking: false, tick: 3, .. })));
     assert_eq!(log.ticks.len(), 5);
+}
+
+#[test]
+fn the_tree_clock_is_milliseconds_on_the_tick_schedule() {
+    // Ticked every 100 ms on a board whose timer moves 7 ms per read: the tree sees
+    // tick x 100 ms (the host's simulated clock), not the board's jittered times.
+    let steps = vec![
+        Step::Bytes(frame(&Request::Start { until: Some(3), period_ms: 100 })),
+        Step::UntilTick(3),
+        Step::Bytes(frame(&Request::Stop)),
+        Step::Bytes(frame(&Request::Start { until: Some(5), period_ms: 250 })),
+        Step::UntilTick(5),
+    ];
+    let mut storage = Store::new();
+    let mut host = Host::new(steps);
+    host.clock_step = 7_000;
+    let mut log = Log::default();
+    serve::<_, _, _, 16, 256, 8, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
+    // After the stop, the new period counts from the last tick.
+    assert_eq!(log.nows, vec![0, 100, 200, 450, 700]);
+}
+
+#[test]
+fn without_a_period_the_tree_clock_is_the_boards_time_between_ticks() {
+    let mut session = Session {
+        fingerprint: 0,
+        incoming: Incoming::None,
+        tick: 0,
+        ticking: true,
+        until: None,
+        period_us: 0,
+        last_tick: None,
+        now_ms: 0,
+        carry_us: 0,
+        previous_tick: None,
+    };
+    // Starts at 1.5 ms, 2.6 ms, then across the wrap of the microsecond timer.
+    let starts = [1_500, 2_600, 4_000, u32::MAX - 199, 1_000];
+    let nows: Vec<u32> = starts.iter().map(|&t| session.advance_clock(t)).collect();
+    // 0; +1.1 ms (1, 0.1 carried); +1.4 ms (2, 0.5 carried); +4,294,963.096 ms across
+    // the wrap (4,294,965, 0.596 carried); +1.2 ms (4,294,966).
+    assert_eq!(nows, vec![0, 1, 2, 4_294_965, 4_294_966]);
 }
 
 #[test]

@@ -39,7 +39,8 @@ pub struct Args {
     /// Then start ticking (every --period ms).
     #[arg(long)]
     pub start: bool,
-    /// Milliseconds between ticks with --start.
+    /// Milliseconds between ticks with --start (0: back to back). The tree's clock
+    /// (what Timeout and Delay measure) advances by this much per tick.
     #[arg(long, default_value_t = 100)]
     pub period: u16,
 }

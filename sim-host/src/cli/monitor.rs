@@ -43,7 +43,8 @@ pub struct Args {
     /// Start the controller ticking (every --period ms) before watching.
     #[arg(long)]
     pub start: bool,
-    /// Milliseconds between ticks with --start.
+    /// Milliseconds between ticks with --start (0: back to back). The tree's clock
+    /// (what Timeout and Delay measure) advances by this much per tick.
     #[arg(long, default_value_t = 100)]
     pub period: u16,
     /// End after this many ticks (default: until the link closes or Ctrl-C).
