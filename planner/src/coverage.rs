@@ -137,6 +137,8 @@ pub struct Run {
     pub gave_up: Vec<String>,
     /// For an oscillation met on the way: the tree (ASCII) and the repeating actions.
     pub oscillation: Option<(String, Vec<String>)>,
+    /// For a regression tree: how it was closed over disturbances, in a line.
+    pub closed: Option<String>,
 }
 
 impl Run {
@@ -153,6 +155,7 @@ impl Run {
             disturbed: (0, 0),
             gave_up: Vec::new(),
             oscillation: None,
+            closed: None,
         }
     }
 
@@ -209,6 +212,7 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
     let seconds = secs();
     let mut out = Run::new(Outcome::Solved, seconds);
     out.method = Some(plan.method);
+    out.closed = plan.closed.map(|c| c.to_string());
     out.nodes = plan.nodes.len();
     out.plan = plan.executed.iter().map(|&a| g.action_pddl(a)).collect();
     out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
@@ -343,6 +347,9 @@ impl Run {
         for g in &self.gave_up {
             line("gave-up", g);
         }
+        if let Some(c) = &self.closed {
+            line("closed", c);
+        }
         if let Some((tree, actions)) = &self.oscillation {
             for t in tree.lines() {
                 line("tree", t);
@@ -379,6 +386,7 @@ impl Run {
                 }
                 "plan" => r.plan.push(v.to_string()),
                 "gave-up" => r.gave_up.push(v.to_string()),
+                "closed" => r.closed = Some(v.to_string()),
                 "tree" => {
                     tree.push_str(v);
                     tree.push('\n');

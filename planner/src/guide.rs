@@ -25,8 +25,15 @@ impl Trace {
     /// applicable where the plan uses it.
     #[must_use]
     pub fn new(g: &Grounding, plan: &[ActionId]) -> Option<Self> {
+        Self::from_state(g, g.init(), plan)
+    }
+
+    /// The trace of `plan` from `start`, or `None` when an action is not applicable
+    /// where the plan uses it.
+    #[must_use]
+    pub fn from_state(g: &Grounding, start: &State, plan: &[ActionId]) -> Option<Self> {
         let mut states = Vec::with_capacity(plan.len() + 1);
-        let mut s = g.init().clone();
+        let mut s = start.clone();
         states.push(s.clone());
         for &a in plan {
             let x = g.action(a)?;

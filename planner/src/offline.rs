@@ -82,6 +82,9 @@ pub struct Plan<C> {
     /// The methods tried before and why each was given up, in order (empty when
     /// Algorithm 1 made the tree).
     pub gave_up: Vec<GaveUp>,
+    /// For a regression tree, how it was closed over disturbances
+    /// ([`crate::regress::close`]).
+    pub closed: Option<crate::regress::Closed>,
 }
 
 /// A method that did not make the tree, and why.
@@ -140,10 +143,21 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
         Err(e) if !recoverable(&e) => return Err(e),
         Err(error) => gave_up.push(GaveUp { method: Made::SearchGuided, error }),
     }
-    let tree = crate::regress::tree(&g, &trace);
-    let planner = Planner::from_tree(g.clone(), tree, options)?;
+    let mut policy = crate::regress::Policy::of_trace(&g, &trace);
+    // Half the time left for closing the tree over disturbances; the rest for the checks.
+    let budget = crate::regress::Budget {
+        deadline: options.deadline.map(|d| {
+            let now = Instant::now();
+            now + d.saturating_duration_since(now) / 2
+        }),
+        nodes: options.close_nodes,
+        ..crate::regress::Budget::default()
+    };
+    let closed = if options.close_nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+    let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
     let mut p = finish(planner, g, catalog, options, Made::Regression, Vec::new(), Vec::new(), 0)?;
     p.gave_up = gave_up;
+    p.closed = closed;
     Ok(p)
 }
 
@@ -294,5 +308,6 @@ fn finish<C: Catalog>(
         method,
         executed,
         gave_up: Vec::new(),
+        closed: None,
     })
 }

@@ -66,6 +66,11 @@ pub struct Options {
     /// more). Off by default: a Sequence of one child ticks exactly as the child does,
     /// so the shorter tree behaves the same and costs a node less.
     pub goal_sequence: bool,
+    /// Offline: most planner nodes a regression tree may grow to while it is closed
+    /// over disturbances ([`crate::regress::close`]); 0 leaves the plan's regression
+    /// tree as it is (smaller, and it fails where an external agent moves the world
+    /// off the plan).
+    pub close_nodes: usize,
 }
 
 impl Default for Options {
@@ -78,6 +83,7 @@ impl Default for Options {
             method: Method::Auto,
             deadline: None,
             goal_sequence: false,
+            close_nodes: crate::regress::Budget::default().nodes,
         }
     }
 }

@@ -181,3 +181,25 @@ fn an_oscillating_tree_is_shown_with_the_actions_it_repeats() {
         "{text}"
     );
 }
+
+#[test]
+fn a_regression_tree_is_closed_over_disturbances_unless_close_nodes_is_0() {
+    let files = [
+        "--domain".to_string(),
+        path("planner/tests/fixtures/ipc/assembly/domain.pddl"),
+        "--problem".to_string(),
+        path("planner/tests/fixtures/ipc/assembly/prob01.pddl"),
+    ];
+    // The summary after the tree: `planned: 0 expansions, 615 nodes`.
+    let nodes_of = |text: &str| -> usize {
+        let line = text.lines().find(|l| l.starts_with("planned:")).unwrap();
+        line.rsplit(", ").next().unwrap().trim_end_matches(" nodes").parse().unwrap()
+    };
+    let closed = ok(&plan(&files, &["--format", "ascii", "--close-nodes", "600"]));
+    assert!(closed.contains("made by regression"), "{closed}");
+    assert!(closed.contains("closed over disturbances:"), "{closed}");
+    let plain = ok(&plan(&files, &["--format", "ascii", "--close-nodes", "0"]));
+    assert!(!plain.contains("closed over disturbances"), "{plain}");
+    let (big, small) = (nodes_of(&closed), nodes_of(&plain));
+    assert!(small < big && big <= 600 + 200, "{small} nodes plain, {big} closed");
+}

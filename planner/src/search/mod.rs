@@ -93,12 +93,20 @@ struct Node {
 /// the goal, or the relaxation shows none can; [`PlanError::Timeout`];
 /// [`PlanError::TooLarge`] when the stored states pass [`SearchOptions::memory`].
 pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> {
+    gbfs_from(g, g.init(), options)
+}
+
+/// [`gbfs`] from `start` instead of the initial state.
+///
+/// # Errors
+/// As [`gbfs`].
+pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Result<Found, PlanError> {
     let mut h = Relaxation::new(g);
     let succ = Successors::new(g);
     let mut reg = Registry::new();
     let mut nodes: Vec<Node> = Vec::new();
     let mut helpful = Vec::new();
-    let init = g.init().clone();
+    let init = start.clone();
     let h0 = h.h_ff(&init, &mut helpful);
     if h0 == INFINITE {
         return Err(PlanError::NoPlan("the goal is unreachable even when deletes are ignored".into()));

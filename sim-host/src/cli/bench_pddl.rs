@@ -128,6 +128,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         };
         let row = Row { instance, ours, valid, pyperplan, pyperplan_why };
         writeln!(out, "{}", line(&row))?;
+        if let Some(c) = &row.ours.closed {
+            writeln!(out, "  {c}")?;
+        }
         if let Some((tree, actions)) = &row.ours.oscillation {
             writeln!(out, "  Algorithm 1 oscillated, repeating: {}", actions.join(", "))?;
             for l in tree.lines() {

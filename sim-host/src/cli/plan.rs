@@ -120,6 +120,12 @@ pub struct Args {
     /// conditions, e.g. 'holding(cube), not hand-empty'.
     #[arg(long, value_name = "STATE", conflicts_with = "task")]
     pub expand_at: Option<String>,
+    /// When the tree is the regression of a search plan (the last resort after
+    /// Algorithm 1 and guided backchaining), the most nodes it may grow to while rules
+    /// are added for the states external agents can move the world to (PDDL only;
+    /// 0: the plan's regression tree alone, smaller and less robust).
+    #[arg(long, value_name = "NODES", default_value_t = planner::Options::default().close_nodes, conflicts_with = "task")]
+    pub close_nodes: usize,
 }
 
 fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
@@ -207,6 +213,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             MethodArg::Search => Method::Search,
         },
         goal_sequence: args.goal_sequence,
+        close_nodes: args.close_nodes,
         ..Options::default()
     };
     let (bytes, text) = if let Some(task) = &args.task {
@@ -258,6 +265,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         let offline_nodes = plan.nodes.len();
         let mut verdict_head = format!("{made}made by {}: {}\n", plan.method.name(), plan.method.describe());
+        if let Some(c) = plan.closed {
+            verdict_head.push_str(&format!("{c}\n"));
+        }
         if let (Some(changes), Some(text)) = (changes, &args.expand_at) {
             let at =
                 planner::expand_at(&mut plan.planner, catalog.as_ref(), &changes, options.max_ticks).map_err(|e| {
