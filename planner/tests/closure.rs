@@ -97,6 +97,7 @@ fn disturbed_episodes_of_the_planned_tree_reach_the_goal() {
     assert_eq!((reached, ran), (40, 40));
 
     let plain = plain_policy(&g).tree(&g).flatten(&g).unwrap();
-    let (plain_reached, _) = coverage::disturbed(&plain.nodes, &plain.values, c.as_ref(), &g, ticks, &settings).unwrap();
+    let (plain_reached, _) =
+        coverage::disturbed(&plain.nodes, &plain.values, c.as_ref(), &g, ticks, &settings).unwrap();
     assert!(plain_reached < 40, "the plain tree reaches the goal in every episode too: the test shows nothing");
 }
