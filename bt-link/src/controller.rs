@@ -255,18 +255,7 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usiz
             app.booted(Err(LoadError::TooManyNodes { count: image.len(), capacity: BYTES }));
         }
     }
-    let mut session = Session {
-        fingerprint: catalog.fingerprint(),
-        incoming: Incoming::None,
-        tick: 0,
-        ticking: false,
-        until: None,
-        period_us: 0,
-        last_tick: None,
-        now_ms: 0,
-        carry_us: 0,
-        previous_tick: None,
-    };
+    let mut session = Session::new(catalog.fingerprint());
     let mut decoder = Decoder::<MAX_FRAME>::new();
     loop {
         let tree = run.tree::<C, DEPTH>(catalog);
@@ -338,6 +327,22 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usiz
 }
 
 impl Session {
+    /// A session before any request: not ticking, the tree's clock at 0.
+    fn new(fingerprint: u64) -> Self {
+        Self {
+            fingerprint,
+            incoming: Incoming::None,
+            tick: 0,
+            ticking: false,
+            until: None,
+            period_us: 0,
+            last_tick: None,
+            now_ms: 0,
+            carry_us: 0,
+            previous_tick: None,
+        }
+    }
+
     /// Whether a tick is due now (and marks it started).
     fn due<B: Board>(&mut self, board: &mut B) -> bool {
         if !self.ticking || self.until.is_some_and(|u| self.tick >= u) {

@@ -150,15 +150,15 @@ impl std::fmt::Display for Closed {
     /// `closed over disturbances: 3 plans added from 120 states (2 dead ends), budget
     /// reached` (counts in words).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let n = |k: usize, one: &str, many: &str| format!("{k} {}", if k == 1 { one } else { many });
+        use crate::wording::count;
         write!(
             f,
             "closed over disturbances: {} added from {} looked at",
-            n(self.plans, "plan", "plans"),
-            n(self.states, "state", "states")
+            count(self.plans, "plan"),
+            count(self.states, "state")
         )?;
         if self.dead_ends > 0 {
-            write!(f, " ({} with no plan)", n(self.dead_ends, "state", "states"))?;
+            write!(f, " ({} with no plan)", count(self.dead_ends, "state"))?;
         }
         if !self.complete {
             write!(f, ", budget reached")?;
@@ -183,6 +183,21 @@ impl Rule {
     fn holds(&self, s: &State) -> bool {
         self.when.iter().all(|l| l.holds(s))
     }
+
+    /// The goal as a rule's target: its conditions, at distance 0.
+    fn goal(g: &Grounding) -> Self {
+        let mut when = g.goal().to_vec();
+        when.sort_unstable();
+        Self { when, action: 0, distance: 0 }
+    }
+}
+
+/// The state action `a` leads to from `s`, when it is applicable there.
+fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
+    let x = g.action(a).filter(|x| x.applicable(s))?;
+    let mut t = s.clone();
+    x.apply(&mut t);
+    Some(t)
 }
 
 /// The rules of a regression tree, nearest the goal first (see the module docs).
@@ -212,18 +227,7 @@ impl Policy {
 
     /// Adds the rules of a plan to the goal; returns how many were kept.
     pub fn add_trace(&mut self, g: &Grounding, trace: &Trace) -> usize {
-        let cs = conditions(g, trace);
-        let n = trace.plan().len();
-        let mut kept = 0;
-        // Nearest the goal first, so that equal rules keep the plan's last use.
-        for i in (1..=n).rev() {
-            let mut when = cs[i - 1].clone();
-            when.sort_unstable();
-            if self.insert(Rule { when, action: trace.plan()[i - 1], distance: (n - i + 1) as u32 }) {
-                kept += 1;
-            }
-        }
-        kept
+        self.add_path(g, trace, &Rule::goal(g))
     }
 
     /// Inserts `rule` after every rule at most as far from the goal, unless one of those
@@ -261,13 +265,9 @@ impl Policy {
         // guards against a grounding whose actions break that.
         let limit = self.max_distance() as usize + 1;
         while !g.goal_holds(&cur) && out.len() <= limit {
-            let Some(r) = self.first(&cur) else { break };
-            let Some(a) = g.action(r.action) else { break };
-            if !a.applicable(&cur) {
-                break;
-            }
-            a.apply(&mut cur);
-            out.push(cur.clone());
+            let Some(next) = self.first(&cur).and_then(|r| successor(g, r.action, &cur)) else { break };
+            out.push(next.clone());
+            cur = next;
         }
         out
     }
@@ -290,10 +290,11 @@ impl Policy {
 
     /// Adds the rules of `trace`, a path to a state where `rule` holds (its conditions
     /// regressed through the path); returns how many were kept.
-    fn add_repair(&mut self, g: &Grounding, trace: &Trace, rule: &Rule) -> usize {
+    fn add_path(&mut self, g: &Grounding, trace: &Trace, rule: &Rule) -> usize {
         let cs = conditions_to(g, trace, &rule.when);
         let n = trace.plan().len();
         let mut kept = 0;
+        // Nearest the target first, so that equal rules keep the path's last use.
         for i in (1..=n).rev() {
             let mut when = cs[i - 1].clone();
             when.sort_unstable();
@@ -387,12 +388,7 @@ fn pass(g: &Grounding, policy: &mut Policy, budget: &Budget, done: &mut Closed, 
         let mut next = Vec::new();
         for s in &frontier {
             for a in policy.actions() {
-                let Some(x) = g.action(a) else { continue };
-                if !x.applicable(s) {
-                    continue;
-                }
-                let mut t = s.clone();
-                x.apply(&mut t);
+                let Some(t) = successor(g, a, s) else { continue };
                 if !seen.insert(t.clone()) {
                     continue;
                 }
@@ -405,7 +401,7 @@ fn pass(g: &Grounding, policy: &mut Policy, budget: &Budget, done: &mut Closed, 
                 if !g.goal_holds(&t) && policy.first(&t).is_none() {
                     if let Some((path, rule)) = repair(g, policy, &t) {
                         if let Some(trace) = Trace::from_state(g, &t, &path) {
-                            policy.add_repair(g, &trace, &rule);
+                            policy.add_path(g, &trace, &rule);
                             done.plans += 1;
                         }
                     } else {
@@ -463,21 +459,14 @@ fn repair_with(g: &Grounding, policy: &Policy, t: &State, actions: &[ActionId]) 
         let mut next = Vec::new();
         for (s, path) in &layer {
             for &id in actions {
-                let Some(a) = g.action(id) else { continue };
-                if !a.applicable(s) {
-                    continue;
-                }
-                let mut u = s.clone();
-                a.apply(&mut u);
+                let Some(u) = successor(g, id, s) else { continue };
                 if !seen.insert(u.clone()) {
                     continue;
                 }
                 let mut p = path.clone();
                 p.push(id);
                 if g.goal_holds(&u) {
-                    let mut when = g.goal().to_vec();
-                    when.sort_unstable();
-                    return Some((p, Rule { when, action: 0, distance: 0 }));
+                    return Some((p, Rule::goal(g)));
                 }
                 if let Some(r) = policy.first(&u) {
                     return Some((p, r.clone()));

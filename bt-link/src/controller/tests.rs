@@ -489,18 +489,7 @@ fn the_tree_clock_is_milliseconds_on_the_tick_schedule() {
 
 #[test]
 fn without_a_period_the_tree_clock_is_the_boards_time_between_ticks() {
-    let mut session = Session {
-        fingerprint: 0,
-        incoming: Incoming::None,
-        tick: 0,
-        ticking: true,
-        until: None,
-        period_us: 0,
-        last_tick: None,
-        now_ms: 0,
-        carry_us: 0,
-        previous_tick: None,
-    };
+    let mut session = Session::new(0);
     // Starts at 1.5 ms, 2.6 ms, then across the wrap of the microsecond timer.
     let starts = [1_500, 2_600, 4_000, u32::MAX - 199, 1_000];
     let nows: Vec<u32> = starts.iter().map(|&t| session.advance_clock(t)).collect();
