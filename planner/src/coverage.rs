@@ -10,6 +10,13 @@
 //! action whose preconditions were changed under it fails instead of completing
 //! ([`StripsWorld::set_checked_completion`]). The tree is run as planned, without
 //! expanding it at run time.
+//!
+//! Some domains have actions that cannot be undone (a peg jumped in peg solitaire, a
+//! tile painted in floortile, fuel burnt in nomystery): a disturbance there can leave
+//! the world where no plan reaches the goal, and no tree could recover. A failed
+//! episode is counted as such a *dead end* only when a search proves it: from the state
+//! just before some disturbance a plan exists, and from the state just after it every
+//! reachable state was expanded without reaching the goal ([`Disturbed::dead_ends`]).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -95,11 +102,20 @@ pub struct Settings {
     pub rate: f64,
     /// Most disturbances in one episode.
     pub max_disturbances: u32,
+    /// Plan with [`Options::close_backchained`].
+    pub close_backchained: bool,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Self { timeout: Duration::from_secs(60), episodes: 20, seed: 1, rate: 0.2, max_disturbances: 3 }
+        Self {
+            timeout: Duration::from_secs(60),
+            episodes: 20,
+            seed: 1,
+            rate: 0.2,
+            max_disturbances: 3,
+            close_backchained: false,
+        }
     }
 }
 
@@ -131,13 +147,13 @@ pub struct Run {
     pub plan: Vec<String>,
     /// Their cost (sum of action costs, or their number without costs).
     pub cost: u64,
-    /// Disturbed episodes that reached the goal, and episodes run.
-    pub disturbed: (u32, u32),
+    /// The disturbed episodes.
+    pub disturbed: Disturbed,
     /// Methods given up on the way, one line each.
     pub gave_up: Vec<String>,
     /// For an oscillation met on the way: the tree (ASCII) and the repeating actions.
     pub oscillation: Option<(String, Vec<String>)>,
-    /// For a regression tree: how it was closed over disturbances, in a line.
+    /// How the tree was closed over disturbances, in a line.
     pub closed: Option<String>,
 }
 
@@ -152,7 +168,7 @@ impl Run {
             nodes: 0,
             plan: Vec::new(),
             cost: 0,
-            disturbed: (0, 0),
+            disturbed: Disturbed::default(),
             gave_up: Vec::new(),
             oscillation: None,
             closed: None,
@@ -204,7 +220,8 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         Err(e) => return failed(e, secs()),
     };
     let catalog = Arc::new(PddlCatalog::new(&problem));
-    let options = Options { deadline: Some(deadline), ..Options::default() };
+    let options =
+        Options { deadline: Some(deadline), close_backchained: settings.close_backchained, ..Options::default() };
     let plan = match crate::plan(g.clone(), catalog.clone(), options) {
         Ok(p) => p,
         Err(e) => return failed(e, secs()),
@@ -226,8 +243,8 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         }
     }
     let ticks = plan.goal_ticks.unwrap_or(0);
-    out.disturbed =
-        disturbed(&plan.nodes, &plan.values, catalog.as_ref(), &g, ticks, settings).unwrap_or((0, settings.episodes));
+    out.disturbed = disturbed(&plan.nodes, &plan.values, catalog.as_ref(), &g, ticks, settings)
+        .unwrap_or(Disturbed { episodes: settings.episodes, ..Disturbed::default() });
     out
 }
 
@@ -248,8 +265,68 @@ fn tree_actions(nodes: &[Node], values: &[u16], g: &Grounding) -> Vec<ActionId> 
     out
 }
 
-/// Runs `settings.episodes` disturbed episodes of the tree (see the module docs);
-/// returns how many reached the goal, and how many ran.
+/// What the disturbed episodes of a tree came to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Disturbed {
+    /// Episodes run.
+    pub episodes: u32,
+    /// Episodes that reached the goal.
+    pub reached: u32,
+    /// Episodes that failed after a disturbance took the world from a state with a plan
+    /// to one from which search proved no plan exists (see the module docs).
+    pub dead_ends: u32,
+}
+
+impl Disturbed {
+    /// Episodes after which a plan to the goal still existed (all but the dead ends).
+    #[must_use]
+    pub fn recoverable(&self) -> u32 {
+        self.episodes.saturating_sub(self.dead_ends)
+    }
+
+    /// Adds another instance's episodes.
+    #[must_use]
+    pub fn plus(self, o: Self) -> Self {
+        Self {
+            episodes: self.episodes + o.episodes,
+            reached: self.reached + o.reached,
+            dead_ends: self.dead_ends + o.dead_ends,
+        }
+    }
+}
+
+impl std::fmt::Display for Disturbed {
+    /// `17/20` or `17/20 (2 dead ends)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.reached, self.episodes)?;
+        if self.dead_ends > 0 {
+            write!(f, " ({})", crate::wording::count(self.dead_ends as usize, "dead end"))?;
+        }
+        Ok(())
+    }
+}
+
+/// Most time a search may take to show that a disturbed state is a dead end.
+const DEAD_END_SEARCH: Duration = Duration::from_secs(2);
+/// Most bytes of states that search may store.
+const DEAD_END_MEMORY: usize = 256 << 20;
+
+/// Whether search finds a plan from `s` (`Some(true)`), proves there is none
+/// (`Some(false)`), or gives up (`None`).
+fn solvable(g: &Grounding, s: &State) -> Option<bool> {
+    let options = crate::search::SearchOptions {
+        deadline: Some(Instant::now() + DEAD_END_SEARCH),
+        memory: DEAD_END_MEMORY,
+        ..crate::search::SearchOptions::default()
+    };
+    match crate::search::gbfs_from(g, s, &options) {
+        Ok(_) => Some(true),
+        Err(PlanError::NoPlan(_)) => Some(false),
+        Err(_) => None,
+    }
+}
+
+/// Runs `settings.episodes` disturbed episodes of the tree (see the module docs).
 ///
 /// # Errors
 /// As [`strips::run_to_goal`].
@@ -260,17 +337,18 @@ pub fn disturbed<C: Catalog + ?Sized>(
     g: &Arc<Grounding>,
     undisturbed_ticks: u32,
     settings: &Settings,
-) -> Result<(u32, u32), PlanError> {
+) -> Result<Disturbed, PlanError> {
     let helpers = tree_actions(nodes, values, g);
     let budget = undisturbed_ticks.saturating_mul(4).saturating_add(200);
-    let mut reached = 0;
+    let mut out = Disturbed { episodes: settings.episodes, ..Disturbed::default() };
     let mut states = Vec::new();
     for e in 0..settings.episodes {
         let mut rng = ChaCha8Rng::seed_from_u64(settings.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(e));
         let mut world = StripsWorld::new(g.clone());
         world.set_checked_completion(true);
         let mut history: Vec<(State, usize)> = Vec::new();
-        let mut count = 0;
+        // The state before and after each disturbance.
+        let mut changes: Vec<(State, State)> = Vec::new();
         let verdict = strips::run_to_goal(
             (nodes, values),
             catalog,
@@ -279,15 +357,19 @@ pub fn disturbed<C: Catalog + ?Sized>(
             false,
             |_, w| {
                 history.push((w.state().clone(), w.executed().len()));
-                if count >= settings.max_disturbances || w.goal_reached() || !rng.random_bool(settings.rate) {
+                if changes.len() as u32 >= settings.max_disturbances
+                    || w.goal_reached()
+                    || !rng.random_bool(settings.rate)
+                {
                     return;
                 }
                 let done = w.executed().len();
+                let before = w.state().clone();
                 if rng.random_bool(0.5) {
                     // Undo: back to the state before the last completed action.
-                    if let Some((before, _)) = history.iter().rev().find(|h| h.1 < done) {
-                        w.set_state(before.clone());
-                        count += 1;
+                    if let Some((earlier, _)) = history.iter().rev().find(|h| h.1 < done) {
+                        w.set_state(earlier.clone());
+                        changes.push((before, w.state().clone()));
                     }
                 } else {
                     let options: Vec<ActionId> = helpers
@@ -302,17 +384,22 @@ pub fn disturbed<C: Catalog + ?Sized>(
                             x.apply(&mut s);
                         }
                         w.set_state(s);
-                        count += 1;
+                        changes.push((before, w.state().clone()));
                     }
                 }
             },
             &mut states,
         )?;
         if verdict.reached() {
-            reached += 1;
+            out.reached += 1;
+        } else if changes
+            .iter()
+            .any(|(before, after)| solvable(g, after) == Some(false) && solvable(g, before) == Some(true))
+        {
+            out.dead_ends += 1;
         }
     }
-    Ok((reached, settings.episodes))
+    Ok(out)
 }
 
 const SEP: char = '\t';
@@ -340,7 +427,8 @@ impl Run {
         line("method", self.method.map_or("", Made::name));
         line("nodes", &self.nodes.to_string());
         line("cost", &self.cost.to_string());
-        line("disturbed", &format!("{} {}", self.disturbed.0, self.disturbed.1));
+        let d = &self.disturbed;
+        line("disturbed", &format!("{} {} {}", d.reached, d.episodes, d.dead_ends));
         for p in &self.plan {
             line("plan", p);
         }
@@ -382,7 +470,8 @@ impl Run {
                 "cost" => r.cost = v.parse().unwrap_or(0),
                 "disturbed" => {
                     let mut it = v.split(' ').map(|x| x.parse().unwrap_or(0));
-                    r.disturbed = (it.next().unwrap_or(0), it.next().unwrap_or(0));
+                    let mut next = || it.next().unwrap_or(0);
+                    r.disturbed = Disturbed { reached: next(), episodes: next(), dead_ends: next() };
                 }
                 "plan" => r.plan.push(v.to_string()),
                 "gave-up" => r.gave_up.push(v.to_string()),

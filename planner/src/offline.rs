@@ -13,6 +13,7 @@ use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
 use crate::search::{self, SearchOptions};
 use crate::strips::{self, StripsWorld, Verdict};
+use crate::tree::PlanTree;
 
 /// Where offline runs start ([`PlanError::GoalNotReached`]).
 const INITIAL: &str = "the initial state";
@@ -124,7 +125,7 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
             a1.deadline = Some(now + d.saturating_duration_since(now) / 4);
         }
         match algorithm1(g.clone(), catalog.clone(), a1, Made::Algorithm1) {
-            Ok(p) => return Ok(p),
+            Ok(p) => return close_backchained(p, &g, options),
             Err(e) if options.method == Method::Algorithm1 || !recoverable(&e) => return Err(e),
             Err(error) => gave_up.push(GaveUp { method: Made::Algorithm1, error }),
         }
@@ -138,27 +139,152 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
         Ok(mut p) => {
             p.gave_up = gave_up;
-            return Ok(p);
+            return close_backchained(p, &g, options);
         }
         Err(e) if !recoverable(&e) => return Err(e),
         Err(error) => gave_up.push(GaveUp { method: Made::SearchGuided, error }),
     }
     let mut policy = crate::regress::Policy::of_trace(&g, &trace);
-    // Half the time left for closing the tree over disturbances; the rest for the checks.
-    let budget = crate::regress::Budget {
-        deadline: options.deadline.map(|d| {
-            let now = Instant::now();
-            now + d.saturating_duration_since(now) / 2
-        }),
-        nodes: options.close_nodes,
-        ..crate::regress::Budget::default()
-    };
+    let budget = close_budget(options);
     let closed = if options.close_nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
     let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
     let mut p = finish(planner, g, catalog, options, Made::Regression, Vec::new(), Vec::new(), 0)?;
     p.gave_up = gave_up;
     p.closed = closed;
     Ok(p)
+}
+
+/// The closure's budget: half the time left (the rest for the checks), and
+/// [`Options::close_nodes`].
+fn close_budget(options: Options) -> crate::regress::Budget {
+    crate::regress::Budget {
+        deadline: options.deadline.map(|d| {
+            let now = Instant::now();
+            now + d.saturating_duration_since(now) / 2
+        }),
+        nodes: options.close_nodes,
+        ..crate::regress::Budget::default()
+    }
+}
+
+/// Closes a tree of Algorithm 1 or guided backchaining over disturbances
+/// ([`crate::regress::close_with`]): where a disturbance leads to a state from which
+/// the tree does not reach the goal, rules go in front of it
+/// (`Fallback(goal?, rules..., tree)`), with [`Options::close_backchained`]. A tree
+/// that reaches the goal from every state looked at stays exactly as it was.
+fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {
+    if !options.close_backchained || options.close_nodes == 0 {
+        return Ok(p);
+    }
+    let base = p.planner.tree().clone();
+    let max_ticks = p.goal_ticks.unwrap_or(0).saturating_mul(4).saturating_add(200);
+    let mut behind = Behind::new(g.clone(), p.catalog.as_ref(), &base, max_ticks);
+    let mut policy = crate::regress::Policy::empty();
+    let closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
+    if policy.rules().is_empty() {
+        return Ok(Plan { closed: Some(closed), ..p });
+    }
+    let planner = Planner::from_tree(g.clone(), policy.tree_before(g, &base), options)?;
+    let catalog = p.catalog.clone();
+    match finish(
+        planner,
+        g.clone(),
+        catalog,
+        options,
+        p.method,
+        p.expansions.clone(),
+        p.steps.clone(),
+        p.planning_ticks,
+    ) {
+        Ok(mut q) => {
+            q.gave_up = p.gave_up;
+            q.closed = Some(closed);
+            Ok(q)
+        }
+        // The rules are checked on every state they were made for; should the whole tree
+        // still miss the goal from the initial state, the tree stays as it was.
+        Err(_) => Ok(p),
+    }
+}
+
+/// A backchained tree behind a closure's rules, run by the bt-core executor in the
+/// symbolic world ([`crate::regress::Closable`]).
+struct Behind<'a, C: ?Sized> {
+    g: Arc<Grounding>,
+    catalog: &'a C,
+    base: &'a PlanTree,
+    base_actions: Vec<ActionId>,
+    base_nodes: usize,
+    max_ticks: u32,
+    /// The whole tree for the rules it was built with.
+    built: Option<(Vec<crate::regress::Rule>, crate::tree::Flat)>,
+    states: Vec<bt_core::NodeState>,
+}
+
+impl<'a, C: Catalog + ?Sized> Behind<'a, C> {
+    fn new(g: Arc<Grounding>, catalog: &'a C, base: &'a PlanTree, max_ticks: u32) -> Self {
+        let order = base.preorder(base.root());
+        let mut base_actions = Vec::new();
+        for &n in &order {
+            if let crate::tree::Kind::Action(a) = base.kind(n)
+                && !base_actions.contains(&a)
+            {
+                base_actions.push(a);
+            }
+        }
+        Self { g, catalog, base, base_actions, base_nodes: order.len(), max_ticks, built: None, states: Vec::new() }
+    }
+}
+
+impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
+    fn run(
+        &mut self,
+        g: &Grounding,
+        policy: &crate::regress::Policy,
+        s: &crate::state::State,
+    ) -> Result<(Vec<crate::state::State>, bool), PlanError> {
+        if self.built.as_ref().is_none_or(|(rules, _)| rules.as_slice() != policy.rules()) {
+            let flat = policy.tree_before(g, self.base).flatten(g)?;
+            self.built = Some((policy.rules().to_vec(), flat));
+        }
+        let Some((_, flat)) = &self.built else { return Ok((vec![s.clone()], false)) };
+        let mut world = StripsWorld::new(self.g.clone());
+        world.set_state(s.clone());
+        let mut path = vec![s.clone()];
+        let mut done = 0;
+        let verdict = strips::run_to_goal(
+            (&flat.nodes, &flat.values),
+            self.catalog,
+            &mut world,
+            self.max_ticks,
+            true,
+            |_, w| {
+                if w.executed().len() != done {
+                    done = w.executed().len();
+                    path.push(w.state().clone());
+                }
+            },
+            &mut self.states,
+        )?;
+        if world.executed().len() != done {
+            path.push(world.state().clone());
+        }
+        Ok((path, verdict.reached()))
+    }
+
+    fn actions(&self, policy: &crate::regress::Policy) -> Vec<ActionId> {
+        let mut out = self.base_actions.clone();
+        for a in policy.actions() {
+            if !out.contains(&a) {
+                out.push(a);
+            }
+        }
+        out
+    }
+
+    fn nodes(&self, g: &Grounding, policy: &crate::regress::Policy) -> usize {
+        if policy.rules().is_empty() { self.base_nodes } else { policy.nodes(g) + self.base_nodes }
+    }
 }
 
 /// Errors after which another method may still make a tree.

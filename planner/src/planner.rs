@@ -71,6 +71,13 @@ pub struct Options {
     /// tree as it is (smaller, and it fails where an external agent moves the world
     /// off the plan).
     pub close_nodes: usize,
+    /// Offline: close the trees of Algorithm 1 and guided backchaining over
+    /// disturbances too, by rules in front of them for the disturbed states they fail
+    /// from (within [`Options::close_nodes`]). Off by default: those trees stay as the
+    /// method makes them (the paper's figures and the brick tasks' trees), and they
+    /// fail where an external agent does one of their actions out of turn and leaves
+    /// no branch that applies.
+    pub close_backchained: bool,
 }
 
 impl Default for Options {
@@ -84,6 +91,7 @@ impl Default for Options {
             deadline: None,
             goal_sequence: false,
             close_nodes: crate::regress::Budget::default().nodes,
+            close_backchained: false,
         }
     }
 }

@@ -14,8 +14,11 @@
 //! Ticked, it does the step after the latest `C_i` that holds: from the initial state
 //! it executes the plan; when an external change undoes a step it goes back, when one
 //! does a step for it it skips ahead (the reactivity of Problem 1 in seed 000, for
-//! the states the plan passes through). It is flat: its depth does not grow with the
-//! plan's length.
+//! the states the plan passes through). Its depth grows only with the logarithm of
+//! the plan's length: the conditions that neighbouring rules share are checked once,
+//! in a `Sequence(shared?, Fallback(rules...))` around them, which ticks exactly as
+//! the rules side by side do (the regressed conditions of consecutive steps differ in a
+//! few literals, so this makes the tree several times smaller).
 //!
 //! # Rules, and why the tree always progresses
 //!
@@ -38,6 +41,8 @@
 //! best-first search) and adds the new plan's rules, up to [`MAX_DISTURBANCES`]
 //! disturbances deep, within a budget of plans, nodes and time (the tree is correct at
 //! every point, so running out of budget leaves a tree that is only less robust).
+//! [`close_with`] does the same for rules in front of another tree ([`Closable`]):
+//! where that tree fails from a state a disturbance leads to, the rules take over.
 
 use std::collections::HashSet;
 use std::time::Instant;
@@ -47,7 +52,7 @@ use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;
 use crate::search::{self, SearchOptions};
 use crate::state::State;
-use crate::tree::{Kind, PlanTree};
+use crate::tree::{Kind, PlanNode, PlanTree};
 fn add(set: &mut Vec<Lit>, l: Lit) {
     if !set.contains(&l) {
         set.push(l);
@@ -141,6 +146,8 @@ pub struct Closed {
     pub plans: usize,
     /// States where the tree failed and no plan reaches the goal.
     pub dead_ends: usize,
+    /// States where the tree failed and the search for a plan ran out of its time.
+    pub given_up: usize,
     /// Whether every state within [`MAX_DISTURBANCES`] was looked at (false: a budget
     /// ran out first).
     pub complete: bool,
@@ -159,6 +166,9 @@ impl std::fmt::Display for Closed {
         )?;
         if self.dead_ends > 0 {
             write!(f, " ({} with no plan)", count(self.dead_ends, "state"))?;
+        }
+        if self.given_up > 0 {
+            write!(f, " ({} where no plan was found in time)", count(self.given_up, "state"))?;
         }
         if !self.complete {
             write!(f, ", budget reached")?;
@@ -204,6 +214,13 @@ fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Policy {
     rules: Vec<Rule>,
+    /// Planner nodes of the tree (kept up to date by [`Policy::add_path`]).
+    size: usize,
+}
+
+/// Planner nodes of the goal check.
+fn goal_nodes(g: &Grounding) -> usize {
+    if g.goal().len() == 1 { 1 } else { 1 + g.goal().len() }
 }
 
 fn subset(a: &[Lit], b: &[Lit]) -> bool {
@@ -214,7 +231,7 @@ impl Policy {
     /// The rules of one plan to the goal.
     #[must_use]
     pub fn of_trace(g: &Grounding, trace: &Trace) -> Self {
-        let mut p = Self { rules: Vec::new() };
+        let mut p = Self::empty();
         p.add_trace(g, trace);
         p
     }
@@ -303,17 +320,20 @@ impl Policy {
                 kept += 1;
             }
         }
+        let t = self.tree(g);
+        self.size = t.preorder(t.root()).len();
         kept
     }
 
     /// Planner nodes of [`Policy::tree`].
     #[must_use]
     pub fn nodes(&self, g: &Grounding) -> usize {
-        let goal = if g.goal().len() == 1 { 1 } else { 1 + g.goal().len() };
-        1 + goal + self.rules.iter().map(|r| if r.when.is_empty() { 1 } else { 2 + r.when.len() }).sum::<usize>()
+        if self.rules.is_empty() { 1 + goal_nodes(g) } else { self.size }
     }
 
-    /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`.
+    /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
+    /// with the conditions that neighbouring rules share checked once (see
+    /// [`Policy::factor`]).
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
         let mut t = PlanTree::with_root(Kind::Fallback);
@@ -329,21 +349,117 @@ impl Policy {
             s
         };
         t.push_child(root, goal);
-        for r in &self.rules {
-            let act = t.add(Kind::Action(r.action));
-            if r.when.is_empty() {
-                t.push_child(root, act);
+        Self::factor(&mut t, root, &self.rules, &[]);
+        t
+    }
+
+    /// Appends `rules` to the Fallback `parent`, whose ancestors have checked `known`.
+    /// A run of rules that share conditions becomes `Sequence(shared?, Fallback(rules
+    /// without them))`: ticked, it does exactly what the rules side by side do (the
+    /// shared conditions false: none of them holds, and the Fallback goes on to the
+    /// next rule; true: the first that holds), with the shared conditions in the tree
+    /// once. The runs are the halves of `rules`, then their halves, so the nesting is
+    /// about twice the logarithm of the number of rules deep.
+    fn factor(t: &mut PlanTree, parent: PlanNode, rules: &[Rule], known: &[Lit]) {
+        if rules.len() <= 2 {
+            for r in rules {
+                let act = t.add(Kind::Action(r.action));
+                let when: Vec<Lit> = r.when.iter().copied().filter(|l| !known.contains(l)).collect();
+                if when.is_empty() {
+                    t.push_child(parent, act);
+                    continue;
+                }
+                let seq = t.add(Kind::Sequence);
+                for l in when {
+                    let c = t.add(Kind::Condition(l));
+                    t.push_child(seq, c);
+                }
+                t.push_child(seq, act);
+                t.push_child(parent, seq);
+            }
+            return;
+        }
+        let (a, b) = rules.split_at(rules.len() / 2);
+        for half in [a, b] {
+            let shared: Vec<Lit> = half[0]
+                .when
+                .iter()
+                .copied()
+                .filter(|l| !known.contains(l) && half[1..].iter().all(|r| r.when.binary_search(l).is_ok()))
+                .collect();
+            // The Sequence and the Fallback cost two nodes; sharing saves the shared
+            // conditions once per rule but the first.
+            if (half.len() - 1) * shared.len() <= 2 {
+                Self::factor(t, parent, half, known);
                 continue;
             }
             let seq = t.add(Kind::Sequence);
-            for &l in &r.when {
+            for &l in &shared {
                 let c = t.add(Kind::Condition(l));
                 t.push_child(seq, c);
             }
-            t.push_child(seq, act);
-            t.push_child(root, seq);
+            let fb = t.add(Kind::Fallback);
+            t.push_child(seq, fb);
+            t.push_child(parent, seq);
+            let mut inner = known.to_vec();
+            inner.extend_from_slice(&shared);
+            Self::factor(t, fb, half, &inner);
         }
+    }
+
+    /// The rules in front of `base`: `Fallback(goal?, rules..., base)`; `base` itself
+    /// while there are no rules.
+    #[must_use]
+    pub fn tree_before(&self, g: &Grounding, base: &PlanTree) -> PlanTree {
+        if self.rules.is_empty() {
+            return base.clone();
+        }
+        let mut t = self.tree(g);
+        let root = t.root();
+        t.graft(root, base);
         t
+    }
+
+    /// An empty policy (no rules).
+    #[must_use]
+    pub fn empty() -> Self {
+        Self { rules: Vec::new(), size: 0 }
+    }
+}
+
+/// A tree a closure grows: the policy's rules first, then whatever the tree does where
+/// none of them holds. For a regression tree that is nothing (the tree fails there);
+/// [`crate::offline`] puts a backchained tree behind the rules.
+pub trait Closable {
+    /// The states the tree passes through from `s` (`s` first, each one after an
+    /// action completed), and whether it reaches the goal.
+    ///
+    /// # Errors
+    /// When the tree cannot be run.
+    fn run(&mut self, g: &Grounding, policy: &Policy, s: &State) -> Result<(Vec<State>, bool), PlanError>;
+    /// The distinct actions of the whole tree (the disturbances [`close`] tries).
+    fn actions(&self, policy: &Policy) -> Vec<ActionId>;
+    /// Planner nodes of the whole tree.
+    fn nodes(&self, g: &Grounding, policy: &Policy) -> usize;
+}
+
+/// The regression tree alone: its rules, and Failure where none holds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RulesOnly;
+
+impl Closable for RulesOnly {
+    fn run(&mut self, g: &Grounding, policy: &Policy, s: &State) -> Result<(Vec<State>, bool), PlanError> {
+        let path = policy.path(g, s);
+        let reached = path.last().is_some_and(|l| g.goal_holds(l));
+        Ok((path, reached))
+    }
+
+    fn actions(&self, policy: &Policy) -> Vec<ActionId> {
+        policy.actions()
+    }
+
+    fn nodes(&self, g: &Grounding, policy: &Policy) -> usize {
+        policy.nodes(g)
     }
 }
 
@@ -353,13 +469,27 @@ impl Policy {
 /// None today: a search that fails or times out ends the closure early
 /// ([`Closed::complete`] false); the `Result` keeps room for a caller's stop.
 pub fn close(g: &Grounding, policy: &mut Policy, budget: &Budget) -> Result<Closed, PlanError> {
+    close_with(g, policy, &mut RulesOnly, budget)
+}
+
+/// [`close`] for the tree `tree` makes of `policy`: where the tree (not only the
+/// rules) fails from a state a disturbance leads to, rules are added in front.
+///
+/// # Errors
+/// From [`Closable::run`].
+pub fn close_with(
+    g: &Grounding,
+    policy: &mut Policy,
+    tree: &mut dyn Closable,
+    budget: &Budget,
+) -> Result<Closed, PlanError> {
     let mut done = Closed::default();
     let mut ever: HashSet<State> = HashSet::new();
     // Rules added in a pass can change the tree's path (a nearer rule takes over), and
     // with it the states disturbances lead to: passes until one adds nothing.
     loop {
         let plans = done.plans;
-        if !pass(g, policy, budget, &mut done, &mut ever) {
+        if !pass(g, policy, tree, budget, &mut done, &mut ever)? {
             return Ok(done);
         }
         if done.plans == plans {
@@ -369,43 +499,51 @@ pub fn close(g: &Grounding, policy: &mut Policy, budget: &Budget) -> Result<Clos
     }
 }
 
-/// One pass of [`close`]: false when a budget ran out.
-fn pass(g: &Grounding, policy: &mut Policy, budget: &Budget, done: &mut Closed, ever: &mut HashSet<State>) -> bool {
+/// One pass of [`close_with`]: false when a budget ran out.
+fn pass(
+    g: &Grounding,
+    policy: &mut Policy,
+    tree: &mut dyn Closable,
+    budget: &Budget,
+    done: &mut Closed,
+    ever: &mut HashSet<State>,
+) -> Result<bool, PlanError> {
     let mut seen: HashSet<State> = HashSet::new();
     let mut frontier: Vec<State> = Vec::new();
-    for s in policy.path(g, g.init()) {
+    for s in tree.run(g, policy, g.init())?.0 {
         if seen.insert(s.clone()) {
             frontier.push(s);
         }
     }
-    let over = |d: &Closed, p: &Policy| {
+    let over = |d: &Closed, p: &Policy, tree: &dyn Closable| {
         d.plans >= budget.plans
             || d.states >= budget.states
-            || p.nodes(g) >= budget.nodes
+            || tree.nodes(g, p) >= budget.nodes
             || budget.deadline.is_some_and(|t| Instant::now() >= t)
     };
     for _ in 0..MAX_DISTURBANCES {
         let mut next = Vec::new();
         for s in &frontier {
-            for a in policy.actions() {
+            for a in tree.actions(policy) {
                 let Some(t) = successor(g, a, s) else { continue };
                 if !seen.insert(t.clone()) {
                     continue;
                 }
-                if over(done, policy) {
-                    return false;
+                if over(done, policy, tree) {
+                    return Ok(false);
                 }
                 if ever.insert(t.clone()) {
                     done.states += 1;
                 }
-                if !g.goal_holds(&t) && policy.first(&t).is_none() {
-                    if let Some((path, rule)) = repair(g, policy, &t) {
-                        if let Some(trace) = Trace::from_state(g, &t, &path) {
+                let (mut path, reached) = tree.run(g, policy, &t)?;
+                if !reached {
+                    if let Some((steps, rule)) = repair(g, policy, &t) {
+                        if let Some(trace) = Trace::from_state(g, &t, &steps) {
                             policy.add_path(g, &trace, &rule);
                             done.plans += 1;
                         }
                     } else {
-                        let options = SearchOptions { deadline: budget.deadline, ..SearchOptions::default() };
+                        let options = SearchOptions { deadline: search_deadline(budget), ..SearchOptions::default() };
                         match search::gbfs_from(g, &t, &options) {
                             Ok(found) => {
                                 let Some(trace) = Trace::from_state(g, &t, &found.plan) else { continue };
@@ -416,12 +554,18 @@ fn pass(g: &Grounding, policy: &mut Policy, budget: &Budget, done: &mut Closed, 
                                 done.dead_ends += 1;
                                 continue;
                             }
-                            Err(_) => return false,
+                            // One hard state does not end the closure: the others
+                            // may be easy.
+                            Err(_) => {
+                                done.given_up += 1;
+                                continue;
+                            }
                         }
                     }
+                    path = tree.run(g, policy, &t)?.0;
                 }
                 next.push(t.clone());
-                for p in policy.path(g, &t) {
+                for p in path {
                     if seen.insert(p.clone()) {
                         next.push(p);
                     }
@@ -430,8 +574,21 @@ fn pass(g: &Grounding, policy: &mut Policy, budget: &Budget, done: &mut Closed, 
         }
         frontier = next;
     }
-    true
+    Ok(true)
 }
+
+/// The deadline of one search of [`close`]: an eighth of the closure's time left (at
+/// least [`MIN_SEARCH`]), so that a state from which a plan is hard to find, or to
+/// prove absent, does not use up the time of all the others.
+fn search_deadline(budget: &Budget) -> Option<Instant> {
+    budget.deadline.map(|d| {
+        let now = Instant::now();
+        d.min(now + (d.saturating_duration_since(now) / 8).max(MIN_SEARCH))
+    })
+}
+
+/// The least time one search of [`close`] gets (within the closure's deadline).
+const MIN_SEARCH: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// Deepest path [`repair`] looks for.
 const REPAIR_DEPTH: usize = 2;

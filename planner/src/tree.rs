@@ -218,6 +218,19 @@ impl PlanTree {
         self.slots[n as usize].parent = parent;
     }
 
+    /// Copies `other` (from its root) in as the last child of `parent`; returns the
+    /// copy's root.
+    pub fn graft(&mut self, parent: PlanNode, other: &PlanTree) -> PlanNode {
+        let mut copy = vec![NONE; other.slots.len()];
+        for n in other.preorder(other.root) {
+            let c = self.add(other.kind(n));
+            copy[n as usize] = c;
+            let up = other.parent(n).filter(|_| n != other.root).map_or(parent, |p| copy[p as usize]);
+            self.push_child(up, c);
+        }
+        copy[other.root as usize]
+    }
+
     /// The nodes of the subtree at `n` in pre-order.
     #[must_use]
     pub fn preorder(&self, n: PlanNode) -> Vec<PlanNode> {

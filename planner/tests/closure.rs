@@ -13,6 +13,7 @@ use planner::pddl::{parse_domain, parse_problem};
 use planner::regress::{self, Budget, Policy};
 use planner::search::{self, SearchOptions};
 use planner::state::State;
+use planner::strips::{self, StripsWorld};
 use planner::{Options, PddlCatalog};
 
 fn grounding(domain: &str, problem: &str) -> (Arc<Grounding>, Arc<PddlCatalog>) {
@@ -93,11 +94,121 @@ fn disturbed_episodes_of_the_planned_tree_reach_the_goal() {
     assert_eq!(plan.method, planner::Made::Regression, "this fixture no longer needs the regression tree");
     let settings = Settings { episodes: 40, ..Settings::default() };
     let ticks = plan.goal_ticks.unwrap();
-    let (reached, ran) = coverage::disturbed(&plan.nodes, &plan.values, c.as_ref(), &g, ticks, &settings).unwrap();
-    assert_eq!((reached, ran), (40, 40));
+    let d = coverage::disturbed(&plan.nodes, &plan.values, c.as_ref(), &g, ticks, &settings).unwrap();
+    assert_eq!((d.reached, d.episodes, d.dead_ends), (40, 40, 0));
 
     let plain = plain_policy(&g).tree(&g).flatten(&g).unwrap();
-    let (plain_reached, _) =
-        coverage::disturbed(&plain.nodes, &plain.values, c.as_ref(), &g, ticks, &settings).unwrap();
-    assert!(plain_reached < 40, "the plain tree reaches the goal in every episode too: the test shows nothing");
+    let plain_d = coverage::disturbed(&plain.nodes, &plain.values, c.as_ref(), &g, ticks, &settings).unwrap();
+    // Assembly's actions can be undone: a failed episode is the tree's, not a dead end.
+    assert_eq!(plain_d.dead_ends, 0);
+    assert!(plain_d.reached < 40, "the plain tree reaches the goal in every episode too: the test shows nothing");
+}
+
+/// The states at most `depth` actions (any) from the initial state.
+fn near_init(g: &Grounding, depth: usize) -> Vec<State> {
+    let mut out = vec![g.init().clone()];
+    let mut layer = out.clone();
+    for _ in 0..depth {
+        let mut next = Vec::new();
+        for s in &layer {
+            for x in g.actions() {
+                if x.applicable(s) {
+                    let mut t = s.clone();
+                    x.apply(&mut t);
+                    if !out.contains(&t) {
+                        out.push(t.clone());
+                        next.push(t);
+                    }
+                }
+            }
+        }
+        layer = next;
+    }
+    out
+}
+
+#[test]
+fn the_factored_tree_starts_the_first_rule_that_holds() {
+    // `Policy::tree` checks the conditions neighbouring rules share once; ticked, it
+    // must do what the rules side by side do: start the action of the first that holds.
+    let (g, c) = grounding("assembly/domain.pddl", "assembly/prob01.pddl");
+    let mut policy = plain_policy(&g);
+    regress::close(&g, &mut policy, &Budget::default()).unwrap();
+    let flat_rules: usize = policy.rules().iter().map(|r| if r.when.is_empty() { 1 } else { 2 + r.when.len() }).sum();
+    let tree = policy.tree(&g);
+    assert!(policy.nodes(&g) < flat_rules, "nothing shared: the test shows nothing");
+    assert_eq!(policy.nodes(&g), tree.preorder(tree.root()).len());
+    let flat = tree.flatten(&g).unwrap();
+    let mut states = Vec::new();
+    let mut started_some = 0;
+    for s in near_init(&g, 3).into_iter().chain(policy.path(&g, g.init())) {
+        let mut world = StripsWorld::new(g.clone());
+        world.set_state(s.clone());
+        strips::run_to_goal((&flat.nodes, &flat.values), c.as_ref(), &mut world, 1, false, |_, _| {}, &mut states)
+            .unwrap();
+        let started: Vec<u32> = (0..g.actions().len() as u32).filter(|&a| world.starts(a) > 0).collect();
+        let expected: Vec<u32> =
+            if g.goal_holds(&s) { Vec::new() } else { policy.first(&s).map(|r| r.action).into_iter().collect() };
+        assert_eq!(started, expected);
+        started_some += usize::from(!expected.is_empty());
+    }
+    assert!(started_some > 10, "too few states with a rule: {started_some}");
+}
+
+#[test]
+fn close_backchained_puts_rules_in_front_of_a_guided_tree_that_fails_after_disturbances() {
+    let (g, c) = grounding("transport-sat08-strips/domain.pddl", "transport-sat08-strips/p01.pddl");
+    let plain = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
+    assert_eq!(plain.method, planner::Made::SearchGuided, "this fixture no longer makes a guided tree");
+    assert!(plain.closed.is_none(), "closed without being asked");
+    let closed =
+        planner::plan(g.clone(), c.clone(), Options { close_backchained: true, ..Options::default() }).unwrap();
+    assert_eq!(closed.method, planner::Made::SearchGuided);
+    let report = closed.closed.unwrap();
+    assert!(report.plans > 0, "{report}");
+    // The guided tree is still there, whole: the last child of the new root.
+    assert!(closed.nodes.len() > plain.nodes.len());
+    // (Leaves with more than three arguments number their values differently.)
+    let resolved = |nodes: &[bt_core::Node], values: &[u16]| -> Vec<(String, u16, Vec<u16>)> {
+        nodes
+            .iter()
+            .map(|n| {
+                let leaf = n.kind().leaf();
+                let args = leaf.map(|(_, l)| l.args_in(values).to_vec()).unwrap_or_default();
+                (n.kind().name().to_string(), n.size(), args)
+            })
+            .collect()
+    };
+    let tail = &closed.nodes[closed.nodes.len() - plain.nodes.len()..];
+    assert_eq!(resolved(tail, &closed.values), resolved(&plain.nodes, &plain.values));
+    let settings = Settings { episodes: 40, ..Settings::default() };
+    let run = |p: &planner::Plan<PddlCatalog>| {
+        coverage::disturbed(&p.nodes, &p.values, c.as_ref(), &g, p.goal_ticks.unwrap(), &settings).unwrap()
+    };
+    let (before, after) = (run(&plain), run(&closed));
+    assert!(before.reached < 40, "the guided tree reaches the goal in every episode: the test shows nothing");
+    assert!(after.reached > before.reached, "{before} -> {after}");
+}
+
+/// A door that, once shut, cannot be opened: shutting it before going in leaves no way
+/// to the goal.
+const DOOR_DOMAIN: &str = "(define (domain door) (:requirements :strips)
+  (:predicates (open) (inside) (shut) (done))
+  (:action enter :precondition (open) :effect (inside))
+  (:action close :precondition (open) :effect (and (shut) (not (open))))
+  (:action finish :precondition (and (inside) (shut)) :effect (done)))";
+const DOOR_PROBLEM: &str = "(define (problem p) (:domain door) (:init (open)) (:goal (done)))";
+
+#[test]
+fn a_disturbance_that_leaves_no_plan_is_counted_as_a_dead_end() {
+    let p = parse_domain("door.pddl", DOOR_DOMAIN).and_then(|d| parse_problem("p.pddl", DOOR_PROBLEM, &d)).unwrap();
+    let (g, c) = (Arc::new(Grounding::new(&p).unwrap()), PddlCatalog::new(&p));
+    let plan = planner::plan(g.clone(), Arc::new(c.clone()), Options::default()).unwrap();
+    let settings = Settings { episodes: 40, rate: 1.0, ..Settings::default() };
+    let d = coverage::disturbed(&plan.nodes, &plan.values, &c, &g, plan.goal_ticks.unwrap(), &settings).unwrap();
+    assert!(d.dead_ends > 0, "{d}");
+    // Every failure here is an agent shutting the door on the robot.
+    assert_eq!(d.reached + d.dead_ends, d.episodes, "{d}");
+    assert_eq!(d.recoverable(), d.reached);
+    assert!(d.to_string().ends_with(&format!("({} dead end{})", d.dead_ends, if d.dead_ends == 1 { "" } else { "s" })));
 }

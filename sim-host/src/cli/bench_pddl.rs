@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, bail};
-use planner::coverage::{self, Instance, Outcome, Run, Settings};
+use planner::coverage::{self, Disturbed, Instance, Outcome, Run, Settings};
 use sim_host::text::count;
 
 pub const LONG_ABOUT: &str = "Measures the planner on a folder of PDDL benchmarks: one sub-folder per \
@@ -29,7 +29,9 @@ pub const LONG_ABOUT: &str = "Measures the planner on a folder of PDDL benchmark
     same timeout, and its plan is validated the same way.\n\n\
     Prints a line per instance (with the tree and the repeating actions when Algorithm 1 \
     oscillated), then a table per domain: instances, parsed, solved, median planning time, median \
-    tree size and plan cost, plans found valid, disturbed episodes that reached the goal, and \
+    tree size and plan cost, plans found valid, disturbed episodes that reached the goal (of all, and \
+    of those where a plan remained: a disturbance that search proves leaves no plan to the goal, \
+    such as a peg jumped out of turn in peg solitaire, is a dead end no tree recovers from), and \
     pyperplan's solved count and median time. Times are wall-clock: ours from reading the files to \
     the checked tree, pyperplan's for its whole process.";
 
@@ -59,6 +61,10 @@ pub struct Args {
     /// Write the table (Markdown) here too.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Close the trees of Algorithm 1 and guided backchaining over disturbances too, as
+    /// `plan --close-backchained` does (the regression trees are always closed).
+    #[arg(long)]
+    pub close_backchained: bool,
     /// Child mode: run one instance (domain file, problem file) and print the result.
     #[arg(long, num_args = 2, value_names = ["DOMAIN", "PROBLEM"], hide = true)]
     pub child: Option<Vec<PathBuf>>,
@@ -79,6 +85,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         timeout: Duration::from_secs(args.timeout),
         episodes: args.episodes,
         seed: args.seed,
+        close_backchained: args.close_backchained,
         ..Settings::default()
     };
     if let Some(files) = &args.child {
@@ -196,6 +203,9 @@ fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
     let mut cmd = Command::new(exe);
     cmd.arg("bench-pddl").arg(&args.dir).arg("--child").arg(&instance.domain_file).arg(&instance.problem_file);
     cmd.args(["--timeout", &args.timeout.to_string(), "--episodes", &args.episodes.to_string()]);
+    if args.close_backchained {
+        cmd.arg("--close-backchained");
+    }
     cmd.args(["--seed", &args.seed.to_string()]);
     // Planning stops itself at the timeout; the disturbed episodes come after it.
     let limit = Duration::from_secs(args.timeout.saturating_mul(2).saturating_add(30));
@@ -269,15 +279,14 @@ fn line(r: &Row) -> String {
     let o = &r.ours;
     let ours = match &o.outcome {
         Outcome::Solved => format!(
-            "solved {:.2}s {} {}, plan {} cost {} {}, disturbed {}/{}",
+            "solved {:.2}s {} {}, plan {} cost {} {}, disturbed {}",
             o.seconds,
             o.method.map_or("?", planner::Made::name),
             count(o.nodes, "node"),
             o.plan.len(),
             o.cost,
             yes(r.valid),
-            o.disturbed.0,
-            o.disturbed.1
+            o.disturbed
         ),
         Outcome::Refused(e) => format!("refused: {e}"),
         Outcome::Failed(e) => format!("failed: {e}"),
@@ -311,25 +320,28 @@ fn table(rows: &[Row], args: &Args) -> String {
     let mut domains: Vec<&str> = rows.iter().map(|r| r.instance.domain.as_str()).collect();
     domains.dedup();
     let mut s = String::from(
-        "| domain | instances | parsed | solved | median s | median nodes | median cost | valid | disturbed reached | methods (A1/guided/regr) | pyperplan solved | pyperplan valid | pyperplan median s |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n",
+        "| domain | instances | parsed | solved | median s | median nodes | median cost | valid | disturbed reached | reached where a plan remained | methods (A1/guided/regr) | pyperplan solved | pyperplan valid | pyperplan median s |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n",
     );
     let mut all: Vec<&Row> = Vec::new();
     let summary = |name: &str, rs: &[&Row], s: &mut String| {
         let solved: Vec<&&Row> = rs.iter().filter(|r| r.ours.solved()).collect();
-        let dist = solved.iter().fold((0u32, 0u32), |a, r| (a.0 + r.ours.disturbed.0, a.1 + r.ours.disturbed.1));
+        let dist = solved.iter().fold(Disturbed::default(), |a, r| a.plus(r.ours.disturbed));
         let by = |m: planner::Made| solved.iter().filter(|r| r.ours.method == Some(m)).count();
         let valid = solved.iter().filter(|r| r.valid == Some(true)).count();
         let py_solved: Vec<&&Row> = rs.iter().filter(|r| r.pyperplan.is_some_and(|p| p.0)).collect();
         let py_valid = py_solved.iter().filter(|r| r.pyperplan.is_some_and(|p| p.2 == Some(true))).count();
-        let pct = if dist.1 == 0 {
-            "–".to_string()
-        } else {
-            format!("{:.1} %", 100.0 * f64::from(dist.0) / f64::from(dist.1))
+        let pct = |of: u32| {
+            if of == 0 {
+                "–".to_string()
+            } else {
+                format!("{:.1} %", 100.0 * f64::from(dist.reached) / f64::from(of))
+            }
         };
+        let (pct, kept) = (pct(dist.episodes), pct(dist.recoverable()));
         let _ = writeln!(
             s,
-            "| {name} | {} | {} | {} | {} | {} | {} | {} | {pct} | {}/{}/{} | {} | {} | {} |",
+            "| {name} | {} | {} | {} | {} | {} | {} | {} | {pct} | {kept} | {}/{}/{} | {} | {} | {} |",
             rs.len(),
             rs.iter().filter(|r| r.ours.parsed()).count(),
             solved.len(),

@@ -126,6 +126,13 @@ pub struct Args {
     /// 0: the plan's regression tree alone, smaller and less robust).
     #[arg(long, value_name = "NODES", default_value_t = planner::Options::default().close_nodes, conflicts_with = "task")]
     pub close_nodes: usize,
+    /// Close the trees of Algorithm 1 and guided backchaining over disturbances too
+    /// (PDDL only): where an external agent doing one of the tree's actions out of turn
+    /// leaves the world in a state the tree fails from, rules for those states go in
+    /// front of it, within --close-nodes. Off by default, so that those methods' trees
+    /// stay as the method makes them (the paper's figures among them).
+    #[arg(long, conflicts_with = "task")]
+    pub close_backchained: bool,
 }
 
 fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
@@ -214,6 +221,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         },
         goal_sequence: args.goal_sequence,
         close_nodes: args.close_nodes,
+        close_backchained: args.close_backchained,
         ..Options::default()
     };
     let (bytes, text) = if let Some(task) = &args.task {
