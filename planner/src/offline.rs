@@ -170,8 +170,9 @@ fn close_budget(options: Options) -> crate::regress::Budget {
 /// Closes a tree of Algorithm 1 or guided backchaining over disturbances
 /// ([`crate::regress::close_with`]): where a disturbance leads to a state from which
 /// the tree does not reach the goal, rules go in front of it
-/// (`Fallback(goal?, rules..., tree)`), with [`Options::close_backchained`]. A tree
-/// that reaches the goal from every state looked at stays exactly as it was.
+/// (`Fallback(goal?, rules..., tree)`: the rules of the tree's own plan, and those of
+/// the plans from such states), with [`Options::close_backchained`]. A tree that
+/// reaches the goal from every state looked at stays exactly as it was.
 fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {
     if !options.close_backchained || options.close_nodes == 0 {
         return Ok(p);
@@ -179,9 +180,13 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     let base = p.planner.tree().clone();
     let max_ticks = p.goal_ticks.unwrap_or(0).saturating_mul(4).saturating_add(200);
     let mut behind = Behind::new(g.clone(), p.catalog.as_ref(), &base, max_ticks);
-    let mut policy = crate::regress::Policy::empty();
+    // The rules of the tree's own plan first: a rule added for a disturbed state then
+    // takes over on the tree's path only where it is nearer the goal, so the tree's
+    // undisturbed plan never gets longer.
+    let mut policy = Trace::new(g, &p.executed)
+        .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
     let closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
-    if policy.rules().is_empty() {
+    if closed.plans == 0 {
         return Ok(Plan { closed: Some(closed), ..p });
     }
     let planner = Planner::from_tree(g.clone(), policy.tree_before(g, &base), options)?;
