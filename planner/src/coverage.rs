@@ -326,6 +326,13 @@ fn solvable(g: &Grounding, s: &State) -> Option<bool> {
     }
 }
 
+/// Most ticks of a disturbed episode of a tree that takes `undisturbed` ticks to the
+/// goal (the closure runs its trees from disturbed states as long).
+#[must_use]
+pub fn episode_ticks(undisturbed: u32) -> u32 {
+    undisturbed.saturating_mul(4).saturating_add(200)
+}
+
 /// Runs `settings.episodes` disturbed episodes of the tree (see the module docs).
 ///
 /// # Errors
@@ -339,7 +346,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
     settings: &Settings,
 ) -> Result<Disturbed, PlanError> {
     let helpers = tree_actions(nodes, values, g);
-    let budget = undisturbed_ticks.saturating_mul(4).saturating_add(200);
+    let budget = episode_ticks(undisturbed_ticks);
     let mut out = Disturbed { episodes: settings.episodes, ..Disturbed::default() };
     let mut states = Vec::new();
     for e in 0..settings.episodes {

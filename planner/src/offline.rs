@@ -178,7 +178,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
         return Ok(p);
     }
     let base = p.planner.tree().clone();
-    let max_ticks = p.goal_ticks.unwrap_or(0).saturating_mul(4).saturating_add(200);
+    let max_ticks = crate::coverage::episode_ticks(p.goal_ticks.unwrap_or(0));
     let mut behind = Behind::new(g.clone(), p.catalog.as_ref(), &base, max_ticks);
     // The rules of the tree's own plan first: a rule added for a disturbed state then
     // takes over on the tree's path only where it is nearer the goal, so the tree's
@@ -248,11 +248,10 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
         policy: &crate::regress::Policy,
         s: &crate::state::State,
     ) -> Result<(Vec<crate::state::State>, bool), PlanError> {
-        if self.built.as_ref().is_none_or(|(rules, _)| rules.as_slice() != policy.rules()) {
-            let flat = policy.tree_before(g, self.base).flatten(g)?;
-            self.built = Some((policy.rules().to_vec(), flat));
-        }
-        let Some((_, flat)) = &self.built else { return Ok((vec![s.clone()], false)) };
+        let flat = match &mut self.built {
+            Some((rules, flat)) if rules.as_slice() == policy.rules() => flat,
+            built => &built.insert((policy.rules().to_vec(), policy.tree_before(g, self.base).flatten(g)?)).1,
+        };
         let mut world = StripsWorld::new(self.g.clone());
         world.set_state(s.clone());
         let mut path = vec![s.clone()];

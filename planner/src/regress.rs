@@ -214,13 +214,6 @@ fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Policy {
     rules: Vec<Rule>,
-    /// Planner nodes of the tree (kept up to date by [`Policy::add_path`]).
-    size: usize,
-}
-
-/// Planner nodes of the goal check.
-fn goal_nodes(g: &Grounding) -> usize {
-    if g.goal().len() == 1 { 1 } else { 1 + g.goal().len() }
 }
 
 fn subset(a: &[Lit], b: &[Lit]) -> bool {
@@ -320,15 +313,15 @@ impl Policy {
                 kept += 1;
             }
         }
-        let t = self.tree(g);
-        self.size = t.preorder(t.root()).len();
         kept
     }
 
-    /// Planner nodes of [`Policy::tree`].
+    /// Planner nodes of [`Policy::tree`] (it builds the tree: keep the count while the
+    /// rules do not change).
     #[must_use]
     pub fn nodes(&self, g: &Grounding) -> usize {
-        if self.rules.is_empty() { 1 + goal_nodes(g) } else { self.size }
+        let t = self.tree(g);
+        t.preorder(t.root()).len()
     }
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
@@ -423,7 +416,7 @@ impl Policy {
     /// An empty policy (no rules).
     #[must_use]
     pub fn empty() -> Self {
-        Self { rules: Vec::new(), size: 0 }
+        Self { rules: Vec::new() }
     }
 }
 
@@ -466,8 +459,9 @@ impl Closable for RulesOnly {
 /// Closes `policy` over disturbances from the initial state (see the module docs).
 ///
 /// # Errors
-/// None today: a search that fails or times out ends the closure early
-/// ([`Closed::complete`] false); the `Result` keeps room for a caller's stop.
+/// None: a search that runs out of time counts in [`Closed::given_up`], and a budget
+/// that runs out ends the closure early ([`Closed::complete`] false); the `Result` is
+/// [`close_with`]'s.
 pub fn close(g: &Grounding, policy: &mut Policy, budget: &Budget) -> Result<Closed, PlanError> {
     close_with(g, policy, &mut RulesOnly, budget)
 }
@@ -515,10 +509,12 @@ fn pass(
             frontier.push(s);
         }
     }
-    let over = |d: &Closed, p: &Policy, tree: &dyn Closable| {
+    // The tree's size, counted again whenever rules are added.
+    let mut size = tree.nodes(g, policy);
+    let over = |d: &Closed, size: usize| {
         d.plans >= budget.plans
             || d.states >= budget.states
-            || tree.nodes(g, p) >= budget.nodes
+            || size >= budget.nodes
             || budget.deadline.is_some_and(|t| Instant::now() >= t)
     };
     for _ in 0..MAX_DISTURBANCES {
@@ -529,7 +525,7 @@ fn pass(
                 if !seen.insert(t.clone()) {
                     continue;
                 }
-                if over(done, policy, tree) {
+                if over(done, size) {
                     return Ok(false);
                 }
                 if ever.insert(t.clone()) {
@@ -562,6 +558,7 @@ fn pass(
                             }
                         }
                     }
+                    size = tree.nodes(g, policy);
                     path = tree.run(g, policy, &t)?.0;
                 }
                 next.push(t.clone());

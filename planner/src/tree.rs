@@ -225,7 +225,7 @@ impl PlanTree {
         for n in other.preorder(other.root) {
             let c = self.add(other.kind(n));
             copy[n as usize] = c;
-            let up = other.parent(n).filter(|_| n != other.root).map_or(parent, |p| copy[p as usize]);
+            let up = other.parent(n).map_or(parent, |p| copy[p as usize]);
             self.push_child(up, c);
         }
         copy[other.root as usize]
