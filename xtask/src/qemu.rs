@@ -200,10 +200,6 @@ fn build_firmware(fw: &Path) -> Result<(Toolchain, PathBuf)> {
         "built with {}",
         match toolchain {
             Toolchain::RustupSource => "rustup's rustc, core built from source (-Zbuild-std=core), rust-lld",
-            Toolchain::RustupPrebuilt => {
-                "rustup's prebuilt thumbv7em-none-eabihf core, rust-lld (compiler-builtins optimised for \
-                 speed: more flash than CI measures; `rustup component add rust-src` builds core from source)"
-            }
             Toolchain::Debian => "Debian's rustc, core built from source (-Zbuild-std=core), arm-none-eabi-ld",
         }
     );
@@ -363,7 +359,7 @@ fn costly(nm: &str) -> Vec<&str> {
 /// The compiler that built the firmware, as `rustc -V` prints it.
 fn compiler(toolchain: Toolchain) -> String {
     let rustc = match toolchain {
-        Toolchain::RustupSource | Toolchain::RustupPrebuilt => "rustc",
+        Toolchain::RustupSource => "rustc",
         Toolchain::Debian => "/usr/bin/rustc",
     };
     Command::new(rustc)
@@ -392,8 +388,7 @@ fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64
             format!("OVER the {} KiB target by {} B", target / 1024, used - target)
         }
     };
-    let how = if toolchain.core_from_source() { "core built from source" } else { "rustup's prebuilt core" };
-    eprintln!("compiler: {} ({how})", compiler(toolchain));
+    eprintln!("compiler: {} (core built from source)", compiler(toolchain));
     eprintln!("arm-none-eabi-size: text {text_b} B, data {data} B, bss {bss} B");
     eprintln!("flash (text + data):                 {flash:>6} B  {}", verdict(flash, flash_target));
     eprintln!(

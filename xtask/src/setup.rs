@@ -3,9 +3,10 @@
 //! password-less sudo), or fails at once naming every missing piece and the one command
 //! that installs them.
 //!
-//! Needed: rustfmt and clippy; for the bare-metal builds rustup's `rust-src` component
-//! (or its `thumbv7em-none-eabihf` and `thumbv6m-none-eabi` targets) or Debian's
-//! compiler with its std sources (`rustc-web cargo-web rust-web-src`); the ARM binutils
+//! Needed: rustfmt and clippy; for the bare-metal builds, which build `core` from source,
+//! rustup's `rust-src` component or Debian's compiler with its std sources (`rustc-web
+//! cargo-web rust-web-src`; installed by apt where it may, else `rust-src` by rustup;
+//! rustup's prebuilt targets are not enough, see `Toolchain` in main.rs); the ARM binutils
 //! (`binutils-arm-none-eabi`: the linker, nm, size, addr2line, objdump) and QEMU
 //! (`qemu-system-arm`). apt never removes a package to install these: a package it
 //! would remove is upgraded with them instead, and if that does not settle it the
@@ -13,8 +14,9 @@
 
 use std::path::Path;
 use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
-use crate::{CORE_TARGETS, Result, cargo, step};
+use crate::{Result, cargo, step};
 
 /// A missing piece: what it is, and how to get it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -39,16 +41,29 @@ fn tool(name: &str) -> bool {
     works(Command::new(name).arg("--version"))
 }
 
-/// Whether rustup has every bare-metal target installed.
-fn rustup_targets() -> bool {
-    Command::new("rustup")
-        .args(["target", "list", "--installed"])
-        .output()
-        .map(|o| {
-            let text = String::from_utf8_lossy(&o.stdout);
-            CORE_TARGETS.iter().all(|t| text.lines().any(|l| l.trim() == *t))
-        })
-        .unwrap_or(false)
+/// Asks rustup for its `rust-src` component, giving up after `limit` (rustup may retry
+/// a download it cannot make for a long time). Whether the sources are there after.
+fn rustup_rust_src_added(limit: Duration) -> bool {
+    step("installing rustup's rust-src component (core for Cortex-M, built from source)");
+    let Ok(mut child) = Command::new("rustup").args(["component", "add", "rust-src"]).stdin(Stdio::null()).spawn()
+    else {
+        eprintln!("rustup not found");
+        return false;
+    };
+    let start = Instant::now();
+    loop {
+        match child.try_wait() {
+            Ok(Some(_)) => break,
+            Ok(None) if start.elapsed() < limit => std::thread::sleep(Duration::from_millis(200)),
+            _ => {
+                let _ = child.kill();
+                let _ = child.wait();
+                eprintln!("rustup component add rust-src did not finish in {} s: stopped", limit.as_secs());
+                break;
+            }
+        }
+    }
+    crate::rustup_rust_src()
 }
 
 /// Everything missing, in one pass.
@@ -62,7 +77,7 @@ fn missing() -> Vec<Missing> {
             });
         }
     }
-    if !rustup_targets() && !crate::rustup_rust_src() {
+    if !crate::rustup_rust_src() && !crate::debian_toolchain() {
         for (what, path, package) in [
             ("Debian's rustc (core for Cortex-M, built from source)", "/usr/bin/rustc", "rustc-web"),
             ("Debian's cargo", "/usr/bin/cargo", "cargo-web"),
@@ -193,11 +208,25 @@ pub fn prerequisites(install_missing: bool) -> Result {
         return Ok(());
     }
     let wanted = packages(&gaps);
+    let apt_prefix = apt_prefix();
     if install_missing
         && !wanted.is_empty()
-        && let Some(prefix) = apt_prefix()
+        && let Some(prefix) = &apt_prefix
     {
-        install(&prefix, &wanted)?;
+        install(prefix, &wanted)?;
+        gaps = missing();
+        if gaps.is_empty() {
+            return Ok(());
+        }
+    }
+    // Without apt (another system, or no root), rustup's sources do what Debian's
+    // compiler would.
+    if install_missing
+        && apt_prefix.is_none()
+        && gaps.iter().any(|g| matches!(g.fix, Fix::Apt(p) if p.starts_with("rust")))
+        && tool("rustup")
+        && rustup_rust_src_added(Duration::from_secs(300))
+    {
         gaps = missing();
         if gaps.is_empty() {
             return Ok(());
