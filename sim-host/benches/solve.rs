@@ -8,6 +8,10 @@
 //!   --plain V,...         also single populations of these variants (none, baseline, ...)
 //!   --plain-factor F      single populations get F x the reference generations
 //!                         (default: K, about the islands' whole episode budget)
+//!   --islands-known MED,WORST
+//!                         skip the island runs: their median and worst time to solve
+//!                         (seconds) from an earlier run, for the equal-time counts
+//!                         of single populations (long physics comparisons)
 //! ```
 //!
 //! Every run stops as soon as it reaches the solved level of its task (tower > -3,
@@ -85,6 +89,32 @@ fn quantiles(mut xs: Vec<f64>) -> (f64, f64) {
     (median, xs[n - 1])
 }
 
+/// The island runs of `task`, one per seed, printed; their median and worst time to solve.
+fn islands_runs(task: Task, world: WorldKind, seeds: &[u64], budget: u32, setup: IslandParams, k: usize) -> (f64, f64) {
+    let mut isl = Vec::new();
+    for &seed in seeds {
+        let o = run_one(task, world, Variant::Baseline, seed, budget, setup);
+        println!(
+            "  islands  seed {seed:>3}: {} in {:>7.3} s, {:>8} episodes",
+            if o.solved { "solved" } else { "FAILED" },
+            o.seconds,
+            o.episodes
+        );
+        isl.push(o);
+    }
+    let solved: Vec<f64> = isl.iter().filter(|o| o.solved).map(|o| o.seconds).collect();
+    let (med, worst) = quantiles(solved.clone());
+    let (_, worst_all) = quantiles(isl.iter().map(|o| o.seconds).collect());
+    println!(
+        "  islands (baseline, {k}): {}/{} solved; time to solve median {med:.3} s, worst {worst:.3} s \
+         (worst run {worst_all:.3} s); episodes median {:.0}",
+        solved.len(),
+        isl.len(),
+        quantiles(isl.iter().map(|o| o.episodes as f64).collect()).0
+    );
+    (med, worst)
+}
+
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
     let mut take = |flag: &str| -> Option<String> {
@@ -106,6 +136,10 @@ fn main() {
     let plain: Vec<Variant> =
         take("--plain").map(|s| s.split(',').map(|v| v.parse().unwrap()).collect()).unwrap_or_default();
     let factor: u32 = take("--plain-factor").map_or(k as u32, |s| s.parse().unwrap());
+    let known: Option<(f64, f64)> = take("--islands-known").map(|s| {
+        let (m, w) = s.split_once(',').expect("--islands-known MED,WORST");
+        (m.parse().unwrap(), w.parse().unwrap())
+    });
     let world = if args.iter().any(|a| a == "physics") { WorldKind::Physics } else { WorldKind::Symbolic };
     let tasks: Vec<Task> = args
         .iter()
@@ -130,27 +164,16 @@ fn main() {
             stop_at: Some(level + 1e-9),
         };
         println!("\n{} ({} generations per island, solved above {level})", task.name(), budget);
-        let mut isl = Vec::new();
-        for &seed in &seeds {
-            let o = run_one(task, world, Variant::Baseline, seed, budget, setup);
-            println!(
-                "  islands  seed {seed:>3}: {} in {:>7.3} s, {:>8} episodes",
-                if o.solved { "solved" } else { "FAILED" },
-                o.seconds,
-                o.episodes
-            );
-            isl.push(o);
-        }
-        let solved: Vec<f64> = isl.iter().filter(|o| o.solved).map(|o| o.seconds).collect();
-        let (med, worst) = quantiles(solved.clone());
-        let (_, worst_all) = quantiles(isl.iter().map(|o| o.seconds).collect());
-        println!(
-            "  islands (baseline, {k}): {}/{} solved; time to solve median {med:.3} s, worst {worst:.3} s \
-             (worst run {worst_all:.3} s); episodes median {:.0}",
-            solved.len(),
-            isl.len(),
-            quantiles(isl.iter().map(|o| o.episodes as f64).collect()).0
-        );
+        let (med, worst) = match known {
+            Some(times) => {
+                println!(
+                    "  islands: not run; median and worst time to solve {:.3} s, {:.3} s as given",
+                    times.0, times.1
+                );
+                times
+            }
+            None => islands_runs(task, world, &seeds, budget, setup, k),
+        };
         for &variant in &plain {
             let single = IslandParams { islands: 1, migration_interval: 50, stagnation: None, stop_at: setup.stop_at };
             let mut outs = Vec::new();
