@@ -104,6 +104,8 @@ pub struct Settings {
     pub max_disturbances: u32,
     /// Plan with [`Options::close_backchained`].
     pub close_backchained: bool,
+    /// Plan with this [`Options::close_nodes`].
+    pub close_nodes: usize,
 }
 
 impl Default for Settings {
@@ -115,6 +117,7 @@ impl Default for Settings {
             rate: 0.2,
             max_disturbances: 3,
             close_backchained: false,
+            close_nodes: Options::default().close_nodes,
         }
     }
 }
@@ -220,8 +223,12 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         Err(e) => return failed(e, secs()),
     };
     let catalog = Arc::new(PddlCatalog::new(&problem));
-    let options =
-        Options { deadline: Some(deadline), close_backchained: settings.close_backchained, ..Options::default() };
+    let options = Options {
+        deadline: Some(deadline),
+        close_backchained: settings.close_backchained,
+        close_nodes: settings.close_nodes,
+        ..Options::default()
+    };
     let plan = match crate::plan(g.clone(), catalog.clone(), options) {
         Ok(p) => p,
         Err(e) => return failed(e, secs()),

@@ -65,6 +65,10 @@ pub struct Args {
     /// `plan --close-backchained` does (the regression trees are always closed).
     #[arg(long)]
     pub close_backchained: bool,
+    /// The most nodes a tree may grow to while it is closed over disturbances, as
+    /// `plan --close-nodes` (0: no closure).
+    #[arg(long, value_name = "NODES", default_value_t = planner::Options::default().close_nodes)]
+    pub close_nodes: usize,
     /// Child mode: run one instance (domain file, problem file) and print the result.
     #[arg(long, num_args = 2, value_names = ["DOMAIN", "PROBLEM"], hide = true)]
     pub child: Option<Vec<PathBuf>>,
@@ -86,6 +90,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         episodes: args.episodes,
         seed: args.seed,
         close_backchained: args.close_backchained,
+        close_nodes: args.close_nodes,
         ..Settings::default()
     };
     if let Some(files) = &args.child {
@@ -206,6 +211,7 @@ fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
     if args.close_backchained {
         cmd.arg("--close-backchained");
     }
+    cmd.args(["--close-nodes", &args.close_nodes.to_string()]);
     cmd.args(["--seed", &args.seed.to_string()]);
     // Planning stops itself at the timeout; the disturbed episodes come after it.
     let limit = Duration::from_secs(args.timeout.saturating_mul(2).saturating_add(30));

@@ -1,0 +1,38 @@
+//! `sim-host bench-pddl` through the real binary, on one of the planner's IPC fixtures.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+mod cli_common;
+use cli_common::sim_host;
+
+/// The assembly instance's line of the bench's output with `--close-nodes nodes`.
+fn assembly(nodes: &str) -> String {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/fixtures/ipc");
+    let args = ["bench-pddl", dir.to_str().unwrap(), "--only", "assembly/prob01", "--timeout", "60"];
+    let out = sim_host(&[&args[..], &["--episodes", "20", "--close-nodes", nodes]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("1 instance, timeout 60 s"), "{text}");
+    text.lines().find(|l| l.starts_with("assembly/prob01.pddl:")).unwrap_or_else(|| panic!("{text}")).to_owned()
+}
+
+/// The `disturbed N/20` count of a result line.
+fn reached(line: &str) -> u32 {
+    let at = line.find("disturbed ").unwrap_or_else(|| panic!("{line}")) + "disturbed ".len();
+    line[at..].split('/').next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn close_nodes_bounds_the_closure_the_disturbed_episodes_measure() {
+    // 0: the plan's regression tree alone, which agents doing its actions out of turn
+    // defeat; a budget of 2,000 nodes already closes it over most of them.
+    let plain = assembly("0");
+    assert!(plain.contains("solved") && plain.contains("regression"), "{plain}");
+    let closed = assembly("2000");
+    let nodes = |l: &str| -> usize {
+        let w: Vec<&str> = l.split_whitespace().collect();
+        let i = w.iter().position(|x| *x == "nodes,").unwrap_or_else(|| panic!("{l}"));
+        w[i - 1].parse().unwrap()
+    };
+    assert!(nodes(&plain) < nodes(&closed), "{plain}\n{closed}");
+    assert!(reached(&plain) < reached(&closed), "{plain}\n{closed}");
+}
