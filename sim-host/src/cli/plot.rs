@@ -382,6 +382,13 @@ fn cost_ticks(lo: f64, hi: f64) -> Vec<f64> {
     (0..5).map(|i| lo * (hi / lo).powf(f64::from(i) / 4.0)).collect()
 }
 
+/// The largest 1-2-5 value at most `v`: the axis then ends on a labelled value (the
+/// best end of the fitness axis is the one read most).
+fn snap_down(v: f64) -> f64 {
+    let d = 10f64.powi(v.log10().floor() as i32);
+    [5.0, 2.0, 1.0].iter().map(|m| m * d).find(|&x| x <= v * (1.0 + 1e-12)).unwrap_or(d)
+}
+
 /// Fitness labels for costs, with as few decimals as keep neighbours apart (at least
 /// two significant digits).
 fn fitness_labels(costs: &[f64]) -> Vec<String> {
@@ -427,7 +434,7 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, runs: &[Recorded], p
             format!("{} ({} seed{})", group[0].variant_label, group.len(), if group.len() == 1 { "" } else { "s" });
         series.push((colour(group[0]), label, pts));
     }
-    let (lo, hi) = ((lo * 0.7).max(1e-3), hi * 1.25);
+    let (lo, hi) = (snap_down((lo * 0.7).max(1e-3)), hi * 1.25);
     // The planner's level is labelled too: curves are read against it.
     let mut ticks = cost_ticks(lo, hi);
     if planner_cost > 0.0 && ticks.iter().all(|t| (t / planner_cost - 1.0).abs() > 0.15) {
@@ -502,4 +509,19 @@ fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, runs: &[Recorded], p
             .map_err(|e| err(&e))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_best_end_of_the_axis_is_a_labelled_value() {
+        assert_eq!(snap_down(21.4), 20.0);
+        assert_eq!(snap_down(0.7), 0.5);
+        assert_eq!(snap_down(2.0), 2.0);
+        assert_eq!(snap_down(1.3), 1.0);
+        assert!((snap_down(0.0142) - 0.01).abs() < 1e-12);
+        assert!(cost_ticks(snap_down(21.4), 400.0).contains(&20.0));
+    }
 }
