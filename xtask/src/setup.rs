@@ -162,12 +162,84 @@ pub(crate) fn removals(simulation: &str) -> Vec<String> {
         .collect()
 }
 
+/// The backports release the machine's `qemu-utils` came from (`bookworm-backports`
+/// for a version such as `1:10.0.2+ds-2+deb13u1~bpo12+1`), if it came from one.
+/// `qemu-system-arm` must then come from the same release: the release's own QEMU
+/// declares that it breaks with the newer `qemu-utils`, and apt cannot resolve it.
+fn qemu_backports() -> Option<String> {
+    let out = Command::new("/usr/bin/dpkg-query").args(["-W", "-f=${Version}", "qemu-utils"]).output().ok()?;
+    let version = String::from_utf8_lossy(&out.stdout).into_owned();
+    if !out.status.success() || !version.contains("~bpo") {
+        return None;
+    }
+    let release = std::fs::read_to_string("/etc/os-release").ok()?;
+    let codename = release.lines().find_map(|l| l.strip_prefix("VERSION_CODENAME="))?.trim_matches('"').to_owned();
+    (!codename.is_empty()).then(|| format!("{codename}-backports"))
+}
+
+/// Installs `qemu-system-arm` from `release` (a backports release), adding Debian's
+/// source for it when apt does not know it yet (`/etc/apt/sources.list.d/xtask-RELEASE.list`).
+fn install_qemu_from(prefix: &[&str], release: &str) -> Result {
+    let policy = apt_cache(&["policy", "qemu-system-arm"]);
+    if !policy.contains(&format!(" {release}/")) {
+        let list = format!("/etc/apt/sources.list.d/xtask-{release}.list");
+        eprintln!("qemu-utils comes from {release}: adding {list} for a matching qemu-system-arm");
+        let line = format!("deb http://deb.debian.org/debian {release} main\n");
+        let mut tee = match prefix.split_first() {
+            None => Command::new("/usr/bin/tee"),
+            Some((sudo, rest)) => {
+                let mut c = Command::new(sudo);
+                c.args(rest).arg("/usr/bin/tee");
+                c
+            }
+        };
+        let mut child = tee
+            .arg(&list)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .spawn()
+            .map_err(|e| format!("cannot write {list}: {e}"))?;
+        if let Some(mut stdin) = child.stdin.take() {
+            use std::io::Write as _;
+            stdin.write_all(line.as_bytes()).map_err(|e| format!("cannot write {list}: {e}"))?;
+        }
+        let status = child.wait().map_err(|e| format!("cannot write {list}: {e}"))?;
+        if !status.success() {
+            return Err(format!("cannot write {list} ({status})"));
+        }
+        crate::run(&mut apt(prefix, &["update", "-qq"]))?;
+    }
+    crate::run(&mut apt(
+        prefix,
+        &["install", "-y", "-qq", "--no-remove", "--no-install-recommends", "-t", release, "qemu-system-arm"],
+    ))
+}
+
+fn apt_cache(args: &[&str]) -> String {
+    Command::new("/usr/bin/apt-cache")
+        .args(args)
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default()
+}
+
 /// Installs `wanted` with apt, removing nothing: what apt would remove is upgraded along
-/// with them; if apt would still remove something, nothing is installed.
+/// with them; if apt would still remove something, nothing is installed. QEMU comes
+/// from the release the machine's `qemu-utils` came from ([`qemu_backports`]).
 fn install(prefix: &[&str], wanted: &[&'static str]) -> Result {
     let shown = wanted.join(" ");
     step(&format!("installing Debian packages: {shown}"));
     crate::run(&mut apt(prefix, &["update", "-qq"]))?;
+    let mut wanted = wanted.to_vec();
+    if wanted.contains(&"qemu-system-arm")
+        && let Some(release) = qemu_backports()
+    {
+        install_qemu_from(prefix, &release)?;
+        wanted.retain(|&p| p != "qemu-system-arm");
+        if wanted.is_empty() {
+            return Ok(());
+        }
+    }
     let mut list: Vec<String> = wanted.iter().map(|s| (*s).to_owned()).collect();
     for _ in 0..3 {
         let mut sim = apt(prefix, &["-s", "install", "-y"]);
