@@ -1,6 +1,7 @@
 //! The interface between the executor and the world: behavior sets and observers.
 
 use crate::node::{Leaf, NodeId};
+use crate::script::{ScriptFault, Value};
 use crate::status::{NodeStatus, Status};
 
 /// What a behavior is told when it is ticked.
@@ -44,6 +45,18 @@ pub trait BehaviorSet {
     /// Stops a Running action that the tree no longer wants. Called exactly once per
     /// preemption, before any other action starts in its place.
     fn halt(&mut self, leaf: &Leaf, node: NodeId);
+
+    /// Runs a `Script` or `ScriptCondition` node's program (its words, from the tree's
+    /// value table) on the set's blackboard: usually
+    /// [`script::run`](crate::script::run)`(code, &ports, &mut blackboard)`. The default
+    /// refuses, for sets without a blackboard.
+    ///
+    /// # Errors
+    /// The [`ScriptFault`] that stopped the script; the tick ends with it.
+    fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        let _ = (code, ctx);
+        Err(ScriptFault::Unsupported)
+    }
 }
 
 impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
@@ -60,6 +73,11 @@ impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
     #[inline(always)]
     fn halt(&mut self, leaf: &Leaf, node: NodeId) {
         (**self).halt(leaf, node);
+    }
+
+    #[inline(always)]
+    fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        (**self).script(code, ctx)
     }
 }
 
@@ -122,6 +140,14 @@ pub enum TickError {
         /// Its behavior id.
         behavior: u16,
     },
+    /// A `Script` or `ScriptCondition` stopped with a fault (BehaviorTree.CPP throws).
+    #[error("script node {node}: {fault}")]
+    Script {
+        /// The script's node id.
+        node: NodeId,
+        /// Why it stopped.
+        fault: ScriptFault,
+    },
 }
 
 impl TickError {
@@ -132,6 +158,7 @@ impl TickError {
             Self::ConditionRunning { .. } => "condition-running",
             Self::OutOfRange { .. } => "out-of-range",
             Self::LeafSkipped { .. } => "leaf-skipped",
+            Self::Script { .. } => "script",
         }
     }
 }

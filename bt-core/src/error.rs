@@ -185,6 +185,14 @@ pub enum LoadError {
         /// What is wrong.
         fault: crate::port::PortFault,
     },
+    /// A script node's program does not check out against the image's ports section.
+    #[error("node {node}: {fault}")]
+    BadScript {
+        /// The script node.
+        node: NodeId,
+        /// What is wrong.
+        fault: crate::script::ScriptFault,
+    },
 }
 
 /// What is wrong with a node's arguments or parameters.
@@ -361,6 +369,7 @@ impl LoadError {
             Self::WrongLeafKind { .. } => "wrong-leaf-kind",
             Self::BadArgument { .. } => "bad-argument",
             Self::BadPort { .. } => "bad-port",
+            Self::BadScript { .. } => "bad-script",
             Self::UnsupportedKind { .. } => "unsupported-kind",
         }
     }
@@ -378,6 +387,7 @@ impl LoadError {
             | Self::WrongLeafKind { node, .. }
             | Self::BadArgument { node, .. }
             | Self::BadPort { node, .. }
+            | Self::BadScript { node, .. }
             | Self::UnsupportedKind { node, .. } => Some(node),
             Self::BadMagic { .. }
             | Self::UnsupportedVersion { .. }

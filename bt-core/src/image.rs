@@ -1,13 +1,13 @@
 //! The deployable image: a tree as bytes, checked end to end before it can run.
 //!
-//! # Byte layout (format version 2)
+//! # Byte layout (format version 3)
 //!
 //! All fixed-width integers are little-endian.
 //!
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0      | 4    | magic, the ASCII bytes `BTIM` |
-//! | 4      | 2    | format version, `u16` (2; version 1 is still read) |
+//! | 4      | 2    | format version, `u16` (3 or 2, see below; version 1 is still read) |
 //! | 6      | 8    | fingerprint of the behavior set, `u64` (see [`fingerprint`](crate::fingerprint)) |
 //! | 14     | 2    | node count `n`, `u16`, at least 1 |
 //! | 16     | …    | `n` nodes in pre-order, each [postcard]-encoded as below |
@@ -54,6 +54,8 @@
 //! | 31 | `AlwaysFailure` | — |
 //! | 32 | `Parallel` whose skipped children count towards success | as tag 4 |
 //! | 33 | `Gate`, extended | as tag 14 |
+//! | 34 | `Script` (version 3) | program: start `u16`, length `u16` in the value table |
+//! | 35 | `ScriptCondition` (version 3) | as tag 34 |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -82,8 +84,10 @@
 //! takes the next version; a loader reads exactly the versions it knows and refuses
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
-//! build writes version 2 and reads versions 1 and 2; a version-1 image has neither
-//! extended leaves nor sections.
+//! build reads versions 1 to 3. It writes version 3 for a tree with script nodes (tags 34
+//! and 35, the only difference) and version 2 otherwise, so that controllers built
+//! before scripts existed keep loading every image they can run. A version-1 image has
+//! neither extended leaves nor sections.
 //!
 //! # Loading
 //!
@@ -100,14 +104,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::catalog::Catalog;
 use crate::error::{EncodeError, LoadError};
-use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind, Span};
+use crate::node::{Code, Leaf, LeafError, Node, NodeId, NodeKind, Span};
 use crate::port::PortTable;
 use crate::tree::Tree;
 
 /// The first four bytes of every image.
 pub const MAGIC: [u8; 4] = *b"BTIM";
-/// The format version this build writes.
-pub const VERSION: u16 = 2;
+/// The newest format version this build reads and writes (for trees with scripts).
+pub const VERSION: u16 = 3;
+/// The version this build writes for trees without scripts.
+pub const VERSION_WITHOUT_SCRIPTS: u16 = 2;
 /// The oldest format version this build reads.
 pub const OLDEST_VERSION: u16 = 1;
 /// Bytes before the first node.
@@ -313,11 +319,25 @@ enum WireKind {
     },
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     GateExt(WireLeaf),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Script(WireCode),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    ScriptCondition(WireCode),
+}
+
+#[derive(Serialize, Deserialize)]
+struct WireCode {
+    start: u16,
+    len: u16,
 }
 
 impl WireKind {
-    /// Whether version `version` has this tag: version 1 has tags 0 to 12.
+    /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
+    /// to 33.
     fn in_version(&self, version: u16) -> bool {
+        if matches!(self, Self::Script(_) | Self::ScriptCondition(_)) {
+            return version >= 3;
+        }
         version >= 2
             || matches!(
                 self,
@@ -389,6 +409,8 @@ fn to_wire(node: &Node) -> WireNode {
         },
         NodeKind::AlwaysSuccess => WireKind::AlwaysSuccess,
         NodeKind::AlwaysFailure => WireKind::AlwaysFailure,
+        NodeKind::Script(c) => WireKind::Script(WireCode { start: c.start, len: c.len }),
+        NodeKind::ScriptCondition(c) => WireKind::ScriptCondition(WireCode { start: c.start, len: c.len }),
     };
     WireNode { size: node.size(), kind }
 }
@@ -478,6 +500,8 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
         WireKind::GateExt(l) => NodeKind::Gate(extended_of(id, l)?),
         WireKind::AlwaysSuccess => NodeKind::AlwaysSuccess,
         WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
+        WireKind::Script(c) => NodeKind::Script(Code { start: c.start, len: c.len }),
+        WireKind::ScriptCondition(c) => NodeKind::ScriptCondition(Code { start: c.start, len: c.len }),
         // The kinds of version 1 and the extended leaves: `from_wire`.
         WireKind::Sequence
         | WireKind::Fallback
@@ -524,7 +548,9 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     let too_small = EncodeError::BufferTooSmall { capacity };
     let (header, body) = out.split_at_mut_checked(HEADER_LEN).ok_or(too_small)?;
     header.get_mut(0..4).ok_or(too_small)?.copy_from_slice(&MAGIC);
-    header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&VERSION.to_le_bytes());
+    let scripts = nodes.iter().any(|n| matches!(n.kind(), NodeKind::Script(_) | NodeKind::ScriptCondition(_)));
+    let version = if scripts { VERSION } else { VERSION_WITHOUT_SCRIPTS };
+    header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());
     header.get_mut(6..14).ok_or(too_small)?.copy_from_slice(&fingerprint.to_le_bytes());
     header.get_mut(14..16).ok_or(too_small)?.copy_from_slice(&count.to_le_bytes());
     let mut w = Writer { buf: body, used: 0, too_small };
@@ -845,6 +871,11 @@ pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
             ports
                 .check_leaf(catalog, leaf.behavior(), tree.args(&leaf))
                 .map_err(|fault| LoadError::BadPort { node: id as NodeId, fault })?;
+        }
+        #[cfg(feature = "btcpp")]
+        if let NodeKind::Script(code) | NodeKind::ScriptCondition(code) = *node.kind() {
+            crate::script::check(code.words(tree.values()), &ports)
+                .map_err(|fault| LoadError::BadScript { node: id as NodeId, fault })?;
         }
     }
     Ok((tree, ports))

@@ -62,6 +62,7 @@ pub mod image;
 mod node;
 pub mod port;
 pub mod render;
+pub mod script;
 mod status;
 mod tree;
 
@@ -71,7 +72,7 @@ pub use catalog::{Behavior, BehaviorInfo, Catalog, fingerprint, fingerprint_with
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};
 pub use exec::{Executor, NodeState, StateTooSmall};
 pub use image::{encode, encode_with, load, load_with, load_with_ports};
-pub use node::{Arity, BehaviorId, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind, Span};
+pub use node::{Arity, BehaviorId, Code, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind, Span};
 pub use port::{Port, PortDirection, PortInfo, PortTable, PortType, PortValue};
 pub use render::Render;
 pub use status::{NodeStatus, Status};

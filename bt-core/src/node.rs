@@ -227,6 +227,26 @@ impl Span {
     }
 }
 
+/// A script's program: `len` words of the tree's value table from `start` (see
+/// [`script`](crate::script)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Code {
+    /// The first word.
+    pub start: u16,
+    /// The number of words (at least 1).
+    pub len: u16,
+}
+
+impl Code {
+    /// The program's words in `values` (its tree's value table); empty when the range
+    /// lies outside, which a validated tree rules out.
+    #[must_use]
+    pub fn words<'v>(&self, values: &'v [u16]) -> &'v [u16] {
+        let start = usize::from(self.start);
+        values.get(start..start + usize::from(self.len)).unwrap_or(&[])
+    }
+}
+
 /// What a node is and does.
 ///
 /// Control nodes have one or more children (`IfThenElse` and `WhileDoElse` two or
@@ -354,6 +374,13 @@ pub enum NodeKind {
     AlwaysSuccess,
     /// `AlwaysFailure`: a leaf that fails.
     AlwaysFailure,
+    /// BehaviorTree.CPP's `Script`: runs its program through
+    /// [`BehaviorSet::script`](crate::BehaviorSet::script) and succeeds; a script that
+    /// stops with a fault ends the tick with [`TickError::Script`](crate::TickError::Script).
+    Script(Code),
+    /// `ScriptCondition`: runs its program; Success when the result holds
+    /// ([`script::truth`](crate::script::truth)), else Failure.
+    ScriptCondition(Code),
 }
 
 /// How many children a kind of node takes.
@@ -410,6 +437,8 @@ impl NodeKind {
             Self::Gate(_) => "Gate",
             Self::AlwaysSuccess => "AlwaysSuccess",
             Self::AlwaysFailure => "AlwaysFailure",
+            Self::Script(_) => "Script",
+            Self::ScriptCondition(_) => "ScriptCondition",
         }
     }
 
@@ -442,7 +471,12 @@ impl NodeKind {
             | Self::Delay(_)
             | Self::RateController(_)
             | Self::Gate(_) => Arity::One,
-            Self::Condition(_) | Self::Action(_) | Self::AlwaysSuccess | Self::AlwaysFailure => Arity::Leaf,
+            Self::Condition(_)
+            | Self::Action(_)
+            | Self::AlwaysSuccess
+            | Self::AlwaysFailure
+            | Self::Script(_)
+            | Self::ScriptCondition(_) => Arity::Leaf,
         }
     }
 

@@ -127,6 +127,8 @@ pub fn write_label<C: Catalog + ?Sized>(
         }
         NodeKind::AlwaysSuccess => f.write_str("--> AlwaysSuccess"),
         NodeKind::AlwaysFailure => f.write_str("--> AlwaysFailure"),
+        NodeKind::Script(c) => write!(f, "--> Script ({} words)", c.len),
+        NodeKind::ScriptCondition(c) => write!(f, "--> ScriptCondition ({} words)", c.len),
     }
 }
 

@@ -270,6 +270,18 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
             }
             Ok(())
         }
+        NodeKind::Script(code) | NodeKind::ScriptCondition(code)
+            if code.len == 0 || usize::from(code.start) + usize::from(code.len) > values =>
+        {
+            Err(LoadError::BadArgument {
+                node: id,
+                fault: ArgumentFault::ValuesOutOfRange {
+                    start: code.start,
+                    len: code.len,
+                    table: values.min(usize::from(u16::MAX)) as u16,
+                },
+            })
+        }
         _ => Ok(()),
     }
 }

@@ -60,7 +60,10 @@ fn a_good_image_round_trips_and_says_what_it_is() {
     assert_eq!(&bytes[..4], b"BTIM");
     assert_eq!(try_load(&bytes).unwrap(), nodes);
     let h = read_header(&bytes).unwrap();
-    assert_eq!((h.version, h.fingerprint, h.node_count, h.len), (VERSION, fingerprint(&SET), 6, bytes.len()));
+    // A tree without scripts is written as version 2, which controllers built before
+    // scripts load.
+    assert_eq!(VERSION, 3);
+    assert_eq!((h.version, h.fingerprint, h.node_count, h.len), (2, fingerprint(&SET), 6, bytes.len()));
     // 16 header + 6 nodes + 4 CRC: a handful of bytes per node.
     assert!(bytes.len() <= HEADER_LEN + 6 * 5 + CRC_LEN, "{} bytes", bytes.len());
 }
@@ -90,11 +93,15 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
-    for version in [0u16, 3, 0xffff] {
+    for version in [0u16, 4, 0xffff] {
         let mut b = good();
         b[4..6].copy_from_slice(&version.to_le_bytes());
-        assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: version, supported: 2 }));
+        assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: version, supported: 3 }));
     }
+    // Version 3 only adds script kinds: a version-2 tree reads the same under it.
+    let mut b = good();
+    b[4..6].copy_from_slice(&3u16.to_le_bytes());
+    assert!(try_load(&reseal(b)).is_ok());
     // Version 1 (no extended leaves, no sections) still loads, as the same tree.
     let mut b = good();
     b[4..6].copy_from_slice(&1u16.to_le_bytes());

@@ -15,8 +15,10 @@
 
 mod common;
 
+use bt_core::script::{self, ScriptFault, Value};
 use bt_core::{
-    BehaviorSet, Builder, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Span, Status, Tree,
+    BehaviorSet, Builder, Code, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Span, Status,
+    Tree,
 };
 use proptest::prelude::*;
 
@@ -27,6 +29,9 @@ enum T {
     Condition,
     Action,
     Always(bool),
+    /// A `Script` (false) or `ScriptCondition` (true) whose program the scripted set
+    /// does not read: it answers from the tick script, as for conditions.
+    Script(bool),
     Node(NodeKind, Vec<T>),
 }
 
@@ -79,7 +84,12 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
 }
 
 fn tree() -> impl Strategy<Value = T> {
-    let leaf = prop_oneof![4 => Just(T::Condition), 4 => Just(T::Action), 1 => any::<bool>().prop_map(T::Always)];
+    let leaf = prop_oneof![
+        4 => Just(T::Condition),
+        4 => Just(T::Action),
+        1 => any::<bool>().prop_map(T::Always),
+        1 => any::<bool>().prop_map(T::Script),
+    ];
     // 7 levels of recursion over a leaf: at most 8 levels.
     leaf.prop_recursive(7, 64, 4, |inner| {
         prop_oneof![
@@ -107,6 +117,10 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
         }
         T::Always(ok) => {
             b.leaf(if *ok { NodeKind::AlwaysSuccess } else { NodeKind::AlwaysFailure }).unwrap();
+        }
+        T::Script(condition) => {
+            let code = Code { start: 0, len: 1 };
+            b.leaf(if *condition { NodeKind::ScriptCondition(code) } else { NodeKind::Script(code) }).unwrap();
         }
         T::Node(kind, children) => {
             let n = children.len() as u16;
@@ -163,7 +177,8 @@ enum Ev {
 fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
     let v = script[node];
     match nodes[node].kind() {
-        NodeKind::Condition(_) => [Status::Success, Status::Failure][usize::from(v % 2)],
+        NodeKind::Condition(_) | NodeKind::ScriptCondition(_) => [Status::Success, Status::Failure][usize::from(v % 2)],
+        NodeKind::Script(_) => Status::Success,
         _ => [Status::Success, Status::Failure, Status::Running][usize::from(v % 3)],
     }
 }
@@ -185,6 +200,11 @@ impl BehaviorSet for Script<'_> {
     }
     fn halt(&mut self, _: &Leaf, node: NodeId) {
         self.log.push(Ev::Halt { node: usize::from(node) });
+    }
+    fn script(&mut self, _: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: true });
+        let held = outcome(self.nodes, self.tick, usize::from(ctx.node)) == Status::Success;
+        Ok(Value::Bool(held))
     }
 }
 
@@ -375,6 +395,11 @@ impl<'a> Reference<'a> {
             }
             NodeKind::AlwaysSuccess => Status::Success,
             NodeKind::AlwaysFailure => Status::Failure,
+            // Rule 12: a script runs once per tick, as a condition.
+            NodeKind::Script(_) | NodeKind::ScriptCondition(_) => {
+                self.log.push(Ev::Tick { node: i, starting: true });
+                outcome(self.nodes, &self.script, i)
+            }
             kind @ (NodeKind::Sequence
             | NodeKind::Fallback
             | NodeKind::SequenceWithMemory
@@ -912,7 +937,7 @@ proptest! {
         emit(&t, &mut b);
         let nodes = b.finish().unwrap();
         let catalog = common::catalog();
-        let tree = Tree::<8>::validate(nodes, catalog.as_slice()).unwrap();
+        let tree = Tree::<8>::validate_with(nodes, &[script::op::POP], catalog.as_slice()).unwrap();
         let mut state = vec![NodeState::IDLE; nodes.len()];
         let mut exec = Executor::new(tree, &mut state).unwrap();
         let mut observed_state = vec![NodeState::IDLE; nodes.len()];

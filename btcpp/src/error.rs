@@ -178,6 +178,18 @@ pub enum Fault {
         /// Why, and what to do instead.
         reason: String,
     },
+    /// A script (`Script`, `ScriptCondition`) that does not parse or compile.
+    #[error("<{node}> code \"{code}\": {message} (at byte {offset} of the script)")]
+    Script {
+        /// The node's type.
+        node: String,
+        /// The script, shortened.
+        code: String,
+        /// What is wrong.
+        message: String,
+        /// The byte offset in the script.
+        offset: usize,
+    },
     /// An attribute that names no port of the node's model.
     #[error("<{node}> has no port `{port}` (its model declares {})", if declared.is_empty() { "none".to_string() } else { list(declared) })]
     UnknownPort {

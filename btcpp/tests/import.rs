@@ -237,10 +237,18 @@ fn tempfile_dir() -> std::path::PathBuf {
 fn what_cannot_run_is_refused_with_its_place() {
     let cases: &[(&str, &str)] = &[
         (
-            r#"<Script code="x:=1"/>"#,
-            "t.xml:2:27: <Script> is not supported: it runs BehaviorTree.CPP's script language",
+            r#"<Script code="x:= 1 +"/>"#,
+            "t.xml:2:35: <Script> code \"x:= 1 +\": an operand is missing at the end (at byte 7 of the script)",
         ),
-        (r#"<ScriptCondition code="x>1"/>"#, "t.xml:2:27: <ScriptCondition> is not supported"),
+        (
+            r#"<ScriptCondition code="x > 'open"/>"#,
+            "t.xml:2:44: <ScriptCondition> code \"x > 'open\": a string without its closing quote (at byte 4 of the script)",
+        ),
+        (
+            r#"<Script code="1 := x"/>"#,
+            "t.xml:2:35: <Script> code \"1 := x\": the left side of an assignment must be a blackboard key (at byte 2",
+        ),
+        (r#"<Script/>"#, "t.xml:2:27: <Script> needs the attribute `code`"),
         (
             r#"<BatteryOk _skipIf="x"/>"#,
             "t.xml:2:38: the attribute _skipIf on <BatteryOk> is not supported: scripted pre- and post-conditions",

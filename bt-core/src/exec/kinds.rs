@@ -300,6 +300,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             }
             NodeKind::AlwaysSuccess => Entered::Decided(Status::Success),
             NodeKind::AlwaysFailure => Entered::Decided(Status::Failure),
+            NodeKind::Script(code) | NodeKind::ScriptCondition(code) => {
+                let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
+                let fault = |fault| TickError::Script { node: idx as NodeId, fault };
+                let v = self.behaviors.script(code.words(self.values), ctx).map_err(fault)?;
+                Entered::Decided(if matches!(kind, NodeKind::Script(_)) || crate::script::truth(v).map_err(fault)? {
+                    Status::Success
+                } else {
+                    Status::Failure
+                })
+            }
             _ => return Err(super::oob(idx)),
         };
         Ok(entered)

@@ -52,6 +52,12 @@
 //!     again at once ([`Executor::woken`]), as do the timers of rule 10. A child that was
 //!     Running and finishes is ticked again at once instead. A tick is thus
 //!     BehaviorTree.CPP's `tickExactlyOnce()`; its `tickOnce()` is a loop on `woken`.
+//! 12. **Scripts.** A `Script` or `ScriptCondition` is a leaf that finishes in the tick
+//!     it is reached, like a condition: its program runs once, through
+//!     [`BehaviorSet::script`](crate::BehaviorSet::script); a `Script` then succeeds, a
+//!     `ScriptCondition` succeeds when the result holds ([`script::truth`](crate::script::truth))
+//!     and fails otherwise. A script that stops with a fault ends the tick with
+//!     [`TickError::Script`](crate::TickError::Script), where BehaviorTree.CPP throws.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:

@@ -15,13 +15,14 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use bt_core::port::{SlotInfo, UNSET};
-use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue, Span};
+use bt_core::{BehaviorId, Catalog, Code, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue, Span};
 
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::xml::builtin::{Shape, builtin, nav2};
 use crate::xml::catalog::{Models, XmlCatalog};
 use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
 use crate::xml::model::{Literal, ModelKind, convert};
+use crate::xml::script;
 
 /// A blackboard slot of an imported tree.
 #[derive(Clone, Debug, PartialEq)]
@@ -161,6 +162,8 @@ pub fn lower(flat: &Flat, models: &Models, target: Target<'_>) -> Result<Importe
         catalog,
         known,
         written: BTreeSet::new(),
+        ported: BTreeSet::new(),
+        script_slots: BTreeSet::new(),
         out: Imported {
             main: flat.main.clone(),
             fingerprint,
@@ -201,8 +204,12 @@ struct Lowerer<'a> {
     models: &'a Models,
     catalog: XmlCatalog,
     known: Option<(&'a dyn Grounded, BTreeMap<String, BehaviorId>)>,
-    /// Keys some output or in/out port writes.
+    /// Keys some output or in/out port, or a script, writes.
     written: BTreeSet<Key>,
+    /// Keys some port names (they exist before any script runs, as in BehaviorTree.CPP).
+    ported: BTreeSet<Key>,
+    /// Slots a script named first: a port naming them later gives them its type.
+    script_slots: BTreeSet<u16>,
     out: Imported,
     slot_ids: BTreeMap<Key, u16>,
     slot_first: Vec<Location>,
@@ -221,11 +228,19 @@ impl Lowerer<'_> {
         let mut stack = vec![root];
         while let Some(n) = stack.pop() {
             stack.extend(n.children.iter());
+            if matches!(n.id.as_str(), "Script" | "ScriptCondition")
+                && let Some(code) = n.ports.iter().find(|b| b.port == "code")
+                && let Ok(script) = script::parse(&code.raw)
+            {
+                for name in script.assigned() {
+                    self.written.insert(resolve(&self.flat.scopes, n.scope, name));
+                }
+            }
             let Some((_, b)) = self.catalog.lookup(&n.id) else { continue };
             if n.is_subtree {
                 continue;
             }
-            for p in b.ports.iter().filter(|p| p.direction != PortDirection::Input) {
+            for p in &b.ports {
                 let key = match n.ports.iter().find(|x| x.port == p.name) {
                     Some(Bound { value: Value::Key(k), .. }) => Some(k.clone()),
                     Some(_) => None,
@@ -233,7 +248,12 @@ impl Lowerer<'_> {
                         p.default.as_deref().and_then(blackboard_key).map(|k| resolve(&self.flat.scopes, n.scope, k))
                     }
                 };
-                self.written.extend(key);
+                if let Some(k) = &key {
+                    self.ported.insert(k.clone());
+                }
+                if p.direction != PortDirection::Input {
+                    self.written.extend(key);
+                }
             }
         }
     }
@@ -301,6 +321,11 @@ impl Lowerer<'_> {
                     ));
                 }
             }
+            if matches!(b.id, "Script" | "ScriptCondition") {
+                let code = self.script_code(n)?;
+                let kind = if b.id == "Script" { NodeKind::Script(code) } else { NodeKind::ScriptCondition(code) };
+                return Ok((kind, Shape::Leaf));
+            }
             let kind = self.builtin_kind(n, b.id)?;
             return Ok((kind, Shape::of(&kind)));
         }
@@ -343,6 +368,43 @@ impl Lowerer<'_> {
             return Ok((kind, Shape::Leaf));
         }
         Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())))
+    }
+
+    /// A `Script`'s or `ScriptCondition`'s program, in the value table: keys become slots
+    /// (of no type unless a port gives them one), strings constants.
+    fn script_code(&mut self, n: &Inst) -> Result<Code> {
+        let Some(bound) = n.ports.iter().find(|b| b.port == "code") else {
+            return Err(ImportError::new(&n.at, Fault::MissingAttribute { element: n.id.clone(), attribute: "code" }));
+        };
+        let fault = |e: script::ScriptError| {
+            let mut code: String = bound.raw.chars().take(80).collect();
+            if code.len() < bound.raw.len() {
+                code.push_str("...");
+            }
+            ImportError::new(
+                &bound.at,
+                Fault::Script { node: n.id.clone(), code, message: e.message, offset: e.offset },
+            )
+        };
+        let parsed = script::parse(&bound.raw).map_err(fault)?;
+        let words = {
+            let mut symbols = ScriptSymbols { l: self, n, at: &bound.at, failed: None };
+            let compiled = parsed.compile(&mut symbols);
+            if let Some(e) = symbols.failed {
+                return Err(e);
+            }
+            compiled.map_err(fault)?
+        };
+        let start = u16::try_from(self.out.values.len()).ok();
+        let len = u16::try_from(words.len()).ok();
+        let (Some(start), Some(len)) = (start, len) else {
+            return Err(ImportError::new(&n.at, Fault::TooLarge("the image's value table is full".into())));
+        };
+        if start.checked_add(len).is_none() {
+            return Err(ImportError::new(&n.at, Fault::TooLarge("the image's value table is full".into())));
+        }
+        self.out.values.extend_from_slice(&words);
+        Ok(Code { start, len })
     }
 
     /// The leaf of a behavior of the models' set (an Action, a Condition, or a plugin
@@ -657,6 +719,14 @@ impl Lowerer<'_> {
         _port: &str,
     ) -> Result<u16> {
         if let Some(&id) = self.slot_ids.get(key) {
+            // A slot a script named first takes the type of the first port that names it.
+            if self.script_slots.contains(&id) && _port != SCRIPT_PORT {
+                self.script_slots.remove(&id);
+                let slot = &mut self.out.slots[usize::from(id)];
+                slot.info.ty = ty;
+                slot.type_name = type_name.map(str::to_string);
+                return Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET));
+            }
             let slot = &self.out.slots[usize::from(id)];
             // BehaviorTree.CPP's rule: two typed ports on one key must agree, unless the
             // key was first created as a string.
@@ -707,7 +777,57 @@ impl Lowerer<'_> {
         self.out.slots.push(Slot { name, info: SlotInfo { ty, initial }, type_name: type_name.map(str::to_string) });
         self.slot_first.push(at.clone());
         self.slot_ids.insert(key.clone(), id);
+        if _port == SCRIPT_PORT {
+            self.script_slots.insert(id);
+        }
         Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET))
+    }
+}
+
+/// The port name [`Lowerer::slot_value`] is given for a script's keys.
+const SCRIPT_PORT: &str = "code";
+
+/// Keys and strings of a script, as [`Lowerer`] numbers them.
+struct ScriptSymbols<'l, 'a, 'n> {
+    l: &'l mut Lowerer<'a>,
+    n: &'n Inst,
+    at: &'n Location,
+    /// An import error (a key conflict, a full table) met while compiling.
+    failed: Option<ImportError>,
+}
+
+impl script::Symbols for ScriptSymbols<'_, '_, '_> {
+    fn slot(
+        &mut self,
+        name: &str,
+        offset: usize,
+        _assigned: bool,
+    ) -> std::result::Result<(u16, bool), script::ScriptError> {
+        let key = resolve(&self.l.flat.scopes, self.n.scope, name);
+        let declared = self.l.ported.contains(&key)
+            || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));
+        match self.l.slot_value(&key, PortType::Any, None, self.at, self.n, SCRIPT_PORT) {
+            Ok(v) => match PortValue::from_u16(v) {
+                PortValue::Slot(id) => Ok((id, declared)),
+                _ => Err(script::ScriptError { offset, message: format!("no slot for `{name}`") }),
+            },
+            Err(e) => {
+                let message = e.to_string();
+                self.failed = Some(e);
+                Err(script::ScriptError { offset, message })
+            }
+        }
+    }
+
+    fn string(&mut self, text: &str) -> std::result::Result<u16, script::ScriptError> {
+        match self.l.intern(Literal::Str(text.to_string()), self.at) {
+            Ok(k) => Ok(k),
+            Err(e) => {
+                let message = e.to_string();
+                self.failed = Some(e);
+                Err(script::ScriptError { offset: 0, message })
+            }
+        }
     }
 }
 

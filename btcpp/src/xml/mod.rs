@@ -13,6 +13,7 @@ pub mod document;
 pub mod flatten;
 pub mod lower;
 pub mod model;
+pub mod script;
 mod view;
 pub(crate) mod write;
 

@@ -303,6 +303,10 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Repeat(_) => return Err(XmlError::NotExpressible { node: i, kind: "Repeat" }),
             NodeKind::Retry(_) => return Err(XmlError::NotExpressible { node: i, kind: "Retry" }),
             NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
+            // The image keeps a script's program, not its text.
+            NodeKind::Script(_) | NodeKind::ScriptCondition(_) => {
+                return Err(XmlError::NotExpressible { node: i, kind: n.kind().name() });
+            }
             NodeKind::AlwaysSuccess | NodeKind::AlwaysFailure => {
                 let tag = if matches!(n.kind(), NodeKind::AlwaysSuccess) { "AlwaysSuccess" } else { "AlwaysFailure" };
                 let _ = writeln!(out, "{pad}<{tag}{meta}/>");
