@@ -1,6 +1,6 @@
 //! BehaviorTree.CPP's script engine against ours: every script of
 //! `tests/btcpp/cases/scripts.txt`, run by BehaviorTree.CPP 4.10 (recorded in
-//! `tests/btcpp/fixtures/scripts.txt` by `tests/btcpp/scripts.cpp`; `record.sh` records it)
+//! `tests/btcpp/fixtures/scripts/scripts.txt` by `tests/btcpp/scripts.cpp`; `record.sh` records it)
 //! and by `btcpp::xml::script` + `bt_core::script`, must give the same result or both
 //! fail, and leave the same blackboard.
 //!
@@ -118,7 +118,7 @@ fn ours(scripts: &[&str]) -> (Vec<String>, Option<usize>) {
 
 #[test]
 fn scripts_run_as_behaviortree_cpp_runs_them() {
-    let fixture = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/btcpp/fixtures/scripts.txt"))
+    let fixture = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/btcpp/fixtures/scripts/scripts.txt"))
         .expect("the fixture");
     let (mut compared, mut scripts_seen, mut building) = (0, 0, 0);
     for block in fixture.split("\nend\n").filter(|b| !b.trim().is_empty()) {

@@ -46,7 +46,7 @@ cmake -S "$here" -B "$work/harness" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PA
 cmake --build "$work/harness" >/dev/null
 harness="$work/harness/harness"
 # Scripts: BehaviorTree.CPP's script engine on the cases of cases/scripts.txt.
-"$work/harness/scripts" "$here/cases/scripts.txt" > "$here/fixtures/scripts.txt"
+"$work/harness/scripts" "$here/cases/scripts.txt" > "$here/fixtures/scripts/scripts.txt"
 
 # The random cases: more than needed, since cases BehaviorTree.CPP refuses or runs away
 # on (a Repeat or Retry of -1 whose child never stops), and clocked cases whose two runs

@@ -1,6 +1,6 @@
 // Runs BehaviorTree.CPP's script engine on the cases of cases/scripts.txt and prints
 // what each script returned (or that it failed) and the blackboard after each case:
-// the fixture `fixtures/scripts.txt` that btcpp's script test compares bt-core with.
+// the fixture `fixtures/scripts/scripts.txt` that btcpp's script test compares bt-core with.
 //
 // Input: lines `case NAME`, then `script CODE` lines run in order on one fresh
 // blackboard, then `end`. Output: the same lines, each `script` followed by
