@@ -26,24 +26,79 @@ impl fmt::Display for Location {
 #[derive(Debug)]
 pub(crate) struct Source {
     pub path: Arc<Path>,
+    /// The text as parsed: the file's, with every bare `&` written `&amp;`.
     pub text: String,
+    /// The file's text, which locations count in.
+    original: String,
     line_starts: Vec<usize>,
+    /// Where in `text` each `&amp;` written for a bare `&` starts, in order.
+    escapes: Vec<usize>,
+}
+
+/// Whether `rest` (the text after a `&`) starts an entity or character reference.
+fn is_reference(rest: &str) -> bool {
+    let b = rest.as_bytes();
+    let end = match b.first() {
+        Some(b'#') if matches!(b.get(1), Some(b'x')) => 2 + b[2..].iter().take_while(|c| c.is_ascii_hexdigit()).count(),
+        Some(b'#') => 1 + b[1..].iter().take_while(|c| c.is_ascii_digit()).count(),
+        Some(c) if c.is_ascii_alphabetic() || *c == b'_' || *c == b':' => {
+            1 + b[1..]
+                .iter()
+                .take_while(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b':' | b'.' | b'-'))
+                .count()
+        }
+        _ => return false,
+    };
+    end > 1 && b.get(end) == Some(&b';')
 }
 
 impl Source {
-    pub fn new(path: &Path, text: String) -> Self {
+    /// The source of `path`. BehaviorTree.CPP's XML parser takes a bare `&` (as in
+    /// `code="a && b"`) for itself; so do we, reading it as `&amp;`.
+    pub fn new(path: &Path, original: String) -> Self {
         let mut line_starts = vec![0];
-        line_starts.extend(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i + 1));
-        Self { path: Arc::from(path), text, line_starts }
+        line_starts.extend(original.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i + 1));
+        let mut text = String::with_capacity(original.len());
+        let mut escapes = Vec::new();
+        let mut last = 0;
+        for (i, _) in original.match_indices('&') {
+            if !is_reference(&original[i + 1..]) {
+                text.push_str(&original[last..i]);
+                escapes.push(text.len());
+                text.push_str("&amp;");
+                last = i + 1;
+            }
+        }
+        text.push_str(&original[last..]);
+        Self { path: Arc::from(path), text, original, line_starts, escapes }
     }
 
-    /// The location of byte `offset`.
+    /// The location of byte `offset` of the parsed text.
     pub fn at(&self, offset: usize) -> Location {
         let offset = offset.min(self.text.len());
+        // Back to the file's bytes: each escape before `offset` added 4.
+        let before = self.escapes.partition_point(|&e| e < offset);
+        let offset = match before.checked_sub(1).and_then(|k| self.escapes.get(k)) {
+            // Inside an `&amp;` written for a `&`: at that `&`.
+            Some(&e) if offset < e + 5 => e - 4 * (before - 1),
+            _ => offset - 4 * before,
+        };
+        let offset = offset.min(self.original.len());
         let line = self.line_starts.partition_point(|&s| s <= offset).max(1);
         let start = self.line_starts[line - 1];
-        let column = self.text.get(start..offset).map_or(1, |s| s.chars().count() + 1);
+        let column = self.original.get(start..offset).map_or(1, |s| s.chars().count() + 1);
         Location { file: self.path.clone(), line: line as u32, column: column as u32 }
+    }
+
+    /// The location roxmltree gives (line and column of the parsed text), in the file.
+    pub fn at_pos(&self, row: u32, col: u32) -> Location {
+        let line_start =
+            self.text.split_inclusive('\n').take(row.saturating_sub(1) as usize).map(str::len).sum::<usize>();
+        let offset = self.text[line_start..]
+            .char_indices()
+            .nth(col.saturating_sub(1) as usize)
+            .map_or(self.text.len(), |(i, _)| line_start + i);
+        self.at(offset)
     }
 }
 

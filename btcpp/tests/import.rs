@@ -249,6 +249,11 @@ fn what_cannot_run_is_refused_with_its_place() {
             "t.xml:2:35: <Script> code \"1 := x\": the left side of an assignment must be a blackboard key (at byte 2",
         ),
         (r#"<Script/>"#, "t.xml:2:27: <Script> needs the attribute `code`"),
+        // A bare `&` is read as BehaviorTree.CPP reads it; columns after it stay the file's.
+        (
+            r#"<Sequence><ScriptCondition code="a && b"/><Nope/></Sequence>"#,
+            "t.xml:2:69: `Nope` is neither a BehaviorTree.CPP built-in node",
+        ),
         (
             r#"<BatteryOk _skipIf="x"/>"#,
             "t.xml:2:38: the attribute _skipIf on <BatteryOk> is not supported: scripted pre- and post-conditions",

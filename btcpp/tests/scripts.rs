@@ -118,8 +118,9 @@ fn ours(scripts: &[&str]) -> (Vec<String>, Option<usize>) {
 
 #[test]
 fn scripts_run_as_behaviortree_cpp_runs_them() {
-    let fixture = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/btcpp/fixtures/scripts/scripts.txt"))
-        .expect("the fixture");
+    let fixture =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/btcpp/fixtures/scripts/scripts.txt"))
+            .expect("the fixture");
     let (mut compared, mut scripts_seen, mut building) = (0, 0, 0);
     for block in fixture.split("\nend\n").filter(|b| !b.trim().is_empty()) {
         let lines: Vec<&str> = block.lines().filter(|l| *l != "end").collect();

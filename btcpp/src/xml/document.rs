@@ -189,12 +189,8 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
     let opts = roxmltree::ParsingOptions { allow_dtd: false, ..roxmltree::ParsingOptions::default() };
     let xml = roxmltree::Document::parse_with_options(&src.text, opts).map_err(|e| {
         let pos = e.pos();
-        let at = Location { file: src.path.clone(), line: pos.row, column: pos.col };
-        let mut message = strip_position(&e.to_string());
-        if matches!(e, roxmltree::Error::MalformedEntityReference(_)) {
-            message.push_str(" (BehaviorTree.CPP's parser lets a bare & through; XML needs &amp;)");
-        }
-        ImportError::new(&at, Fault::Xml(message))
+        let at = src.at_pos(pos.row, pos.col);
+        ImportError::new(&at, Fault::Xml(strip_position(&e.to_string())))
     })?;
     let root = element(src, xml.root_element(), 0)?;
     if root.tag != "root" {
