@@ -97,6 +97,24 @@ for from in $(seq 0 $chunk $((total - 1))); do cat "$tmp/out-$from.txt"; done | 
 } | sort -u | while read -r name; do cp "$tmp/logs/$name.btlog" "$fixtures/btlog/"; done
 echo "kept $(ls "$fixtures"/btlog/*.btlog | wc -l) Groot2 logs" >&2
 
+# Random trees with Script and ScriptCondition leaves (never clocked): 300 kept, 100 per
+# file, those BehaviorTree.CPP ran to the end.
+rm -f "$fixtures"/scripted-*.txt
+"$gen" --scripted "$seed" 0 400 > "$tmp/scripted-in.txt"
+"$harness" "$tmp/scripted-in.txt" | awk -v dir="$fixtures" '
+  /^case / { buf = ""; bad = 0 }
+  /^(error|runaway)/ { bad = 1 }
+  { buf = buf $0 "\n" }
+  /^end$/ {
+    if (bad) { next }
+    if (kept < 300) {
+      file = sprintf("%s/scripted-%02d.txt", dir, int(kept / 100))
+      printf "%s", buf > file
+      kept++
+    }
+  }
+  END { printf "kept %d scripted cases\n", kept > "/dev/stderr" }'
+
 # The trees of BehaviorTree.CPP's own tests.
 for f in "$here"/cases/*.spec; do
   "$gen" "$f" > "$tmp/$(basename "$f" .spec).in"

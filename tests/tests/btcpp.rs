@@ -1,6 +1,6 @@
 //! The differential test against BehaviorTree.CPP 4.10.0: every case recorded by
-//! `tests/btcpp/record.sh` (random trees of every built-in kind, and trees from
-//! BehaviorTree.CPP's own tests) is run on bt-core with the same leaf scripts, and must
+//! `tests/btcpp/record.sh` (random trees of every built-in kind, random trees with
+//! `Script` and `ScriptCondition` leaves, and trees from BehaviorTree.CPP's own tests) is run on bt-core with the same leaf scripts, and must
 //! agree on every tick (see `integration_tests::btcpp::run::compare` and
 //! `docs/behaviortree-cpp.md`).
 
@@ -32,6 +32,7 @@ fn fixtures() -> Vec<(String, case::Recorded)> {
 fn bt_core_does_what_behaviortree_cpp_does() {
     let all = fixtures();
     let mut random = 0usize;
+    let mut scripted = 0usize;
     let mut total = run::Comparison::default();
     let mut restarted = 0usize;
     let mut failures = vec![];
@@ -39,9 +40,13 @@ fn bt_core_does_what_behaviortree_cpp_does() {
         if rec.error.is_some() {
             continue;
         }
-        if file.starts_with("random-") {
-            random += 1;
-            // The XML BehaviorTree.CPP ran is the one the spec gives today.
+        if file.starts_with("random-") || file.starts_with("scripted-") {
+            if file.starts_with("random-") {
+                random += 1;
+            } else {
+                scripted += 1;
+            }
+            // The XML BehaviorTree.CPP ran (scripts included) is the one the spec gives today.
             assert_eq!(rec.xml, rec.case.spec.to_xml(), "{file}: {}: the XML is no longer the spec's", rec.case.name);
         }
         // Hook for the importer (issue 17): importing `rec.xml` with the fixtures'
@@ -57,7 +62,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
         }
     }
     eprintln!(
-        "{} cases ({random} random), {} ticks compared; {} halts earlier by halt before start; \
+        "{} cases ({random} random, {scripted} with scripts), {} ticks compared; {} halts earlier by halt before start; \
          {restarted} cases compared up to a branch halt before start restarted; {} ticks with stale statuses",
         all.len(),
         total.ticks,
@@ -66,6 +71,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
     );
     assert!(failures.is_empty(), "{} of {} cases disagree:\n{}", failures.len(), all.len(), failures.join("\n"));
     assert!(random >= 1000, "only {random} random cases recorded");
+    assert!(scripted >= 300, "only {scripted} cases with scripts recorded");
 }
 
 /// Our Groot2 replay logs against BehaviorTree.CPP's `FileLogger2` logs of the same

@@ -1,6 +1,8 @@
 //! Writes cases for BehaviorTree.CPP's harness (see `tests/btcpp/README.md`):
 //!
 //! - `btcpp-cases SEED FROM COUNT`: random cases FROM..FROM+COUNT of the set made from SEED;
+//! - `btcpp-cases --scripted SEED FROM COUNT`: the same for random trees with `Script` and
+//!   `ScriptCondition` leaves;
 //! - `btcpp-cases FILE.spec`: the cases a spec file lists, one per line,
 //!   `NAME TICKS SPEC [once] [NODE=SCRIPT ...]` (`#` starts a comment); leaves without a
 //!   script return Success.
@@ -75,13 +77,14 @@ fn main() -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
+    let scripted = args.first().is_some_and(|a| a == "--scripted");
     let nums: Vec<u64> = args.iter().filter_map(|a| a.parse().ok()).collect();
     let [seed, from, count] = nums[..] else {
-        eprintln!("usage: btcpp-cases SEED FROM COUNT | btcpp-cases FILE.spec");
+        eprintln!("usage: btcpp-cases [--scripted] SEED FROM COUNT | btcpp-cases FILE.spec");
         return ExitCode::from(2);
     };
     for i in from..from + count {
-        let case = generate::case(seed, i as u32);
+        let case = if scripted { generate::scripted_case(seed, i as u32) } else { generate::case(seed, i as u32) };
         if writeln!(out, "{}end", case.input()).is_err() {
             return ExitCode::FAILURE;
         }

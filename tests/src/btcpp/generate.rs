@@ -4,7 +4,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::case::{Case, Script};
-use super::spec::{Kind, Spec};
+use super::spec::{FIRST_CONDITION_SCRIPT, Kind, SCRIPTS, Spec};
 
 /// Ticks every random case runs.
 pub const TICKS: u32 = 25;
@@ -26,24 +26,48 @@ pub fn case(seed: u64, index: u32) -> Case {
     let once = rng.random_bool(0.25);
     let mut budget = MAX_NODES;
     let spec = loop {
-        let s = node(&mut rng, 1, timed, &mut budget);
+        let s = node(&mut rng, 1, timed, false, &mut budget);
         if !s.kind.is_leaf() && s.len() >= 4 {
             break s;
         }
         budget = MAX_NODES;
     };
+    finish(&mut rng, spec, format!("r{index:04}"), once)
+}
+
+/// The scripted case `index` of the set made from `seed`: a `Sequence` of the script
+/// that sets the keys up and a random tree whose leaves include `Script` and
+/// `ScriptCondition` nodes ([`SCRIPTS`](super::spec::SCRIPTS)). Not clocked.
+#[must_use]
+pub fn scripted_case(seed: u64, index: u32) -> Case {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (u64::from(index) << 20) ^ 0x5c21_b7ed);
+    let once = rng.random_bool(0.25);
+    let mut budget = MAX_NODES - 2;
+    let tree = loop {
+        let s = node(&mut rng, 2, false, true, &mut budget);
+        if !s.kind.is_leaf() && s.len() >= 4 {
+            break s;
+        }
+        budget = MAX_NODES - 2;
+    };
+    let spec = Spec::new(Kind::Sequence, vec![Spec::leaf(Kind::Script(0)), tree]);
+    finish(&mut rng, spec, format!("s{index:04}"), once)
+}
+
+fn finish(rng: &mut ChaCha8Rng, spec: Spec, name: String, once: bool) -> Case {
+    let rng = &mut *rng;
     let scripts = spec
         .preorder()
         .iter()
         .enumerate()
         .filter_map(|(id, n)| match n.kind {
-            Kind::Condition => Some(Script { node: id, action: false, statuses: script(&mut rng, "SF") }),
-            Kind::Action => Some(Script { node: id, action: true, statuses: script(&mut rng, "SFRRR") }),
+            Kind::Condition => Some(Script { node: id, action: false, statuses: script(rng, "SF") }),
+            Kind::Action => Some(Script { node: id, action: true, statuses: script(rng, "SFRRR") }),
             _ => None,
         })
         .collect();
     let period_ms = if spec.preorder().iter().any(|n| n.kind.is_timed()) { PERIOD_MS } else { 0 };
-    Case { name: format!("r{index:04}"), spec, ticks: TICKS, period_ms, once, scripts }
+    Case { name, spec, ticks: TICKS, period_ms, once, scripts }
 }
 
 fn script(rng: &mut ChaCha8Rng, alphabet: &str) -> String {
@@ -56,10 +80,19 @@ fn pick<T: Copy>(rng: &mut impl Rng, items: &[T]) -> T {
     items[rng.random_range(0..items.len())]
 }
 
-fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, budget: &mut usize) -> Spec {
+fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, scripted: bool, budget: &mut usize) -> Spec {
     *budget = budget.saturating_sub(1);
     let leaf_chance = if depth >= MAX_DEPTH || *budget < 3 { 1.0 } else { 0.15 + 0.1 * depth as f64 };
     if rng.random_bool(leaf_chance.min(1.0)) {
+        // (Drawn only for scripted cases: the random cases stay what they were.)
+        if scripted && rng.random_bool(0.4) {
+            let n = SCRIPTS.len() as u8;
+            return Spec::leaf(if rng.random_bool(0.5) {
+                Kind::Script(rng.random_range(1..FIRST_CONDITION_SCRIPT))
+            } else {
+                Kind::ScriptCondition(rng.random_range(FIRST_CONDITION_SCRIPT..n))
+            });
+        }
         let kind = match rng.random_range(0..10) {
             0..=3 => Kind::Condition,
             4..=8 => Kind::Action,
@@ -84,7 +117,7 @@ fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, budget: &mut usize) -> 
             kinds.push(Kind::Timeout(pick(rng, &[half, 3 * half, 5 * half, 7 * half])));
         }
         let kind = pick(rng, &kinds);
-        let child = node(rng, depth + 1, timed, budget);
+        let child = node(rng, depth + 1, timed, scripted, budget);
         return Spec::new(kind, vec![child]);
     }
     let shape = rng.random_range(0..9);
@@ -97,7 +130,7 @@ fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, budget: &mut usize) -> 
         if *budget == 0 && !children.is_empty() {
             break;
         }
-        children.push(node(rng, depth + 1, timed, budget));
+        children.push(node(rng, depth + 1, timed, scripted, budget));
     }
     let n = children.len() as i32;
     let kind = match shape {

@@ -8,7 +8,9 @@ use bt_core::{
 };
 
 use super::case::{Case, Recorded, Tick};
-use super::spec::{Kind, Spec};
+use super::spec::{Kind, SCRIPTS, Spec};
+use bt_core::script::{ScriptFault, Value};
+use btcpp::xml::script::{ScriptError, Symbols, parse};
 
 /// Scripted leaves per kind in the fixtures' behavior set: condition `Ck` is behavior
 /// `k`, action `Ak` is behavior `LEAVES + k`, `k` the leaf's node id.
@@ -73,6 +75,9 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
         Kind::Delay(ms) => NodeKind::Delay(span(ms)),
         Kind::AlwaysSuccess => NodeKind::AlwaysSuccess,
         Kind::AlwaysFailure => NodeKind::AlwaysFailure,
+        // The program's place in the value table is set by `build_with_values`.
+        Kind::Script(_) => NodeKind::Script(bt_core::Code { start: 0, len: 1 }),
+        Kind::ScriptCondition(_) => NodeKind::ScriptCondition(bt_core::Code { start: 0, len: 1 }),
         Kind::Condition => NodeKind::Condition(Leaf::new(id as u16)),
         Kind::Action => NodeKind::Action(Leaf::new(LEAVES + id as u16)),
     }
@@ -83,6 +88,55 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
 /// # Errors
 /// A message when the builder refuses it.
 pub fn build(spec: &Spec) -> Result<Vec<Node>, String> {
+    Ok(build_with_values(spec)?.0)
+}
+
+/// The keys of [`SCRIPTS`], as slots.
+const KEYS: [&str; 3] = ["n", "m", "flag"];
+
+struct Keys;
+
+impl Symbols for Keys {
+    fn slot(&mut self, name: &str, offset: usize, _: bool) -> Result<(u16, bool), ScriptError> {
+        match KEYS.iter().position(|k| *k == name) {
+            Some(i) => Ok((i as u16, false)),
+            None => Err(ScriptError { offset, message: format!("no key `{name}`") }),
+        }
+    }
+
+    fn string(&mut self, _: &str) -> Result<u16, ScriptError> {
+        Err(ScriptError { offset: 0, message: "no strings".into() })
+    }
+}
+
+/// The spec as a bt-core node array and its value table (the scripts' programs,
+/// compiled by the importer's compiler).
+///
+/// # Errors
+/// A message when the builder refuses it or a script does not compile.
+pub fn build_with_values(spec: &Spec) -> Result<(Vec<Node>, Vec<u16>), String> {
+    let mut values = Vec::new();
+    let mut nodes = build_nodes(spec)?;
+    for (node, s) in nodes.iter_mut().zip(spec.preorder()) {
+        if let Kind::Script(i) | Kind::ScriptCondition(i) = s.kind {
+            let text = SCRIPTS.get(usize::from(i)).ok_or(format!("no script {i}"))?;
+            let code = parse(text).and_then(|p| p.compile(&mut Keys)).map_err(|e| format!("{text}: {}", e.message))?;
+            let start = u16::try_from(values.len()).map_err(|_| "value table full".to_string())?;
+            let len = u16::try_from(code.len()).map_err(|_| "script too long".to_string())?;
+            values.extend_from_slice(&code);
+            let code = bt_core::Code { start, len };
+            let kind = if matches!(s.kind, Kind::Script(_)) {
+                NodeKind::Script(code)
+            } else {
+                NodeKind::ScriptCondition(code)
+            };
+            *node = Node::new(kind, node.size());
+        }
+    }
+    Ok((nodes, values))
+}
+
+fn build_nodes(spec: &Spec) -> Result<Vec<Node>, String> {
     let mut storage = vec![Node::EMPTY; spec.len()];
     let mut b = Builder::<16>::new(&mut storage);
     // Iterative pre-order with explicit closes.
@@ -117,6 +171,8 @@ struct Scripted<'a> {
     case: &'a Case,
     calls: Vec<usize>,
     events: Vec<String>,
+    /// The keys of [`SCRIPTS`].
+    blackboard: [Option<Value>; 3],
 }
 
 impl Scripted<'_> {
@@ -172,6 +228,10 @@ impl BehaviorSet for Scripted<'_> {
     fn halt(&mut self, _: &Leaf, node: NodeId) {
         self.events.push(format!("H{node}"));
     }
+
+    fn script(&mut self, code: &[u16], _: Context<'_>) -> Result<Value, ScriptFault> {
+        bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)
+    }
 }
 
 /// The `now` tick `k` of a case gives bt-core: milliseconds for clocked cases (the
@@ -186,12 +246,12 @@ pub fn now(case: &Case, k: u32) -> u32 {
 /// # Errors
 /// A message when the tree does not build or validate, or a tick fails.
 pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
-    let nodes = build(&case.spec)?;
+    let (nodes, values) = build_with_values(&case.spec)?;
     let catalog = catalog();
-    let tree = Tree::<16>::validate(&nodes, catalog.as_slice()).map_err(|e| e.to_string())?;
+    let tree = Tree::<16>::validate_with(&nodes, &values, catalog.as_slice()).map_err(|e| e.to_string())?;
     let mut state = vec![bt_core::NodeState::IDLE; nodes.len()];
     let mut exec = Executor::new(tree, &mut state).map_err(|e| e.to_string())?;
-    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![] };
+    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3] };
     let mut out = vec![];
     for k in 0..case.ticks {
         let now = now(case, k);

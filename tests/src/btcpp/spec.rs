@@ -58,7 +58,32 @@ pub enum Kind {
     Condition,
     /// `A`: a scripted action.
     Action,
+    /// `Script` running [`SCRIPTS`]`[i]`.
+    Script(u8),
+    /// `ScriptCondition` running [`SCRIPTS`]`[i]`.
+    ScriptCondition(u8),
 }
+
+/// The scripts of `Script` and `ScriptCondition` nodes, by index: 0 starts every
+/// scripted case; 1 to 5 are for `Script`, 6 and up for `ScriptCondition`. Keys `n`
+/// (an integer), `m` (a double), `flag` (a double used as a boolean).
+pub const SCRIPTS: &[&str] = &[
+    "n := 0; m := 0.0; flag := false",
+    "n += 1",
+    "m := n * 2",
+    "flag := !flag",
+    "n := n > 4 ? 0 : n + 1",
+    "m += 0.5",
+    "n < 3",
+    "flag",
+    "n >= m",
+    "n == 2 || m > 3",
+    "m - n > 1 && flag",
+    "n & 1",
+];
+
+/// The first script of [`SCRIPTS`] meant for `ScriptCondition`.
+pub const FIRST_CONDITION_SCRIPT: u8 = 6;
 
 impl Kind {
     /// BehaviorTree.CPP's registration name (`C`/`A` for the scripted leaves).
@@ -85,6 +110,8 @@ impl Kind {
             Self::Delay(_) => "Delay",
             Self::AlwaysSuccess => "AlwaysSuccess",
             Self::AlwaysFailure => "AlwaysFailure",
+            Self::Script(_) => "Script",
+            Self::ScriptCondition(_) => "ScriptCondition",
             Self::Condition => "C",
             Self::Action => "A",
         }
@@ -103,6 +130,7 @@ impl Kind {
             Self::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
             Self::Timeout(ms) => vec![("msec", ms.to_string())],
             Self::Delay(ms) => vec![("delay_msec", ms.to_string())],
+            Self::Script(i) | Self::ScriptCondition(i) => vec![("code", i.to_string())],
             _ => vec![],
         }
     }
@@ -110,7 +138,15 @@ impl Kind {
     /// True for the kinds without children.
     #[must_use]
     pub fn is_leaf(self) -> bool {
-        matches!(self, Self::AlwaysSuccess | Self::AlwaysFailure | Self::Condition | Self::Action)
+        matches!(
+            self,
+            Self::AlwaysSuccess
+                | Self::AlwaysFailure
+                | Self::Condition
+                | Self::Action
+                | Self::Script(_)
+                | Self::ScriptCondition(_)
+        )
     }
 
     /// True for the kinds with exactly one child.
@@ -225,6 +261,12 @@ fn write_xml(spec: &Spec, next: &mut usize, out: &mut String) {
     out.push('<');
     out.push_str(&name);
     for (attr, value) in spec.kind.params() {
+        let value = match spec.kind {
+            Kind::Script(i) | Kind::ScriptCondition(i) => {
+                SCRIPTS.get(usize::from(i)).copied().unwrap_or("").replace('&', "&amp;").replace('<', "&lt;")
+            }
+            _ => value,
+        };
         out.push_str(&format!(r#" {attr}="{value}""#));
     }
     if spec.children.is_empty() {
@@ -320,6 +362,8 @@ impl Parser<'_> {
             "Delay" => Kind::Delay(int(0)? as u32),
             "AlwaysSuccess" => Kind::AlwaysSuccess,
             "AlwaysFailure" => Kind::AlwaysFailure,
+            "Script" => Kind::Script(int(0)? as u8),
+            "ScriptCondition" => Kind::ScriptCondition(int(0)? as u8),
             "C" => Kind::Condition,
             "A" => Kind::Action,
             _ => return Err(format!("unknown kind `{name}` at byte {at}")),
