@@ -214,14 +214,97 @@ const fn operands(op: u16) -> Option<usize> {
     })
 }
 
-/// Checks a program against the image's ports table before it can run: every opcode
-/// known with its operands, jumps forward within the program, string constants that
-/// are strings, slots within the table, comparison and assignment codes valid. The use
-/// of the stack is checked as the program runs ([`run`] stops with
-/// [`ScriptFault::Malformed`] where it would take from an empty stack).
+/// Jumps a program may have pending at once (forward jumps not yet reached; jumps to one
+/// place count once).
+pub const MAX_PENDING_JUMPS: usize = 16;
+
+/// How many values an instruction takes from the stack and puts back.
+const fn effect(op: u16) -> (usize, usize) {
+    match op {
+        INT | DOUBLE | STR | LOAD => (0, 1),
+        NEG | NOT | COMPL | STORE => (1, 1),
+        ADD..=CONCAT | CMP | CMP_CHAIN => (2, 1),
+        JUMP_UNLESS | POP => (1, 0),
+        _ => (0, 0),
+    }
+}
+
+/// Checks that a program uses its stack soundly on every path: it never takes from an
+/// empty stack, never holds more than [`STACK`] values, reaches every instruction with
+/// one height whichever way it comes, has no unreachable code, and ends with exactly
+/// one value. Opcodes and operands must be well formed ([`check`] does both).
 ///
 /// # Errors
-/// [`ScriptFault::Malformed`] at the first bad word.
+/// [`ScriptFault::Malformed`] at the first word where that fails, or
+/// [`ScriptFault::StackOverflow`].
+pub fn check_stack(code: &[u16]) -> Result<(), ScriptFault> {
+    let mut pending = [(0u16, 0u8); MAX_PENDING_JUMPS];
+    let mut n = 0usize;
+    let mut height = Some(0usize);
+    let mut pc = 0usize;
+    loop {
+        let bad = ScriptFault::Malformed { at: pc as u16 };
+        // Paths that jump here.
+        let mut k = 0;
+        while k < n {
+            let (target, h) = pending.get(k).copied().ok_or(bad)?;
+            if usize::from(target) == pc {
+                match height {
+                    None => height = Some(usize::from(h)),
+                    Some(cur) if cur != usize::from(h) => return Err(bad),
+                    Some(_) => {}
+                }
+                n -= 1;
+                let last = pending.get(n).copied().ok_or(bad)?;
+                if let Some(slot) = pending.get_mut(k) {
+                    *slot = last;
+                }
+            } else {
+                k += 1;
+            }
+        }
+        let Some(&op) = code.get(pc) else {
+            return if pc == code.len() && n == 0 && height == Some(1) { Ok(()) } else { Err(bad) };
+        };
+        let cur = height.ok_or(bad)?;
+        let args = code.get(pc + 1..pc + 1 + operands(op).ok_or(bad)?).ok_or(bad)?;
+        let (pops, pushes) = effect(op);
+        let after = cur.checked_sub(pops).ok_or(bad)? + pushes;
+        if after > STACK {
+            return Err(ScriptFault::StackOverflow);
+        }
+        let target = match op {
+            JUMP | JUMP_UNLESS => args.first().copied(),
+            CMP_CHAIN => args.get(1).copied(),
+            _ => None,
+        };
+        if let Some(t) = target {
+            if usize::from(t) <= pc {
+                return Err(bad);
+            }
+            match pending.get(..n).and_then(|p| p.iter().find(|(pt, _)| *pt == t)) {
+                Some(&(_, h)) if usize::from(h) != after => return Err(bad),
+                Some(_) => {}
+                None => {
+                    let slot = pending.get_mut(n).ok_or(bad)?;
+                    *slot = (t, after as u8);
+                    n += 1;
+                }
+            }
+        }
+        height = if op == JUMP { None } else { Some(after) };
+        pc += 1 + args.len();
+    }
+}
+
+/// Checks a program against the image's ports table before it can run: every opcode
+/// known with its operands, jumps forward within the program, string constants that
+/// are strings, slots within the table, comparison and assignment codes valid, and the
+/// stack used soundly ([`check_stack`]). A program that passes runs without a
+/// [`ScriptFault::Malformed`].
+///
+/// # Errors
+/// [`ScriptFault::Malformed`] at the first bad word, or [`ScriptFault::StackOverflow`].
 pub fn check(code: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
     let mut pc = 0usize;
     if code.is_empty() {
@@ -247,7 +330,7 @@ pub fn check(code: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
         }
         pc = next;
     }
-    Ok(())
+    check_stack(code)
 }
 
 struct Stack {

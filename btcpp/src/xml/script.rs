@@ -362,6 +362,10 @@ impl Script {
         if c.max > STACK {
             return err(0, format!("the script needs {} stack values; a controller has {STACK}", c.max));
         }
+        // What the controller's loader checks, checked here first.
+        if let Err(e) = bt_core::script::check_stack(&c.code) {
+            return err(0, format!("the script does not fit a controller's checks ({e})"));
+        }
         Ok(c.code)
     }
 }
