@@ -56,6 +56,7 @@
 //! | 33 | `Gate`, extended | as tag 14 |
 //! | 34 | `Script` (version 3) | program: start `u16`, length `u16` in the value table |
 //! | 35 | `ScriptCondition` (version 3) | as tag 34 |
+//! | 36 | `Precondition` (version 3) | program as tag 34, then the `else` status, one byte: 0 Success, 1 Failure, 2 Running, 3 Skipped |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -85,7 +86,7 @@
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
 //! build reads versions 1 to 3. It writes version 3 for a tree with script nodes (tags 34
-//! and 35, the only difference) and version 2 otherwise, so that controllers built
+//! to 36, the only difference) and version 2 otherwise, so that controllers built
 //! before scripts existed keep loading every image they can run. A version-1 image has
 //! neither extended leaves nor sections.
 //!
@@ -323,6 +324,8 @@ enum WireKind {
     Script(WireCode),
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     ScriptCondition(WireCode),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Precondition(WireCode, u8),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -335,7 +338,7 @@ impl WireKind {
     /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
     /// to 33.
     fn in_version(&self, version: u16) -> bool {
-        if matches!(self, Self::Script(_) | Self::ScriptCondition(_)) {
+        if matches!(self, Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..)) {
             return version >= 3;
         }
         version >= 2
@@ -411,6 +414,15 @@ fn to_wire(node: &Node) -> WireNode {
         NodeKind::AlwaysFailure => WireKind::AlwaysFailure,
         NodeKind::Script(c) => WireKind::Script(WireCode { start: c.start, len: c.len }),
         NodeKind::ScriptCondition(c) => WireKind::ScriptCondition(WireCode { start: c.start, len: c.len }),
+        NodeKind::Precondition { code, otherwise } => {
+            let otherwise = match otherwise {
+                crate::Status::Success => 0,
+                crate::Status::Failure => 1,
+                crate::Status::Running => 2,
+                crate::Status::Skipped => 3,
+            };
+            WireKind::Precondition(WireCode { start: code.start, len: code.len }, otherwise)
+        }
     };
     WireNode { size: node.size(), kind }
 }
@@ -502,6 +514,16 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
         WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
         WireKind::Script(c) => NodeKind::Script(Code { start: c.start, len: c.len }),
         WireKind::ScriptCondition(c) => NodeKind::ScriptCondition(Code { start: c.start, len: c.len }),
+        WireKind::Precondition(c, otherwise) => NodeKind::Precondition {
+            code: Code { start: c.start, len: c.len },
+            otherwise: match otherwise {
+                0 => crate::Status::Success,
+                1 => crate::Status::Failure,
+                2 => crate::Status::Running,
+                3 => crate::Status::Skipped,
+                _ => return Err(LoadError::MalformedNode { node: id, offset }),
+            },
+        },
         // The kinds of version 1 and the extended leaves: `from_wire`.
         WireKind::Sequence
         | WireKind::Fallback
@@ -548,7 +570,9 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     let too_small = EncodeError::BufferTooSmall { capacity };
     let (header, body) = out.split_at_mut_checked(HEADER_LEN).ok_or(too_small)?;
     header.get_mut(0..4).ok_or(too_small)?.copy_from_slice(&MAGIC);
-    let scripts = nodes.iter().any(|n| matches!(n.kind(), NodeKind::Script(_) | NodeKind::ScriptCondition(_)));
+    let scripts = nodes.iter().any(|n| {
+        matches!(n.kind(), NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. })
+    });
     let version = if scripts { VERSION } else { VERSION_WITHOUT_SCRIPTS };
     header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());
     header.get_mut(6..14).ok_or(too_small)?.copy_from_slice(&fingerprint.to_le_bytes());
@@ -873,7 +897,9 @@ pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
                 .map_err(|fault| LoadError::BadPort { node: id as NodeId, fault })?;
         }
         #[cfg(feature = "btcpp")]
-        if let NodeKind::Script(code) | NodeKind::ScriptCondition(code) = *node.kind() {
+        if let NodeKind::Script(code) | NodeKind::ScriptCondition(code) | NodeKind::Precondition { code, .. } =
+            *node.kind()
+        {
             crate::script::check(code.words(tree.values()), &ports)
                 .map_err(|fault| LoadError::BadScript { node: id as NodeId, fault })?;
         }

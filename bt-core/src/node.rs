@@ -381,6 +381,16 @@ pub enum NodeKind {
     /// `ScriptCondition`: runs its program; Success when the result holds
     /// ([`script::truth`](crate::script::truth)), else Failure.
     ScriptCondition(Code),
+    /// BehaviorTree.CPP's `Precondition(if, else)`: runs its program when its child is
+    /// not under way; if the result holds, ticks the child and keeps ticking it (without
+    /// asking again) until it succeeds or fails, else returns `otherwise`. Whether the
+    /// child is under way survives halts, as in BehaviorTree.CPP.
+    Precondition {
+        /// The `if` script.
+        code: Code,
+        /// The `else` status.
+        otherwise: crate::Status,
+    },
 }
 
 /// How many children a kind of node takes.
@@ -439,6 +449,7 @@ impl NodeKind {
             Self::AlwaysFailure => "AlwaysFailure",
             Self::Script(_) => "Script",
             Self::ScriptCondition(_) => "ScriptCondition",
+            Self::Precondition { .. } => "Precondition",
         }
     }
 
@@ -470,7 +481,8 @@ impl NodeKind {
             | Self::TimeLimit(_)
             | Self::Delay(_)
             | Self::RateController(_)
-            | Self::Gate(_) => Arity::One,
+            | Self::Gate(_)
+            | Self::Precondition { .. } => Arity::One,
             Self::Condition(_)
             | Self::Action(_)
             | Self::AlwaysSuccess

@@ -80,6 +80,8 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
         span().prop_map(NodeKind::Delay),
         span().prop_map(NodeKind::RateController),
         Just(NodeKind::Gate(Leaf::new(common::act(1)))),
+        prop_oneof![Just(Status::Success), Just(Status::Failure), Just(Status::Running), Just(Status::Skipped)]
+            .prop_map(|otherwise| NodeKind::Precondition { code: Code { start: 0, len: 1 }, otherwise }),
     ]
 }
 
@@ -177,7 +179,9 @@ enum Ev {
 fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
     let v = script[node];
     match nodes[node].kind() {
-        NodeKind::Condition(_) | NodeKind::ScriptCondition(_) => [Status::Success, Status::Failure][usize::from(v % 2)],
+        NodeKind::Condition(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
+            [Status::Success, Status::Failure][usize::from(v % 2)]
+        }
         NodeKind::Script(_) => Status::Success,
         _ => [Status::Success, Status::Failure, Status::Running][usize::from(v % 3)],
     }
@@ -334,6 +338,7 @@ impl<'a> Reference<'a> {
         match self.nodes[i].kind() {
             NodeKind::SequenceStar => fresh.mem = was.mem,
             NodeKind::RunOnce { .. } => fresh.done = was.done,
+            NodeKind::Precondition { .. } => fresh.mem = was.mem,
             NodeKind::RoundRobin | NodeKind::Recovery { .. } if was.status != NodeStatus::Running => {
                 fresh.mem = was.mem;
                 fresh.count = was.count;
@@ -821,6 +826,24 @@ impl<'a> Reference<'a> {
                 }
                 _ => Status::Running,
             },
+            // Rule 12: asks its script only while its child is not under way.
+            NodeKind::Precondition { otherwise, .. } => {
+                let go = was.mem == 1 || {
+                    self.log.push(Ev::Tick { node: i, starting: true });
+                    outcome(self.nodes, &self.script, i) == Status::Success
+                };
+                if !go {
+                    // Decided without the child: the status it returns (Skipped: Idle).
+                    return self.set(i, otherwise);
+                }
+                self.st[i].mem = 1;
+                let s = self.tick(i + 1, true);
+                if matches!(s, Status::Success | Status::Failure) {
+                    self.st[i].mem = 0;
+                    self.halt_child(i + 1);
+                }
+                s
+            }
             NodeKind::RunOnce { then_skip } => match was.done {
                 // A RunOnce that skips keeps no status: Idle.
                 Some(_) if then_skip => return self.set(i, Status::Skipped),

@@ -19,6 +19,7 @@
 //! | `RoundRobin` | `aux`: the next child (0-based), `ext`: failures; kept unless halted Running | `ok` next, `failed`, `skipped`, `children` |
 //! | `RepeatCycles`, `RetryUntilSuccessful` | `aux`: the count | `a` count, `ok` limit, `child_was_idle` |
 //! | `RunOnce` | `aux`: 0 not yet, 1 succeeded, 2 failed; kept for ever | — |
+//! | `Precondition` | `aux`: 1 while its child is under way; kept for ever | — |
 //! | `TimeLimit`, `Delay`, `RateController` | `aux` + `ext`: start time (24 bits of `now`) | — |
 
 use super::{Ascent, Entered, Extra, Frame, FrameKind, NodeState, Run};
@@ -300,6 +301,22 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             }
             NodeKind::AlwaysSuccess => Entered::Decided(Status::Success),
             NodeKind::AlwaysFailure => Entered::Decided(Status::Failure),
+            NodeKind::Precondition { code, otherwise } => {
+                frame.kind = FrameKind::Precondition;
+                if st.aux == 1 {
+                    Entered::Child(first)
+                } else {
+                    let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
+                    let fault = |fault| TickError::Script { node: idx as NodeId, fault };
+                    let v = self.behaviors.script(code.words(self.values), ctx).map_err(fault)?;
+                    if crate::script::truth(v).map_err(fault)? {
+                        self.set_memory(idx, 1, 0);
+                        Entered::Child(first)
+                    } else {
+                        Entered::Decided(otherwise)
+                    }
+                }
+            }
             NodeKind::Script(code) | NodeKind::ScriptCondition(code) => {
                 let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
                 let fault = |fault| TickError::Script { node: idx as NodeId, fault };
@@ -588,6 +605,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 }
                 Status::Running | Status::Skipped => done(Status::Running),
             },
+            FrameKind::Precondition => {
+                if matches!(r, Status::Success | Status::Failure) {
+                    self.set_memory(node, 0, 0);
+                    self.halt_child(first);
+                }
+                done(r)
+            }
             FrameKind::RunOnce => {
                 if matches!(r, Status::Success | Status::Failure) {
                     self.set_memory(node, if r == Status::Success { 1 } else { 2 }, 0);

@@ -56,8 +56,13 @@
 //!     it is reached, like a condition: its program runs once, through
 //!     [`BehaviorSet::script`](crate::BehaviorSet::script); a `Script` then succeeds, a
 //!     `ScriptCondition` succeeds when the result holds ([`script::truth`](crate::script::truth))
-//!     and fails otherwise. A script that stops with a fault ends the tick with
-//!     [`TickError::Script`](crate::TickError::Script), where BehaviorTree.CPP throws.
+//!     and fails otherwise. A `Precondition` runs its program when it starts and while
+//!     its child has not yet been let go: if the result holds it ticks its child, and
+//!     goes on ticking it without asking again until the child succeeds or fails;
+//!     otherwise it returns its `else` status (Idle for Skipped). That it let its child
+//!     go survives halts, as in BehaviorTree.CPP. A script that stops with a fault ends
+//!     the tick with [`TickError::Script`](crate::TickError::Script), where
+//!     BehaviorTree.CPP throws.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:
@@ -150,6 +155,7 @@ enum FrameKind {
     RetryUntilSuccessful,
     KeepRunningUntilFailure,
     RunOnce,
+    Precondition,
     TimeLimit,
     Delay,
     RateController,
@@ -523,7 +529,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             return self.set_idle(i);
         }
         let keep = match self.nodes.get(i).map(Node::kind) {
-            Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. }) => true,
+            Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. } | NodeKind::Precondition { .. }) => true,
             Some(NodeKind::RoundRobin | NodeKind::Recovery { .. }) => self.status(i) != NodeStatus::Running,
             _ => false,
         };

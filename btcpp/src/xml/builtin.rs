@@ -73,7 +73,6 @@ pub struct Builtin {
     pub refused: Option<&'static str>,
 }
 
-const SCRIPT: &str = "bt-core runs scripts only as Script and ScriptCondition nodes; write the check as a ScriptCondition in a Fallback or Sequence";
 const SWITCH: &str = "it compares blackboard strings at run time; write the cases as a Fallback of Sequences, each a condition and its branch";
 const LOOP: &str = "it pops items from a blackboard queue, which needs a heap";
 const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
@@ -118,7 +117,7 @@ pub const BUILTINS: &[Builtin] = &[
     r("TryCatch", Control, &[("catch_on_halt", Bool, Some("false"))], NO_KIND),
     b("Script", Leaf, &[("code", Str, None)]),
     b("ScriptCondition", Leaf, &[("code", Any, None)]),
-    r("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))], SCRIPT),
+    b("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))]),
     r("SetBlackboard", Leaf, &[("value", Any, None), ("output_key", Any, None)], BLACKBOARD),
     r("UnsetBlackboard", Leaf, &[("key", Str, None)], BLACKBOARD),
     r(

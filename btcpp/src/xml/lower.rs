@@ -228,8 +228,8 @@ impl Lowerer<'_> {
         let mut stack = vec![root];
         while let Some(n) = stack.pop() {
             stack.extend(n.children.iter());
-            if matches!(n.id.as_str(), "Script" | "ScriptCondition")
-                && let Some(code) = n.ports.iter().find(|b| b.port == "code")
+            if matches!(n.id.as_str(), "Script" | "ScriptCondition" | "Precondition")
+                && let Some(code) = n.ports.iter().find(|b| b.port == "code" || b.port == "if")
                 && let Ok(script) = script::parse(&code.raw)
             {
                 for name in script.assigned() {
@@ -321,8 +321,32 @@ impl Lowerer<'_> {
                     ));
                 }
             }
+            if b.id == "Precondition" {
+                let code = self.script_code(n, "if")?;
+                let otherwise = match n.ports.iter().find(|p| p.port == "else") {
+                    None => bt_core::Status::Failure,
+                    Some(p) => match p.raw.trim() {
+                        "SUCCESS" => bt_core::Status::Success,
+                        "FAILURE" => bt_core::Status::Failure,
+                        "RUNNING" => bt_core::Status::Running,
+                        "SKIPPED" => bt_core::Status::Skipped,
+                        other => {
+                            return Err(ImportError::new(
+                                &p.at,
+                                Fault::BadLiteral {
+                                    node: n.id.clone(),
+                                    port: "else".into(),
+                                    value: other.into(),
+                                    ty: "status (SUCCESS, FAILURE, RUNNING or SKIPPED)".into(),
+                                },
+                            ));
+                        }
+                    },
+                };
+                return Ok((NodeKind::Precondition { code, otherwise }, Shape::Decorator));
+            }
             if matches!(b.id, "Script" | "ScriptCondition") {
-                let code = self.script_code(n)?;
+                let code = self.script_code(n, "code")?;
                 let kind = if b.id == "Script" { NodeKind::Script(code) } else { NodeKind::ScriptCondition(code) };
                 return Ok((kind, Shape::Leaf));
             }
@@ -372,9 +396,9 @@ impl Lowerer<'_> {
 
     /// A `Script`'s or `ScriptCondition`'s program, in the value table: keys become slots
     /// (of no type unless a port gives them one), strings constants.
-    fn script_code(&mut self, n: &Inst) -> Result<Code> {
-        let Some(bound) = n.ports.iter().find(|b| b.port == "code") else {
-            return Err(ImportError::new(&n.at, Fault::MissingAttribute { element: n.id.clone(), attribute: "code" }));
+    fn script_code(&mut self, n: &Inst, port: &'static str) -> Result<Code> {
+        let Some(bound) = n.ports.iter().find(|b| b.port == port) else {
+            return Err(ImportError::new(&n.at, Fault::MissingAttribute { element: n.id.clone(), attribute: port }));
         };
         let fault = |e: script::ScriptError| {
             let mut code: String = bound.raw.chars().take(80).collect();

@@ -304,7 +304,7 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Retry(_) => return Err(XmlError::NotExpressible { node: i, kind: "Retry" }),
             NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
             // The image keeps a script's program, not its text.
-            NodeKind::Script(_) | NodeKind::ScriptCondition(_) => {
+            NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
                 return Err(XmlError::NotExpressible { node: i, kind: n.kind().name() });
             }
             NodeKind::AlwaysSuccess | NodeKind::AlwaysFailure => {

@@ -116,6 +116,11 @@ fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, scripted: bool, budget:
             kinds.push(Kind::Delay(pick(rng, &[half, 3 * half, 5 * half])));
             kinds.push(Kind::Timeout(pick(rng, &[half, 3 * half, 5 * half, 7 * half])));
         }
+        if scripted {
+            let n = SCRIPTS.len() as u8;
+            let script = rng.random_range(FIRST_CONDITION_SCRIPT..n);
+            kinds.push(Kind::Precondition(script, pick(rng, &['S', 'F', 'R', 'K'])));
+        }
         let kind = pick(rng, &kinds);
         let child = node(rng, depth + 1, timed, scripted, budget);
         return Spec::new(kind, vec![child]);

@@ -78,6 +78,15 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
         // The program's place in the value table is set by `build_with_values`.
         Kind::Script(_) => NodeKind::Script(bt_core::Code { start: 0, len: 1 }),
         Kind::ScriptCondition(_) => NodeKind::ScriptCondition(bt_core::Code { start: 0, len: 1 }),
+        Kind::Precondition(_, otherwise) => NodeKind::Precondition {
+            code: bt_core::Code { start: 0, len: 1 },
+            otherwise: match otherwise {
+                'S' => Status::Success,
+                'F' => Status::Failure,
+                'R' => Status::Running,
+                _ => Status::Skipped,
+            },
+        },
         Kind::Condition => NodeKind::Condition(Leaf::new(id as u16)),
         Kind::Action => NodeKind::Action(Leaf::new(LEAVES + id as u16)),
     }
@@ -118,17 +127,17 @@ pub fn build_with_values(spec: &Spec) -> Result<(Vec<Node>, Vec<u16>), String> {
     let mut values = Vec::new();
     let mut nodes = build_nodes(spec)?;
     for (node, s) in nodes.iter_mut().zip(spec.preorder()) {
-        if let Kind::Script(i) | Kind::ScriptCondition(i) = s.kind {
+        if let Kind::Script(i) | Kind::ScriptCondition(i) | Kind::Precondition(i, _) = s.kind {
             let text = SCRIPTS.get(usize::from(i)).ok_or(format!("no script {i}"))?;
             let code = parse(text).and_then(|p| p.compile(&mut Keys)).map_err(|e| format!("{text}: {}", e.message))?;
             let start = u16::try_from(values.len()).map_err(|_| "value table full".to_string())?;
             let len = u16::try_from(code.len()).map_err(|_| "script too long".to_string())?;
             values.extend_from_slice(&code);
             let code = bt_core::Code { start, len };
-            let kind = if matches!(s.kind, Kind::Script(_)) {
-                NodeKind::Script(code)
-            } else {
-                NodeKind::ScriptCondition(code)
+            let kind = match *node.kind() {
+                NodeKind::Script(_) => NodeKind::Script(code),
+                NodeKind::Precondition { otherwise, .. } => NodeKind::Precondition { code, otherwise },
+                _ => NodeKind::ScriptCondition(code),
             };
             *node = Node::new(kind, node.size());
         }

@@ -62,6 +62,9 @@ pub enum Kind {
     Script(u8),
     /// `ScriptCondition` running [`SCRIPTS`]`[i]`.
     ScriptCondition(u8),
+    /// `Precondition(if, else)`: `if` is [`SCRIPTS`]`[i]`, `else` a status letter
+    /// (`S`, `F`, `R`, `K` for SKIPPED).
+    Precondition(u8, char),
 }
 
 /// The scripts of `Script` and `ScriptCondition` nodes, by index: 0 starts every
@@ -81,6 +84,17 @@ pub const SCRIPTS: &[&str] = &[
     "m - n > 1 && flag",
     "n & 1",
 ];
+
+/// BehaviorTree.CPP's name of a status letter (`K`: SKIPPED).
+#[must_use]
+pub fn status_name(letter: char) -> &'static str {
+    match letter {
+        'S' => "SUCCESS",
+        'F' => "FAILURE",
+        'R' => "RUNNING",
+        _ => "SKIPPED",
+    }
+}
 
 /// The first script of [`SCRIPTS`] meant for `ScriptCondition`.
 pub const FIRST_CONDITION_SCRIPT: u8 = 6;
@@ -112,6 +126,7 @@ impl Kind {
             Self::AlwaysFailure => "AlwaysFailure",
             Self::Script(_) => "Script",
             Self::ScriptCondition(_) => "ScriptCondition",
+            Self::Precondition(..) => "Precondition",
             Self::Condition => "C",
             Self::Action => "A",
         }
@@ -131,6 +146,7 @@ impl Kind {
             Self::Timeout(ms) => vec![("msec", ms.to_string())],
             Self::Delay(ms) => vec![("delay_msec", ms.to_string())],
             Self::Script(i) | Self::ScriptCondition(i) => vec![("code", i.to_string())],
+            Self::Precondition(i, otherwise) => vec![("if", i.to_string()), ("else", otherwise.to_string())],
             _ => vec![],
         }
     }
@@ -163,6 +179,7 @@ impl Kind {
                 | Self::RunOnce { .. }
                 | Self::Timeout(_)
                 | Self::Delay(_)
+                | Self::Precondition(..)
         )
     }
 
@@ -261,10 +278,11 @@ fn write_xml(spec: &Spec, next: &mut usize, out: &mut String) {
     out.push('<');
     out.push_str(&name);
     for (attr, value) in spec.kind.params() {
-        let value = match spec.kind {
-            Kind::Script(i) | Kind::ScriptCondition(i) => {
+        let value = match (spec.kind, attr) {
+            (Kind::Script(i) | Kind::ScriptCondition(i) | Kind::Precondition(i, _), "code" | "if") => {
                 SCRIPTS.get(usize::from(i)).copied().unwrap_or("").replace('&', "&amp;").replace('<', "&lt;")
             }
+            (Kind::Precondition(_, otherwise), _) => status_name(otherwise).to_string(),
             _ => value,
         };
         out.push_str(&format!(r#" {attr}="{value}""#));
@@ -364,6 +382,10 @@ impl Parser<'_> {
             "AlwaysFailure" => Kind::AlwaysFailure,
             "Script" => Kind::Script(int(0)? as u8),
             "ScriptCondition" => Kind::ScriptCondition(int(0)? as u8),
+            "Precondition" => Kind::Precondition(
+                int(0)? as u8,
+                params.get(1).and_then(|p| p.chars().next()).ok_or(format!("no else status at byte {at}"))?,
+            ),
             "C" => Kind::Condition,
             "A" => Kind::Action,
             _ => return Err(format!("unknown kind `{name}` at byte {at}")),
