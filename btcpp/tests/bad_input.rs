@@ -10,7 +10,7 @@ const DOC: &str = include_str!("fixtures/btcpp-examples/t05_crossdoor.xml");
 
 fn models() -> ImportOptions<'static> {
     let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btcpp-examples/example_nodes.xml");
-    ImportOptions { models: vec![models], main: Some("MainTree".into()), known: None }
+    ImportOptions { models: vec![models], main: Some("MainTree".into()), ..ImportOptions::default() }
 }
 
 proptest! {

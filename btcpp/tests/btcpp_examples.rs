@@ -24,8 +24,8 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("t07_load_multiple_xml_1.xml", None, Ok(1)),
     ("t07_load_multiple_xml_2.xml", None, Ok(1)),
     ("t08_additional_node_args.xml", None, Ok(3)),
-    // Its Precondition (and its enums, registered in C++).
-    ("t09_scripting.xml", None, Err("<Precondition> is not supported")),
+    // With the enums its program registers (see below).
+    ("t09_scripting.xml", None, Ok(9)),
     ("t10_observer.xml", Some("MainTree"), Ok(8)),
     ("t11_groot_howto.xml", Some("MainTree"), Err("the attribute _onSuccess on <Fallback> is not supported")),
     ("t12_default_ports.xml", None, Ok(1)),
@@ -55,8 +55,18 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
 fn behaviortree_cpp_examples_import_or_are_refused_for_their_reason() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btcpp-examples");
     for &(file, main, expected) in EXPECTED {
-        let options =
-            ImportOptions { models: vec![dir.join("example_nodes.xml")], main: main.map(str::to_string), known: None };
+        // t09's program registers Color { RED = 1, BLUE = 2, GREEN = 3 } and THE_ANSWER = 42.
+        let enums = if file == "t09_scripting.xml" {
+            [("RED", 1), ("BLUE", 2), ("GREEN", 3), ("THE_ANSWER", 42)].map(|(n, v)| (n.to_string(), v)).to_vec()
+        } else {
+            vec![]
+        };
+        let options = ImportOptions {
+            models: vec![dir.join("example_nodes.xml")],
+            main: main.map(str::to_string),
+            enums,
+            known: None,
+        };
         match (import(&dir.join(file), &options), expected) {
             (Ok(i), Ok(nodes)) => assert_eq!(i.nodes.len(), nodes, "{file}"),
             (Err(e), Err(why)) => assert!(e.to_string().contains(why), "{file}: {e}"),

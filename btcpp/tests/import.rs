@@ -260,7 +260,11 @@ fn what_cannot_run_is_refused_with_its_place() {
         ),
         (r#"<BatteryOk _while="x"/>"#, "t.xml:2:38: the attribute _while on <BatteryOk> is not supported"),
         (r#"<BatteryOk _onSuccess="x"/>"#, "t.xml:2:38: the attribute _onSuccess on <BatteryOk>"),
-        (r#"<Precondition if="x"><BatteryOk/></Precondition>"#, "t.xml:2:27: <Precondition> is not supported"),
+        (
+            r#"<Precondition if="x" else="IDLE"><BatteryOk/></Precondition>"#,
+            "t.xml:2:48: <Precondition> port `else`: \"IDLE\" is not a valid status (SUCCESS, FAILURE, RUNNING or SKIPPED)",
+        ),
+        (r#"<Precondition><BatteryOk/></Precondition>"#, "t.xml:2:27: <Precondition> needs the attribute `if`"),
         (
             r#"<Switch2 variable="{v}" case_1="a" case_2="b"><BatteryOk/><BatteryOk/><BatteryOk/></Switch2>"#,
             "t.xml:2:27: <Switch2> is not supported: it compares blackboard strings",

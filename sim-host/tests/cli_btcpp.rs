@@ -383,3 +383,29 @@ fn the_models_name_an_imported_images_behaviors() {
         "but the models of --nodes",
     );
 }
+
+#[test]
+fn scripts_import_with_the_enums_their_program_registers() {
+    let x = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/btcpp-examples");
+    let tree = x.join("t09_scripting.xml");
+    let nodes = x.join("example_nodes.xml");
+    let (tree, nodes) = (tree.to_str().unwrap(), nodes.to_str().unwrap());
+    let ascii = |enums: &[&str]| {
+        let mut args = vec!["import", tree, "--nodes", nodes, "--format", "ascii"];
+        for e in enums {
+            args.extend(["--enum", e]);
+        }
+        let out = sim_host(&args);
+        let shown = ok(&out);
+        (shown, String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let (shown, with) = ascii(&["RED=1", "BLUE=2", "THE_ANSWER=42"]);
+    assert!(shown.contains("-^- Precondition") && shown.contains("--> Script"), "{shown}");
+    let (_, without) = ascii(&[]);
+    // Without them RED, BLUE and THE_ANSWER are blackboard keys: one more slot each.
+    assert!(with.contains("4 blackboard slots") && without.contains("7 blackboard slots"), "{with}\n{without}");
+    let bad = sim_host(&["import", tree, "--nodes", nodes, "--enum", "RED"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("expected NAME=VALUE"), "{err}");
+}

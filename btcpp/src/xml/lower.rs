@@ -143,7 +143,7 @@ impl Imported {
 /// # Errors
 /// The first [`ImportError`]: unknown node types and ports, constructs without a
 /// bt-core equivalent, bad literals, type conflicts on a key, trees too large.
-pub fn lower(flat: &Flat, models: &Models, target: Target<'_>) -> Result<Imported> {
+pub fn lower(flat: &Flat, models: &Models, target: Target<'_>, enums: &[(String, i64)]) -> Result<Imported> {
     let catalog = match target {
         Target::Models => models.catalog(),
         Target::Known(_) => XmlCatalog::default(),
@@ -161,6 +161,7 @@ pub fn lower(flat: &Flat, models: &Models, target: Target<'_>) -> Result<Importe
         models,
         catalog,
         known,
+        enums: enums.iter().cloned().collect(),
         written: BTreeSet::new(),
         ported: BTreeSet::new(),
         script_slots: BTreeSet::new(),
@@ -204,6 +205,8 @@ struct Lowerer<'a> {
     models: &'a Models,
     catalog: XmlCatalog,
     known: Option<(&'a dyn Grounded, BTreeMap<String, BehaviorId>)>,
+    /// Scripting enums: names scripts read as numbers.
+    enums: BTreeMap<String, i64>,
     /// Keys some output or in/out port, or a script, writes.
     written: BTreeSet<Key>,
     /// Keys some port names (they exist before any script runs, as in BehaviorTree.CPP).
@@ -841,6 +844,10 @@ impl script::Symbols for ScriptSymbols<'_, '_, '_> {
                 Err(script::ScriptError { offset, message })
             }
         }
+    }
+
+    fn enum_value(&self, name: &str) -> Option<f64> {
+        self.l.enums.get(name).map(|&v| v as f64)
     }
 
     fn string(&mut self, text: &str) -> std::result::Result<u16, script::ScriptError> {

@@ -37,6 +37,8 @@ pub struct ImportOptions<'k> {
     /// A known behavior set to resolve leaves against instead of the models' (to read
     /// back XML written for a PDDL domain or a brick task).
     pub known: Option<&'k dyn Grounded>,
+    /// Scripting enums (BT.CPP's `registerScriptingEnum`): names scripts read as numbers.
+    pub enums: Vec<(String, i64)>,
 }
 
 impl std::fmt::Debug for dyn Grounded + '_ {
@@ -72,5 +74,5 @@ pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) ->
     let main = flatten::main_tree(doc, options.main.as_deref())?;
     let flat = flatten::flatten(doc, main, &models.subtree_models())?;
     let target = options.known.map_or(Target::Models, Target::Known);
-    lower::lower(&flat, &models, target)
+    lower::lower(&flat, &models, target, &options.enums)
 }

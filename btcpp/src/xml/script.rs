@@ -322,6 +322,12 @@ pub trait Symbols {
     fn slot(&mut self, name: &str, offset: usize, assigned: bool) -> Result<(u16, bool), ScriptError>;
     /// The constant holding string `text`.
     fn string(&mut self, text: &str) -> Result<u16, ScriptError>;
+    /// The value of scripting enum `name` (BT.CPP's `registerScriptingEnum`), which a
+    /// script reads instead of a key of that name.
+    fn enum_value(&self, name: &str) -> Option<f64> {
+        let _ = name;
+        None
+    }
 }
 
 impl Script {
@@ -415,8 +421,13 @@ impl Compiler<'_> {
                 self.emit(&[op::STR, k], 1);
             }
             Expr::Name(name, at) => {
-                let (slot, _) = self.symbols.slot(name, *at, false)?;
-                self.emit(&[op::LOAD, slot], 1);
+                if let Some(v) = self.symbols.enum_value(name) {
+                    let w = words(v.to_bits());
+                    self.emit(&[op::DOUBLE, w[0], w[1], w[2], w[3]], 1);
+                } else {
+                    let (slot, _) = self.symbols.slot(name, *at, false)?;
+                    self.emit(&[op::LOAD, slot], 1);
+                }
             }
             Expr::Unary(o, a) => {
                 self.expr(a)?;

@@ -38,10 +38,14 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     prints the same set as the Rust table a controller compiles in. Port values become image \
     data: literals are constants typed as the model declares the port, {key}s are blackboard \
     slot numbers, ports left out are unset (the behavior's default).\n\n\
+    Script, ScriptCondition and Precondition run on the controller: their scripts are \
+    compiled at import into small programs the image carries (keys become blackboard slots; \
+    --enum gives the scripting enums the C++ program registers). A script that does not \
+    parse is refused with its place.\n\n\
     What a controller cannot run is refused with file:line:column and the construct named, \
-    and nothing is written: scripts (Script, ScriptCondition, Precondition, _skipIf, _while, \
-    _on...), Switch, Loop, blackboard writers, node types no model declares, ports a model \
-    does not declare, literals on output ports.\n\n\
+    and nothing is written: the scripted attributes (_skipIf, _while, _on...), Switch, Loop, \
+    blackboard writers, node types no model declares, ports a model does not declare, \
+    literals on output ports.\n\n\
     --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
     behavior set (a brick task or PDDL domain) back into that set, giving the same image.";
 
@@ -49,7 +53,8 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
 #[command(after_help = "Examples:\n  \
     sim-host import navigate_to_pose.xml --nodes nav2_tree_nodes.xml --out nav.bt\n  \
     sim-host import tree.xml --format ascii\n  \
-    sim-host import tower.xml --behaviors tower --out tower.bt")]
+    sim-host import tower.xml --behaviors tower --out tower.bt\n  \
+    sim-host import t09_scripting.xml --nodes nodes.xml --enum RED=1 --enum BLUE=2 --enum THE_ANSWER=42")]
 pub struct Args {
     /// The BehaviorTree.CPP XML file.
     pub tree: PathBuf,
@@ -68,6 +73,21 @@ pub struct Args {
     /// Read leaves against this built-in behavior set instead of the document's models.
     #[arg(long, value_name = "NAME")]
     pub behaviors: Option<String>,
+    /// A scripting enum, as the C++ program registers it (registerScriptingEnum or
+    /// registerScriptingEnums): scripts read NAME as the number VALUE (repeatable).
+    #[arg(long = "enum", value_name = "NAME=VALUE", value_parser = parse_enum)]
+    pub enums: Vec<(String, i64)>,
+}
+
+fn parse_enum(text: &str) -> Result<(String, i64), String> {
+    let (name, value) = text.split_once('=').ok_or_else(|| format!("`{text}`: expected NAME=VALUE, like RED=1"))?;
+    let ok = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !ok {
+        return Err(format!("`{name}` is not a script identifier (letters, digits, _)"));
+    }
+    let value = value.trim().parse().map_err(|_| format!("`{value}` is not an integer"))?;
+    Ok((name.to_string(), value))
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -88,6 +108,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         models: args.nodes.clone(),
         main: args.main.clone(),
         known: known.as_ref().and_then(|k| k.grounded.as_deref()),
+        enums: args.enums.clone(),
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {
