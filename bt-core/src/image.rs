@@ -57,6 +57,7 @@
 //! | 34 | `Script` (version 3) | program: start `u16`, length `u16` in the value table |
 //! | 35 | `ScriptCondition` (version 3) | as tag 34 |
 //! | 36 | `Precondition` (version 3) | program as tag 34, then the `else` status, one byte: 0 Success, 1 Failure, 2 Running, 3 Skipped |
+//! | 37 | `Sleep` (version 3) | span as `TimeLimit` |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -85,8 +86,8 @@
 //! takes the next version; a loader reads exactly the versions it knows and refuses
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
-//! build reads versions 1 to 3. It writes version 3 for a tree with script nodes (tags 34
-//! to 36, the only difference) and version 2 otherwise, so that controllers built
+//! build reads versions 1 to 3. It writes version 3 for a tree with script or `Sleep` nodes
+//! (tags 34 to 37, the only difference) and version 2 otherwise, so that controllers built
 //! before scripts existed keep loading every image they can run. A version-1 image has
 //! neither extended leaves nor sections.
 //!
@@ -326,6 +327,8 @@ enum WireKind {
     ScriptCondition(WireCode),
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Precondition(WireCode, u8),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Sleep(WireSpan),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -336,9 +339,9 @@ struct WireCode {
 
 impl WireKind {
     /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
-    /// to 33.
+    /// to 33, version 3 up to 37.
     fn in_version(&self, version: u16) -> bool {
-        if matches!(self, Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..)) {
+        if matches!(self, Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..) | Self::Sleep(_)) {
             return version >= 3;
         }
         version >= 2
@@ -414,6 +417,7 @@ fn to_wire(node: &Node) -> WireNode {
         NodeKind::AlwaysFailure => WireKind::AlwaysFailure,
         NodeKind::Script(c) => WireKind::Script(WireCode { start: c.start, len: c.len }),
         NodeKind::ScriptCondition(c) => WireKind::ScriptCondition(WireCode { start: c.start, len: c.len }),
+        &NodeKind::Sleep(d) => WireKind::Sleep(span(d)),
         NodeKind::Precondition { code, otherwise } => {
             let otherwise = match otherwise {
                 crate::Status::Success => 0,
@@ -514,6 +518,7 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
         WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
         WireKind::Script(c) => NodeKind::Script(Code { start: c.start, len: c.len }),
         WireKind::ScriptCondition(c) => NodeKind::ScriptCondition(Code { start: c.start, len: c.len }),
+        WireKind::Sleep(s) => NodeKind::Sleep(from_span(id, s)?),
         WireKind::Precondition(c, otherwise) => NodeKind::Precondition {
             code: Code { start: c.start, len: c.len },
             otherwise: match otherwise {
@@ -571,7 +576,10 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     let (header, body) = out.split_at_mut_checked(HEADER_LEN).ok_or(too_small)?;
     header.get_mut(0..4).ok_or(too_small)?.copy_from_slice(&MAGIC);
     let scripts = nodes.iter().any(|n| {
-        matches!(n.kind(), NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. })
+        matches!(
+            n.kind(),
+            NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } | NodeKind::Sleep(_)
+        )
     });
     let version = if scripts { VERSION } else { VERSION_WITHOUT_SCRIPTS };
     header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());

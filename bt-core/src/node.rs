@@ -381,6 +381,9 @@ pub enum NodeKind {
     /// `ScriptCondition`: runs its program; Success when the result holds
     /// ([`script::truth`](crate::script::truth)), else Failure.
     ScriptCondition(Code),
+    /// BehaviorTree.CPP's `Sleep(msec)`: a leaf that is Running until the span has passed
+    /// since it started, then succeeds (at once for a span of 0).
+    Sleep(Span),
     /// BehaviorTree.CPP's `Precondition(if, else)`: runs its program when its child is
     /// not under way; if the result holds, ticks the child and keeps ticking it (without
     /// asking again) until it succeeds or fails, else returns `otherwise`. Whether the
@@ -450,6 +453,7 @@ impl NodeKind {
             Self::Script(_) => "Script",
             Self::ScriptCondition(_) => "ScriptCondition",
             Self::Precondition { .. } => "Precondition",
+            Self::Sleep(_) => "Sleep",
         }
     }
 
@@ -488,7 +492,8 @@ impl NodeKind {
             | Self::AlwaysSuccess
             | Self::AlwaysFailure
             | Self::Script(_)
-            | Self::ScriptCondition(_) => Arity::Leaf,
+            | Self::ScriptCondition(_)
+            | Self::Sleep(_) => Arity::Leaf,
         }
     }
 

@@ -32,6 +32,8 @@ enum T {
     /// A `Script` (false) or `ScriptCondition` (true) whose program the scripted set
     /// does not read: it answers from the tick script, as for conditions.
     Script(bool),
+    /// A `Sleep`.
+    Sleep(Span),
     Node(NodeKind, Vec<T>),
 }
 
@@ -91,6 +93,7 @@ fn tree() -> impl Strategy<Value = T> {
         4 => Just(T::Action),
         1 => any::<bool>().prop_map(T::Always),
         1 => any::<bool>().prop_map(T::Script),
+        1 => span().prop_map(T::Sleep),
     ];
     // 7 levels of recursion over a leaf: at most 8 levels.
     leaf.prop_recursive(7, 64, 4, |inner| {
@@ -119,6 +122,9 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
         }
         T::Always(ok) => {
             b.leaf(if *ok { NodeKind::AlwaysSuccess } else { NodeKind::AlwaysFailure }).unwrap();
+        }
+        T::Sleep(d) => {
+            b.leaf(NodeKind::Sleep(*d)).unwrap();
         }
         T::Script(condition) => {
             let code = Code { start: 0, len: 1 };
@@ -316,6 +322,7 @@ impl<'a> Reference<'a> {
                     self.woken = true;
                 }
                 NodeKind::Delay(d) if elapsed >= d.get() && self.status(i + 1) == NodeStatus::Idle => self.woken = true,
+                NodeKind::Sleep(d) if elapsed >= d.get() => self.woken = true,
                 _ => {}
             }
         }
@@ -400,6 +407,20 @@ impl<'a> Reference<'a> {
             }
             NodeKind::AlwaysSuccess => Status::Success,
             NodeKind::AlwaysFailure => Status::Failure,
+            // Rule 10: Running from its start until the span has passed.
+            NodeKind::Sleep(d) => {
+                if !running {
+                    if d.get() == 0 {
+                        return self.set(i, Status::Success);
+                    }
+                    self.st[i].start = self.now;
+                    Status::Running
+                } else if self.elapsed(i) >= d.get() {
+                    Status::Success
+                } else {
+                    Status::Running
+                }
+            }
             // Rule 12: a script runs once per tick, as a condition.
             NodeKind::Script(_) | NodeKind::ScriptCondition(_) => {
                 self.log.push(Ev::Tick { node: i, starting: true });

@@ -42,7 +42,7 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     // A polymorphic cast (Cat to Animal) registered in C++.
     ("t19_polymorphic_ports.xml", None, Err("blackboard key `pet` is used as Animal::Ptr here and as Cat::Ptr")),
     ("test_files/Check.xml", None, Ok(3)),
-    ("test_files/log_test.xml", Some("Main"), Err("<Sleep> is not supported")),
+    ("test_files/log_test.xml", Some("Main"), Ok(7)),
     ("test_files/subtree_test.xml", Some("BehaviorTree"), Ok(5)),
     ("trees/parent_no_include.xml", None, Ok(1)),
     ("trees/parent_include_child.xml", None, Ok(3)),

@@ -20,7 +20,7 @@
 //! | `RepeatCycles`, `RetryUntilSuccessful` | `aux`: the count | `a` count, `ok` limit, `child_was_idle` |
 //! | `RunOnce` | `aux`: 0 not yet, 1 succeeded, 2 failed; kept for ever | — |
 //! | `Precondition` | `aux`: 1 while its child is under way; kept for ever | — |
-//! | `TimeLimit`, `Delay`, `RateController` | `aux` + `ext`: start time (24 bits of `now`) | — |
+//! | `TimeLimit`, `Delay`, `RateController`, `Sleep` | `aux` + `ext`: start time (24 bits of `now`) | — |
 
 use super::{Ascent, Entered, Extra, Frame, FrameKind, NodeState, Run};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
@@ -118,6 +118,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 NodeKind::Delay(d) if Self::elapsed(st, now) >= d.get() && self.status(first) == NodeStatus::Idle => {
                     *self.woken = true;
                 }
+                NodeKind::Sleep(d) if Self::elapsed(st, now) >= d.get() => *self.woken = true,
                 _ => {}
             }
         }
@@ -301,6 +302,19 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             }
             NodeKind::AlwaysSuccess => Entered::Decided(Status::Success),
             NodeKind::AlwaysFailure => Entered::Decided(Status::Failure),
+            NodeKind::Sleep(d) => {
+                if !running {
+                    if d.get() == 0 {
+                        return Ok(Entered::Decided(Status::Success));
+                    }
+                    self.set_start(idx, now);
+                    Entered::Decided(Status::Running)
+                } else if Self::elapsed(st, now) >= d.get() {
+                    Entered::Decided(Status::Success)
+                } else {
+                    Entered::Decided(Status::Running)
+                }
+            }
             NodeKind::Precondition { code, otherwise } => {
                 frame.kind = FrameKind::Precondition;
                 if st.aux == 1 {

@@ -40,12 +40,14 @@
 //!    `Recovery`'s count unless halted while Running. A `RateController` or `Gate` starts
 //!    afresh when it is Idle, or when it finished under a parent that BehaviorTree.CPP
 //!    would have reset it under (any parent but these kinds).
-//! 10. **Time.** `TimeLimit`, `Delay` and `RateController` measure spans of `now` (for
+//! 10. **Time.** `TimeLimit`, `Delay`, `RateController` and `Sleep` measure spans of `now` (for
 //!     trees imported from BehaviorTree.CPP: milliseconds), from start times kept in 24
 //!     bits. Before a tick of a tree that has a `TimeLimit` or `Delay`, the timers that
 //!     expired since the last tick act, in pre-order: a `TimeLimit` whose child still runs
 //!     halts it (the tick then fails the `TimeLimit`), and a `Delay` whose span has passed
-//!     asks for a wake-up.
+//!     asks for a wake-up, as does a Running `Sleep` whose span has passed. A `Sleep` is
+//!     Running from its first tick until the span has passed, then succeeds; with a span
+//!     of 0 it succeeds at once.
 //! 11. **Wake-up.** A `SequenceStar` whose child succeeds after being Idle, with more to
 //!     go, returns Running; a `RepeatCycles` (`RetryUntilSuccessful`) whose child succeeds
 //!     (fails) after being Idle, with cycles left, returns Running; both ask to be ticked
@@ -281,8 +283,11 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             NodeKind::ParallelAll { .. } | NodeKind::PipelineSequence => BTCPP,
             _ => false,
         });
-        let timers =
-            BTCPP && tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_)));
+        let timers = BTCPP
+            && tree
+                .nodes()
+                .iter()
+                .any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_) | NodeKind::Sleep(_)));
         Ok(Self { tree, state, stack, still_running, timers, woken: false })
     }
 

@@ -120,12 +120,7 @@ pub const BUILTINS: &[Builtin] = &[
     b("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))]),
     r("SetBlackboard", Leaf, &[("value", Any, None), ("output_key", Any, None)], BLACKBOARD),
     r("UnsetBlackboard", Leaf, &[("key", Str, None)], BLACKBOARD),
-    r(
-        "Sleep",
-        Leaf,
-        &[("msec", Int, None)],
-        "it waits on a wall-clock timer with a wake-up signal; use Delay or an Action of your behavior set",
-    ),
+    b("Sleep", Leaf, &[("msec", Int, None)]),
     r("Switch2", Control, &[], SWITCH),
     r("Switch3", Control, &[], SWITCH),
     r("Switch4", Control, &[], SWITCH),

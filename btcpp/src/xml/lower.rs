@@ -467,6 +467,7 @@ impl Lowerer<'_> {
             "ForceSuccess" => NodeKind::ForceSuccess,
             "ForceFailure" => NodeKind::ForceFailure,
             "KeepRunningUntilFailure" => NodeKind::KeepRunningUntilFailure,
+            "Sleep" => NodeKind::Sleep(self.span_param(n, "msec")?),
             "AlwaysSuccess" => NodeKind::AlwaysSuccess,
             "AlwaysFailure" => NodeKind::AlwaysFailure,
             "PipelineSequence" => NodeKind::PipelineSequence,

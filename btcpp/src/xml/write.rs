@@ -307,6 +307,10 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
                 return Err(XmlError::NotExpressible { node: i, kind: n.kind().name() });
             }
+            NodeKind::Sleep(span) => {
+                let _ = writeln!(out, "{pad}<Sleep{meta} msec=\"{}\"/>", span.get());
+                continue;
+            }
             NodeKind::AlwaysSuccess | NodeKind::AlwaysFailure => {
                 let tag = if matches!(n.kind(), NodeKind::AlwaysSuccess) { "AlwaysSuccess" } else { "AlwaysFailure" };
                 let _ = writeln!(out, "{pad}<{tag}{meta}/>");

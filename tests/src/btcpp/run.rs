@@ -73,6 +73,7 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
         Kind::RunOnce { then_skip } => NodeKind::RunOnce { then_skip },
         Kind::Timeout(ms) => NodeKind::TimeLimit(span(ms)),
         Kind::Delay(ms) => NodeKind::Delay(span(ms)),
+        Kind::Sleep(ms) => NodeKind::Sleep(span(ms)),
         Kind::AlwaysSuccess => NodeKind::AlwaysSuccess,
         Kind::AlwaysFailure => NodeKind::AlwaysFailure,
         // The program's place in the value table is set by `build_with_values`.

@@ -62,6 +62,8 @@ pub enum Kind {
     Script(u8),
     /// `ScriptCondition` running [`SCRIPTS`]`[i]`.
     ScriptCondition(u8),
+    /// `Sleep(msec)`.
+    Sleep(u32),
     /// `Precondition(if, else)`: `if` is [`SCRIPTS`]`[i]`, `else` a status letter
     /// (`S`, `F`, `R`, `K` for SKIPPED).
     Precondition(u8, char),
@@ -127,6 +129,7 @@ impl Kind {
             Self::Script(_) => "Script",
             Self::ScriptCondition(_) => "ScriptCondition",
             Self::Precondition(..) => "Precondition",
+            Self::Sleep(_) => "Sleep",
             Self::Condition => "C",
             Self::Action => "A",
         }
@@ -145,6 +148,7 @@ impl Kind {
             Self::RunOnce { then_skip } => vec![("then_skip", then_skip.to_string())],
             Self::Timeout(ms) => vec![("msec", ms.to_string())],
             Self::Delay(ms) => vec![("delay_msec", ms.to_string())],
+            Self::Sleep(ms) => vec![("msec", ms.to_string())],
             Self::Script(i) | Self::ScriptCondition(i) => vec![("code", i.to_string())],
             Self::Precondition(i, otherwise) => vec![("if", i.to_string()), ("else", otherwise.to_string())],
             _ => vec![],
@@ -162,6 +166,7 @@ impl Kind {
                 | Self::Action
                 | Self::Script(_)
                 | Self::ScriptCondition(_)
+                | Self::Sleep(_)
         )
     }
 
@@ -186,7 +191,7 @@ impl Kind {
     /// True for the kinds whose behavior depends on the clock.
     #[must_use]
     pub fn is_timed(self) -> bool {
-        matches!(self, Self::Timeout(_) | Self::Delay(_))
+        matches!(self, Self::Timeout(_) | Self::Delay(_) | Self::Sleep(_))
     }
 }
 
@@ -382,6 +387,7 @@ impl Parser<'_> {
             "AlwaysFailure" => Kind::AlwaysFailure,
             "Script" => Kind::Script(int(0)? as u8),
             "ScriptCondition" => Kind::ScriptCondition(int(0)? as u8),
+            "Sleep" => Kind::Sleep(int(0)? as u32),
             "Precondition" => Kind::Precondition(
                 int(0)? as u8,
                 params.get(1).and_then(|p| p.chars().next()).ok_or(format!("no else status at byte {at}"))?,
