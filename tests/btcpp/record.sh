@@ -100,7 +100,10 @@ echo "kept $(ls "$fixtures"/btlog/*.btlog | wc -l) Groot2 logs" >&2
 # Random trees with Script and ScriptCondition leaves (never clocked): 300 kept, 100 per
 # file, those BehaviorTree.CPP ran to the end.
 rm -f "$fixtures"/scripted-*.txt
-"$gen" --scripted "$seed" 0 400 > "$tmp/scripted-in.txt"
+"$gen" --scripted "$seed" 0 400 | awk -v dir="$tmp/logs" '
+    /^case / { name = $2 }
+    /^end$/ { print "btlog " dir "/" name ".btlog" }
+    { print }' > "$tmp/scripted-in.txt"
 "$harness" "$tmp/scripted-in.txt" | awk -v dir="$fixtures" '
   /^case / { buf = ""; bad = 0 }
   /^(error|runaway)/ { bad = 1 }
@@ -114,10 +117,22 @@ rm -f "$fixtures"/scripted-*.txt
     }
   }
   END { printf "kept %d scripted cases\n", kept > "/dev/stderr" }'
+# Their Groot2 logs: every tenth kept case.
+grep -h '^case s[0-9]*0$' "$fixtures"/scripted-*.txt | cut -d' ' -f2 |
+  while read -r name; do cp "$tmp/logs/$name.btlog" "$fixtures/btlog/"; done
 
 # The trees of BehaviorTree.CPP's own tests.
+# With their Groot2 logs, but for BehaviorTree.CPP's own tests'.
 for f in "$here"/cases/*.spec; do
-  "$gen" "$f" > "$tmp/$(basename "$f" .spec).in"
-  "$harness" "$tmp/$(basename "$f" .spec).in" > "$fixtures/$(basename "$f" .spec).txt"
+  base="$(basename "$f" .spec)"
+  if [ "$base" = btcpp-tests ]; then
+    "$gen" "$f" > "$tmp/$base.in"
+  else
+    "$gen" "$f" | awk -v dir="$fixtures/btlog" '
+      /^case / { name = $2 }
+      /^end$/ { print "btlog " dir "/" name ".btlog" }
+      { print }' > "$tmp/$base.in"
+  fi
+  "$harness" "$tmp/$base.in" > "$fixtures/$base.txt"
 done
 du -sh "$fixtures"

@@ -76,6 +76,14 @@ pub enum Kind {
     Condition,
     /// An action leaf.
     Action,
+    /// `Script`: a leaf whose run answers as a condition (its result consumed, Success).
+    Script,
+    /// `ScriptCondition`: a leaf whose run answers Success or Failure.
+    ScriptCondition,
+    /// `Precondition`: its `else` status; its script's result is asked as a leaf's.
+    Precondition(u8),
+    /// `Sleep`: its `msec`.
+    Sleep(u32),
 }
 
 impl Kind {
@@ -95,6 +103,7 @@ impl Kind {
                 | Self::Delay(_)
                 | Self::RateController(_)
                 | Self::SubTree
+                | Self::Precondition(_)
         )
     }
 }
@@ -214,6 +223,21 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         NodeKind::RoundRobin => (Kind::RoundRobin, "RoundRobin", vec![]),
         NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
         NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
+        NodeKind::Sleep(span) => (Kind::Sleep(span.get()), "Sleep", vec![("msec", span.get().to_string())]),
+        // An image keeps a script's program, not its text: the text comes from the
+        // imported document's attributes.
+        NodeKind::Script(_) => (Kind::Script, "Script", vec![]),
+        NodeKind::ScriptCondition(_) => (Kind::ScriptCondition, "ScriptCondition", vec![]),
+        NodeKind::Precondition { otherwise, .. } => {
+            use crate::btlog::replay::status;
+            let (s, name) = match otherwise {
+                bt_core::Status::Success => (status::SUCCESS, "SUCCESS"),
+                bt_core::Status::Failure => (status::FAILURE, "FAILURE"),
+                bt_core::Status::Running => (status::RUNNING, "RUNNING"),
+                bt_core::Status::Skipped => (status::SKIPPED, "SKIPPED"),
+            };
+            (Kind::Precondition(s), "Precondition", vec![("else", name.to_string())])
+        }
         // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
         // equivalent; Nav2's plugin decorators (gates) each change status in their own
         // way, which the replay does not model.
@@ -230,6 +254,7 @@ fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
         "RunOnce" => &[("then_skip", "true")],
         "RecoveryNode" => &[("number_of_retries", "1")],
         "RateController" => &[("hz", "10.000000")],
+        "Precondition" => &[("else", "FAILURE")],
         _ => &[],
     }
 }

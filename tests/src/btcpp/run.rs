@@ -239,8 +239,13 @@ impl BehaviorSet for Scripted<'_> {
         self.events.push(format!("H{node}"));
     }
 
-    fn script(&mut self, code: &[u16], _: Context<'_>) -> Result<Value, ScriptFault> {
-        bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)
+    fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        let v = bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)?;
+        // For the replay of logs, not for the harness's events: `$` marks it.
+        let kind = self.case.spec.preorder().get(usize::from(ctx.node)).map(|n| n.kind);
+        let held = matches!(kind, Some(Kind::Script(_))) || bt_core::script::truth(v).unwrap_or(false);
+        self.events.push(format!("${}{}", ctx.node, if held { 'S' } else { 'F' }));
+        Ok(v)
     }
 }
 
@@ -382,7 +387,8 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
         // halt must come later in BehaviorTree.CPP's tick, or the run has diverged by
         // design. Consecutive halts at the start of a tick (timers) may come in any order.
         let mut theirs: Vec<&String> = want.events.iter().collect();
-        let mine: Vec<&String> = got.events.iter().collect();
+        // Script runs are ours only (the harness does not list them).
+        let mine: Vec<&String> = got.events.iter().filter(|e| !e.starts_with('$')).collect();
         let (mut i, mut j) = (0usize, 0usize);
         if mine.first().is_some_and(|e| is_halt(e)) {
             let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();

@@ -11,6 +11,47 @@ impl Replay<'_> {
         let n = node.children.len();
         match node.kind {
             Kind::Condition | Kind::Action => node.core.map_or(FAILURE, |c| leaves.tick(c)),
+            // A script's result is the run's, asked as a leaf's.
+            Kind::ScriptCondition => node.core.map_or(FAILURE, |c| leaves.tick(c)),
+            Kind::Script => {
+                if let Some(c) = node.core {
+                    leaves.tick(c);
+                }
+                SUCCESS
+            }
+            Kind::Sleep(ms) => {
+                // A StatefulActionNode: Running from its start (set in onStart) until
+                // its timer fires.
+                if self.rt[i].status != RUNNING {
+                    if ms == 0 {
+                        return SUCCESS;
+                    }
+                    self.rt[i].start = self.now;
+                    self.set_status(i, RUNNING);
+                    RUNNING
+                } else if self.elapsed(i) >= ms {
+                    SUCCESS
+                } else {
+                    RUNNING
+                }
+            }
+            Kind::Precondition(otherwise) => {
+                // Asks its script only until it has let its child go (`count`: 1),
+                // which survives halts.
+                if self.rt[i].count2 == 0 {
+                    let holds = node.core.is_some_and(|c| leaves.tick(c) == SUCCESS);
+                    if !holds {
+                        return otherwise;
+                    }
+                    self.rt[i].count2 = 1;
+                }
+                let s = self.execute(self.child(i, 0), leaves);
+                if s == SUCCESS || s == FAILURE {
+                    self.halt_child(i, 0, leaves);
+                    self.rt[i].count2 = 0;
+                }
+                s
+            }
             Kind::AlwaysSuccess => SUCCESS,
             Kind::AlwaysFailure => FAILURE,
             Kind::Sequence | Kind::SequenceWithMemory | Kind::Fallback => {

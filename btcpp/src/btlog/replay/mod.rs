@@ -166,7 +166,7 @@ impl<'t> Replay<'t> {
             }
             let span = match n.kind {
                 Kind::Timeout(ms) if ms > 0 => ms,
-                Kind::Delay(ms) => ms,
+                Kind::Delay(ms) | Kind::Sleep(ms) => ms,
                 _ => continue,
             };
             let elapsed = self.elapsed(i);
@@ -176,10 +176,14 @@ impl<'t> Replay<'t> {
         }
         due.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
         for (_, i) in due {
-            let c = self.child(i, 0);
             if self.rt[i].status != RUNNING {
                 continue;
             }
+            if let Kind::Sleep(_) = self.tree.nodes[i].kind {
+                self.woken = true;
+                continue;
+            }
+            let c = self.child(i, 0);
             match self.tree.nodes[i].kind {
                 Kind::Timeout(_) if self.rt[c].status == RUNNING => {
                     self.halt_child(i, 0, leaves);
@@ -238,7 +242,9 @@ impl<'t> Replay<'t> {
                     leaves.halt(core);
                 }
             }
-            Kind::Condition | Kind::AlwaysSuccess | Kind::AlwaysFailure => {}
+            Kind::Condition | Kind::AlwaysSuccess | Kind::AlwaysFailure | Kind::Script | Kind::ScriptCondition => {}
+            // Its timer is cancelled; it is reset.
+            Kind::Sleep(_) => self.reset_status(i),
             k if k.is_decorator() => {
                 let r = &mut self.rt[i];
                 r.count = 0;
