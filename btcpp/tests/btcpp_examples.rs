@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use btcpp::xml::{ImportOptions, import};
+use btcpp::xml::{ImportOptions, import, import_text};
 
 /// (file, main tree when the program names it, expected: `Ok(nodes)` or the refusal).
 const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
@@ -68,7 +68,14 @@ fn behaviortree_cpp_examples_import_or_are_refused_for_their_reason() {
             known: None,
         };
         match (import(&dir.join(file), &options), expected) {
-            (Ok(i), Ok(nodes)) => assert_eq!(i.nodes.len(), nodes, "{file}"),
+            (Ok(i), Ok(nodes)) => {
+                assert_eq!(i.nodes.len(), nodes, "{file}");
+                // Its XML (scripts written as the document wrote them) imports as the same image.
+                let xml = i.to_xml().unwrap_or_else(|e| panic!("{file}: {e}"));
+                let again = import_text(&dir.join(file), &xml, &ImportOptions { models: vec![], ..options.clone() })
+                    .unwrap_or_else(|e| panic!("{file}: its XML: {e}\n{xml}"));
+                assert_eq!(again.image().unwrap(), i.image().unwrap(), "{file}: its XML gives another image");
+            }
             (Err(e), Err(why)) => assert!(e.to_string().contains(why), "{file}: {e}"),
             (Ok(i), Err(why)) => panic!("{file}: imported {} nodes, expected the refusal {why}", i.nodes.len()),
             (Err(e), Ok(_)) => panic!("{file}: {e}"),

@@ -382,3 +382,30 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
     let e = bt_core::load_with_ports::<_, 8>(&image, &other.catalog, &mut nodes, &mut values).map(|_| ()).unwrap_err();
     assert_eq!(e.code(), "foreign-behavior-set");
 }
+
+/// The XML of a flattened tree writes scripts with the keys as it names them: a key a
+/// SubTree remaps becomes its parent's; a SubTree's own key cannot be named.
+#[test]
+fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
+    let remapped = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><Sequence><SubTree ID="S" out="{result}"/><Script code="done := result"/></Sequence></BehaviorTree>
+  <BehaviorTree ID="S"><Script code="out := 'ok'"/></BehaviorTree>
+</root>"#;
+    let i = import_text(Path::new("t.xml"), remapped, &ImportOptions::default()).unwrap();
+    let xml = i.to_xml().unwrap();
+    assert!(xml.contains(r#"code="result := &apos;ok&apos;""#), "{xml}");
+    let again = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
+    assert_eq!(again.image().unwrap(), i.image().unwrap());
+
+    let local = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><SubTree ID="S"/></BehaviorTree>
+  <BehaviorTree ID="S"><Script code="x := 1"/></BehaviorTree>
+</root>"#;
+    let i = import_text(Path::new("t.xml"), local, &ImportOptions::default()).unwrap();
+    let e = i.to_xml().unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "node 0 is a Script whose script cannot be written: its script uses `x`, a key local to a SubTree, \
+         which a script in the flattened tree cannot name"
+    );
+}

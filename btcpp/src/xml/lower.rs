@@ -48,6 +48,11 @@ pub struct NodeMeta {
     /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
     /// resolved value. Empty for leaves and plugin decorators (their ports are values).
     pub params: Vec<(String, String)>,
+    /// For a script node: its script with every key written as the flattened tree names
+    /// it (a key a SubTree remaps becomes its parent's), for the XML of the flattened
+    /// tree; `Err` naming a key that has no name a script can write (a SubTree's local
+    /// key). `None` for other nodes.
+    pub flat_script: Option<std::result::Result<String, String>>,
 }
 
 /// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
@@ -289,7 +294,7 @@ impl Lowerer<'_> {
         } else {
             Vec::new()
         };
-        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params });
+        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat_script: None });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(
@@ -414,14 +419,37 @@ impl Lowerer<'_> {
             )
         };
         let parsed = script::parse(&bound.raw).map_err(fault)?;
-        let words = {
-            let mut symbols = ScriptSymbols { l: self, n, at: &bound.at, failed: None };
+        let (words, keys) = {
+            let mut symbols = ScriptSymbols { l: self, n, at: &bound.at, failed: None, keys: Vec::new() };
             let compiled = parsed.compile(&mut symbols);
             if let Some(e) = symbols.failed {
                 return Err(e);
             }
-            compiled.map_err(fault)?
+            (compiled.map_err(fault)?, symbols.keys)
         };
+        // The script as the flattened tree names its keys.
+        let mut flat = bound.raw.clone();
+        let mut unnamed = None;
+        let mut keys = keys;
+        keys.sort_by_key(|k| std::cmp::Reverse(k.0));
+        for (offset, written, slot) in keys {
+            let name = &self.out.slots[usize::from(slot)].name;
+            let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            if !valid {
+                unnamed = Some(written.clone());
+            } else if *name != written && flat.get(offset..offset + written.len()) == Some(written.as_str()) {
+                flat.replace_range(offset..offset + written.len(), name);
+            }
+        }
+        if let Some(meta) = self.out.meta.last_mut() {
+            meta.flat_script = Some(match unnamed {
+                None => Ok(flat),
+                Some(key) => Err(format!(
+                    "its script uses `{key}`, a key local to a SubTree, which a script in the flattened tree cannot name"
+                )),
+            });
+        }
         let start = u16::try_from(self.out.values.len()).ok();
         let len = u16::try_from(words.len()).ok();
         let (Some(start), Some(len)) = (start, len) else {
@@ -822,6 +850,8 @@ struct ScriptSymbols<'l, 'a, 'n> {
     at: &'n Location,
     /// An import error (a key conflict, a full table) met while compiling.
     failed: Option<ImportError>,
+    /// Each key as written (its byte offset and text) and its slot.
+    keys: Vec<(usize, String, u16)>,
 }
 
 impl script::Symbols for ScriptSymbols<'_, '_, '_> {
@@ -836,7 +866,10 @@ impl script::Symbols for ScriptSymbols<'_, '_, '_> {
             || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));
         match self.l.slot_value(&key, PortType::Any, None, self.at, self.n, SCRIPT_PORT) {
             Ok(v) => match PortValue::from_u16(v) {
-                PortValue::Slot(id) => Ok((id, declared)),
+                PortValue::Slot(id) => {
+                    self.keys.push((offset, name.to_string(), id));
+                    Ok((id, declared))
+                }
                 _ => Err(script::ScriptError { offset, message: format!("no slot for `{name}`") }),
             },
             Err(e) => {

@@ -135,7 +135,27 @@ impl Imported {
     pub fn to_xml(&self) -> Result<String, XmlError> {
         let names: Vec<Option<String>> = self.meta.iter().map(|m| m.name.clone()).collect();
         let uids: Vec<u16> = self.meta.iter().map(|m| m.uid).collect();
-        let params: Vec<&[(String, String)]> = self.meta.iter().map(|m| m.params.as_slice()).collect();
+        // Scripts with their keys as the flattened tree names them.
+        let mut flat: Vec<Vec<(String, String)>> = Vec::with_capacity(self.meta.len());
+        for (node, m) in self.meta.iter().enumerate() {
+            flat.push(match &m.flat_script {
+                None => m.params.clone(),
+                Some(Err(why)) => {
+                    let kind = self.nodes.get(node).map_or("script", |n| n.kind().name());
+                    return Err(XmlError::ScriptText { node, kind, why: why.clone() });
+                }
+                Some(Ok(text)) => m
+                    .params
+                    .iter()
+                    .map(
+                        |(k, v)| {
+                            if k == "code" || k == "if" { (k.clone(), text.clone()) } else { (k.clone(), v.clone()) }
+                        },
+                    )
+                    .collect(),
+            });
+        }
+        let params: Vec<&[(String, String)]> = flat.iter().map(Vec::as_slice).collect();
         let options = XmlOptions {
             values: &self.values,
             all_behaviors: true,

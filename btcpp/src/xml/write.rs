@@ -69,6 +69,16 @@ pub enum XmlError {
         /// Its kind.
         kind: &'static str,
     },
+    /// A script node whose text cannot be written.
+    #[error("node {node} is a {kind} whose script cannot be written: {why}")]
+    ScriptText {
+        /// Index of the node.
+        node: usize,
+        /// Its kind.
+        kind: &'static str,
+        /// Why.
+        why: String,
+    },
     /// Subtree sizes that do not nest.
     #[error("node {node}: subtree size does not fit inside its parent")]
     Malformed {
@@ -303,9 +313,27 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::Repeat(_) => return Err(XmlError::NotExpressible { node: i, kind: "Repeat" }),
             NodeKind::Retry(_) => return Err(XmlError::NotExpressible { node: i, kind: "Retry" }),
             NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
-            // The image keeps a script's program, not its text.
+            // The image keeps a script's program, not its text: written only where the
+            // document's attributes are known (an imported tree).
             NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
-                return Err(XmlError::NotExpressible { node: i, kind: n.kind().name() });
+                let Some(written) = options.params.get(i) else {
+                    return Err(XmlError::ScriptText {
+                        node: i,
+                        kind: n.kind().name(),
+                        why: "an image keeps its program, not its text (export the imported document: \
+                              sim-host import TREE.xml --format xml)"
+                            .into(),
+                    });
+                };
+                let tag = n.kind().name();
+                let attrs: String = written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect();
+                if matches!(n.kind(), NodeKind::Precondition { .. }) {
+                    let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
+                    open.push((end, tag.to_string()));
+                } else {
+                    let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}/>");
+                }
+                continue;
             }
             NodeKind::Sleep(span) => {
                 let _ = writeln!(out, "{pad}<Sleep{meta} msec=\"{}\"/>", span.get());
