@@ -58,6 +58,7 @@
 //! | 35 | `ScriptCondition` (version 3) | as tag 34 |
 //! | 36 | `Precondition` (version 3) | program as tag 34, then the `else` status, one byte: 0 Success, 1 Failure, 2 Running, 3 Skipped |
 //! | 37 | `Sleep` (version 3) | span as `TimeLimit` |
+//! | 38 | `Guard` (version 3) | its table of scripts: start `u16`, length `u16` in the value table |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -86,8 +87,8 @@
 //! takes the next version; a loader reads exactly the versions it knows and refuses
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
-//! build reads versions 1 to 3. It writes version 3 for a tree with script or `Sleep` nodes
-//! (tags 34 to 37, the only difference) and version 2 otherwise, so that controllers built
+//! build reads versions 1 to 3. It writes version 3 for a tree with script, `Sleep` or
+//! `Guard` nodes (tags 34 to 38, the only difference) and version 2 otherwise, so that controllers built
 //! before scripts existed keep loading every image they can run. A version-1 image has
 //! neither extended leaves nor sections.
 //!
@@ -106,7 +107,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::catalog::Catalog;
 use crate::error::{EncodeError, LoadError};
-use crate::node::{Code, Leaf, LeafError, Node, NodeId, NodeKind, Span};
+use crate::node::{Leaf, LeafError, Node, NodeId, NodeKind, Span};
 use crate::port::PortTable;
 use crate::tree::Tree;
 
@@ -329,6 +330,8 @@ enum WireKind {
     Precondition(WireCode, u8),
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Sleep(WireSpan),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Guard(WireCode),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -339,9 +342,12 @@ struct WireCode {
 
 impl WireKind {
     /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
-    /// to 33, version 3 up to 37.
+    /// to 33, version 3 up to 38.
     fn in_version(&self, version: u16) -> bool {
-        if matches!(self, Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..) | Self::Sleep(_)) {
+        if matches!(
+            self,
+            Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..) | Self::Sleep(_) | Self::Guard(_)
+        ) {
             return version >= 3;
         }
         version >= 2
@@ -418,6 +424,7 @@ fn to_wire(node: &Node) -> WireNode {
         NodeKind::Script(c) => WireKind::Script(WireCode { start: c.start, len: c.len }),
         NodeKind::ScriptCondition(c) => WireKind::ScriptCondition(WireCode { start: c.start, len: c.len }),
         &NodeKind::Sleep(d) => WireKind::Sleep(span(d)),
+        NodeKind::Guard(c) => WireKind::Guard(WireCode { start: c.start, len: c.len }),
         NodeKind::Precondition { code, otherwise } => {
             let otherwise = match otherwise {
                 crate::Status::Success => 0,
@@ -516,11 +523,12 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
         WireKind::GateExt(l) => NodeKind::Gate(extended_of(id, l)?),
         WireKind::AlwaysSuccess => NodeKind::AlwaysSuccess,
         WireKind::AlwaysFailure => NodeKind::AlwaysFailure,
-        WireKind::Script(c) => NodeKind::Script(Code { start: c.start, len: c.len }),
-        WireKind::ScriptCondition(c) => NodeKind::ScriptCondition(Code { start: c.start, len: c.len }),
+        WireKind::Script(c) => NodeKind::Script(crate::node::Code { start: c.start, len: c.len }),
+        WireKind::ScriptCondition(c) => NodeKind::ScriptCondition(crate::node::Code { start: c.start, len: c.len }),
         WireKind::Sleep(s) => NodeKind::Sleep(from_span(id, s)?),
+        WireKind::Guard(c) => NodeKind::Guard(crate::node::Code { start: c.start, len: c.len }),
         WireKind::Precondition(c, otherwise) => NodeKind::Precondition {
-            code: Code { start: c.start, len: c.len },
+            code: crate::node::Code { start: c.start, len: c.len },
             otherwise: match otherwise {
                 0 => crate::Status::Success,
                 1 => crate::Status::Failure,
@@ -578,7 +586,11 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     let scripts = nodes.iter().any(|n| {
         matches!(
             n.kind(),
-            NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } | NodeKind::Sleep(_)
+            NodeKind::Script(_)
+                | NodeKind::ScriptCondition(_)
+                | NodeKind::Precondition { .. }
+                | NodeKind::Sleep(_)
+                | NodeKind::Guard(_)
         )
     });
     let version = if scripts { VERSION } else { VERSION_WITHOUT_SCRIPTS };
@@ -905,11 +917,15 @@ pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
                 .map_err(|fault| LoadError::BadPort { node: id as NodeId, fault })?;
         }
         #[cfg(feature = "btcpp")]
-        if let NodeKind::Script(code) | NodeKind::ScriptCondition(code) | NodeKind::Precondition { code, .. } =
-            *node.kind()
         {
-            crate::script::check(code.words(tree.values()), &ports)
-                .map_err(|fault| LoadError::BadScript { node: id as NodeId, fault })?;
+            let checked = match *node.kind() {
+                NodeKind::Script(code) | NodeKind::ScriptCondition(code) | NodeKind::Precondition { code, .. } => {
+                    crate::script::check(code.words(tree.values()), &ports)
+                }
+                NodeKind::Guard(table) => crate::script::check_guard(table.words(tree.values()), &ports),
+                _ => Ok(()),
+            };
+            checked.map_err(|fault| LoadError::BadScript { node: id as NodeId, fault })?;
         }
     }
     Ok((tree, ports))

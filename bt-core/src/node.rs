@@ -381,6 +381,12 @@ pub enum NodeKind {
     /// `ScriptCondition`: runs its program; Success when the result holds
     /// ([`script::truth`](crate::script::truth)), else Failure.
     ScriptCondition(Code),
+    /// BehaviorTree.CPP's scripted attributes (`_skipIf`, `_successIf`, `_failureIf`,
+    /// `_while`, `_onSuccess`, `_onFailure`, `_onHalted`, `_post`) of the node that is
+    /// its one child: a table of scripts ([`script::hook`](crate::script::hook)) run
+    /// before and after the child as BehaviorTree.CPP runs them around the node (tick
+    /// rule 12). Its status is the one BehaviorTree.CPP gives that node.
+    Guard(Code),
     /// BehaviorTree.CPP's `Sleep(msec)`: a leaf that is Running until the span has passed
     /// since it started, then succeeds (at once for a span of 0).
     Sleep(Span),
@@ -454,6 +460,7 @@ impl NodeKind {
             Self::ScriptCondition(_) => "ScriptCondition",
             Self::Precondition { .. } => "Precondition",
             Self::Sleep(_) => "Sleep",
+            Self::Guard(_) => "Guard",
         }
     }
 
@@ -486,7 +493,8 @@ impl NodeKind {
             | Self::Delay(_)
             | Self::RateController(_)
             | Self::Gate(_)
-            | Self::Precondition { .. } => Arity::One,
+            | Self::Precondition { .. }
+            | Self::Guard(_) => Arity::One,
             Self::Condition(_)
             | Self::Action(_)
             | Self::AlwaysSuccess

@@ -130,6 +130,7 @@ pub fn write_label<C: Catalog + ?Sized>(
         NodeKind::Script(c) => write!(f, "--> Script ({} words)", c.len),
         NodeKind::ScriptCondition(c) => write!(f, "--> ScriptCondition ({} words)", c.len),
         NodeKind::Sleep(d) => write!(f, "--> Sleep({})", d.get()),
+        NodeKind::Guard(c) => write!(f, "-^- Guard ({} words)", c.len),
         NodeKind::Precondition { code, otherwise } => {
             write!(f, "-^- Precondition ({} words, else {otherwise:?})", code.len)
         }

@@ -333,6 +333,77 @@ pub fn check(code: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
     check_stack(code)
 }
 
+/// The scripts a [`NodeKind::Guard`](crate::NodeKind::Guard) may carry, in the order of
+/// their bits in its table (BehaviorTree.CPP's `_failureIf`, `_successIf`, `_skipIf`,
+/// `_while`, `_onHalted`, `_onFailure`, `_onSuccess`, `_post`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Hook {
+    /// `_failureIf`: fail without ticking when it holds (checked when starting).
+    FailureIf = 0,
+    /// `_successIf`: succeed without ticking when it holds (checked when starting).
+    SuccessIf = 1,
+    /// `_skipIf`: skip when it holds (checked when starting).
+    SkipIf = 2,
+    /// `_while`: skip when it does not hold when starting; halt and skip when it stops
+    /// holding while Running.
+    While = 3,
+    /// `_onHalted`: run after the node is halted while Running.
+    OnHalted = 4,
+    /// `_onFailure`: run when the node fails.
+    OnFailure = 5,
+    /// `_onSuccess`: run when the node succeeds.
+    OnSuccess = 6,
+    /// `_post`: run when the node succeeds or fails, after the two above.
+    Post = 7,
+}
+
+/// The program of hook `hook` in a guard's table, if the table has one.
+///
+/// A guard's table is a mask word (bit `h` set: hook `h` present), then for each hook
+/// present, in bit order, its length in words and its program.
+#[must_use]
+pub fn hook(table: &[u16], hook: Hook) -> Option<&[u16]> {
+    let (&mask, mut rest) = table.split_first()?;
+    for h in 0..8u16 {
+        if mask & (1 << h) == 0 {
+            continue;
+        }
+        let (&len, tail) = rest.split_first()?;
+        let (program, after) = tail.split_at_checked(usize::from(len))?;
+        if h == hook as u16 {
+            return Some(program);
+        }
+        rest = after;
+    }
+    None
+}
+
+/// Checks a guard's table: a mask of the eight hooks, each program present whole and
+/// [`check`]ed, nothing after the last.
+///
+/// # Errors
+/// The first fault, as [`check`] finds it ([`ScriptFault::Malformed`] at the table's
+/// word for the framing).
+pub fn check_guard(table: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
+    let bad = |at: usize| ScriptFault::Malformed { at: at as u16 };
+    let (&mask, mut rest) = table.split_first().ok_or(bad(0))?;
+    if mask == 0 || mask > 0xFF {
+        return Err(bad(0));
+    }
+    for h in 0..8u16 {
+        if mask & (1 << h) == 0 {
+            continue;
+        }
+        let at = table.len() - rest.len();
+        let (&len, tail) = rest.split_first().ok_or(bad(at))?;
+        let (program, after) = tail.split_at_checked(usize::from(len)).ok_or(bad(at))?;
+        check(program, ports)?;
+        rest = after;
+    }
+    if rest.is_empty() { Ok(()) } else { Err(bad(table.len() - rest.len())) }
+}
+
 struct Stack {
     values: [Value; STACK],
     len: usize,

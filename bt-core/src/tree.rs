@@ -270,7 +270,10 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
             }
             Ok(())
         }
-        NodeKind::Script(code) | NodeKind::ScriptCondition(code) | NodeKind::Precondition { code, .. }
+        NodeKind::Script(code)
+        | NodeKind::ScriptCondition(code)
+        | NodeKind::Precondition { code, .. }
+        | NodeKind::Guard(code)
             if code.len == 0 || usize::from(code.start) + usize::from(code.len) > values =>
         {
             Err(LoadError::BadArgument {

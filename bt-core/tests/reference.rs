@@ -84,6 +84,7 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
         Just(NodeKind::Gate(Leaf::new(common::act(1)))),
         prop_oneof![Just(Status::Success), Just(Status::Failure), Just(Status::Running), Just(Status::Skipped)]
             .prop_map(|otherwise| NodeKind::Precondition { code: Code { start: 0, len: 1 }, otherwise }),
+        Just(NodeKind::Guard(GUARD_CODE)),
     ]
 }
 
@@ -178,8 +179,30 @@ fn fit(t: &T) -> T {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Ev {
-    Tick { node: usize, starting: bool },
-    Halt { node: usize },
+    Tick {
+        node: usize,
+        starting: bool,
+    },
+    Halt {
+        node: usize,
+    },
+    /// A guard's hook ran.
+    Hook {
+        node: usize,
+        hook: u16,
+    },
+}
+
+/// The guards' table in the value table: every hook, hook `h`'s program the one word
+/// `HOOK + h` (which the scripted set reads to tell them apart).
+const HOOK: u16 = 100;
+const GUARD: [u16; 17] =
+    [0xFF, 1, HOOK, 1, HOOK + 1, 1, HOOK + 2, 1, HOOK + 3, 1, HOOK + 4, 1, HOOK + 5, 1, HOOK + 6, 1, HOOK + 7];
+const GUARD_CODE: Code = Code { start: 1, len: GUARD.len() as u16 };
+
+/// Whether hook `h` of the guard at `node` holds on this tick: bit `h` of its byte.
+fn hook_holds(script: &[u8], node: usize, h: u16) -> bool {
+    (script[node] >> h) & 1 == 1
 }
 
 fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
@@ -211,7 +234,12 @@ impl BehaviorSet for Script<'_> {
     fn halt(&mut self, _: &Leaf, node: NodeId) {
         self.log.push(Ev::Halt { node: usize::from(node) });
     }
-    fn script(&mut self, _: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+    fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        let node = usize::from(ctx.node);
+        if let Some(&w) = code.first().filter(|&&w| w >= HOOK) {
+            self.log.push(Ev::Hook { node, hook: w - HOOK });
+            return Ok(Value::Bool(hook_holds(self.tick, node, w - HOOK)));
+        }
         self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: true });
         let held = outcome(self.nodes, self.tick, usize::from(ctx.node)) == Status::Success;
         Ok(Value::Bool(held))
@@ -336,6 +364,9 @@ impl<'a> Reference<'a> {
         }
         for c in self.kids(i) {
             self.halt(c);
+        }
+        if matches!(self.nodes[i].kind(), NodeKind::Guard(_)) && self.status(i) == NodeStatus::Running {
+            self.log.push(Ev::Hook { node: i, hook: 4 });
         }
         if matches!(self.nodes[i].kind(), NodeKind::Action(_)) && self.status(i) == NodeStatus::Running {
             self.log.push(Ev::Halt { node: i });
@@ -847,6 +878,51 @@ impl<'a> Reference<'a> {
                 }
                 _ => Status::Running,
             },
+            // Rule 12: BT.CPP's scripted attributes around the node that is its child.
+            NodeKind::Guard(_) => {
+                let hold = |r: &mut Self, h: u16| {
+                    r.log.push(Ev::Hook { node: i, hook: h });
+                    hook_holds(&r.script, i, h)
+                };
+                let decided = if self.fresh(i, parent_mirrors) {
+                    if hold(self, 0) {
+                        Some(Status::Failure)
+                    } else if hold(self, 1) {
+                        Some(Status::Success)
+                    } else if hold(self, 2) || !hold(self, 3) {
+                        Some(Status::Skipped)
+                    } else {
+                        None
+                    }
+                } else if running && !hold(self, 3) {
+                    self.halt(i + 1);
+                    self.log.push(Ev::Hook { node: i, hook: 4 });
+                    Some(Status::Skipped)
+                } else {
+                    None
+                };
+                let (r, from_child) = match decided {
+                    Some(d) => (d, false),
+                    None => (self.tick(i + 1, true), true),
+                };
+                match r {
+                    Status::Success => self.log.push(Ev::Hook { node: i, hook: 6 }),
+                    Status::Failure => self.log.push(Ev::Hook { node: i, hook: 5 }),
+                    _ => {}
+                }
+                if matches!(r, Status::Success | Status::Failure) {
+                    self.log.push(Ev::Hook { node: i, hook: 7 });
+                    if from_child {
+                        self.halt_child(i + 1);
+                    }
+                }
+                if r == Status::Skipped {
+                    // Its status is what the child kept, or Idle when it decided.
+                    self.st[i].status = if from_child { self.status(i + 1) } else { NodeStatus::Idle };
+                    return r;
+                }
+                r
+            }
             // Rule 12: asks its script only while its child is not under way.
             NodeKind::Precondition { otherwise, .. } => {
                 let go = was.mem == 1 || {
@@ -981,7 +1057,9 @@ proptest! {
         emit(&t, &mut b);
         let nodes = b.finish().unwrap();
         let catalog = common::catalog();
-        let tree = Tree::<8>::validate_with(nodes, &[script::op::POP], catalog.as_slice()).unwrap();
+        let mut values = vec![script::op::POP];
+        values.extend_from_slice(&GUARD);
+        let tree = Tree::<8>::validate_with(nodes, &values, catalog.as_slice()).unwrap();
         let mut state = vec![NodeState::IDLE; nodes.len()];
         let mut exec = Executor::new(tree, &mut state).unwrap();
         let mut observed_state = vec![NodeState::IDLE; nodes.len()];

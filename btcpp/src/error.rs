@@ -234,10 +234,12 @@ pub enum Fault {
         reason: String,
     },
     /// A script (`Script`, `ScriptCondition`) that does not parse or compile.
-    #[error("<{node}> code \"{code}\": {message} (at byte {offset} of the script)")]
+    #[error("<{node}> {attribute} \"{code}\": {message} (at byte {offset} of the script)")]
     Script {
         /// The node's type.
         node: String,
+        /// The attribute holding the script (`code`, `if`, `_skipIf`, ...).
+        attribute: String,
         /// The script, shortened.
         code: String,
         /// What is wrong.

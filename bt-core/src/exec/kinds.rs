@@ -24,7 +24,8 @@
 
 use super::{Ascent, Entered, Extra, Frame, FrameKind, NodeState, Run};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
-use crate::node::{NodeId, NodeKind, Span};
+use crate::node::{Code, Node, NodeId, NodeKind, Span};
+use crate::script::{Hook, hook};
 use crate::status::{NodeStatus, Status};
 
 /// Start times are kept in 24 bits.
@@ -121,6 +122,63 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 NodeKind::Sleep(d) if Self::elapsed(st, now) >= d.get() => *self.woken = true,
                 _ => {}
             }
+        }
+    }
+
+    /// Runs a script of node `idx` and says whether its result holds.
+    fn holds(&mut self, idx: usize, program: &[u16]) -> Result<bool, TickError> {
+        let ctx = Context { node: idx as NodeId, now: 0, starting: true, values: self.values };
+        let fault = |fault| TickError::Script { node: idx as NodeId, fault };
+        let v = self.behaviors.script(program, ctx).map_err(fault)?;
+        crate::script::truth(v).map_err(fault)
+    }
+
+    /// Runs hook `h` of the guard at `idx`, if it has one.
+    fn run_hook(&mut self, idx: usize, table: Code, h: Hook) -> Result<(), TickError> {
+        if let Some(program) = hook(table.words(self.values), h) {
+            let ctx = Context { node: idx as NodeId, now: 0, starting: true, values: self.values };
+            self.behaviors.script(program, ctx).map_err(|fault| TickError::Script { node: idx as NodeId, fault })?;
+        }
+        Ok(())
+    }
+
+    /// A guard's checks before its node starts: `_failureIf`, `_successIf`, `_skipIf`,
+    /// then `_while`, as BehaviorTree.CPP asks them; the status they decide, if any.
+    fn guard_before(&mut self, idx: usize, table: Code) -> Result<Option<Status>, TickError> {
+        let t = table.words(self.values);
+        for (h, then) in
+            [(Hook::FailureIf, Status::Failure), (Hook::SuccessIf, Status::Success), (Hook::SkipIf, Status::Skipped)]
+        {
+            if let Some(p) = hook(t, h)
+                && self.holds(idx, p)?
+            {
+                return Ok(Some(then));
+            }
+        }
+        match hook(t, Hook::While) {
+            Some(p) if !self.holds(idx, p)? => Ok(Some(Status::Skipped)),
+            _ => Ok(None),
+        }
+    }
+
+    /// A guard's hooks after its node returned `r`: `_onSuccess` or `_onFailure`, then
+    /// `_post`, when it finished.
+    fn guard_after(&mut self, idx: usize, table: Code, r: Status) -> Result<(), TickError> {
+        match r {
+            Status::Success => self.run_hook(idx, table, Hook::OnSuccess)?,
+            Status::Failure => self.run_hook(idx, table, Hook::OnFailure)?,
+            _ => return Ok(()),
+        }
+        self.run_hook(idx, table, Hook::Post)
+    }
+
+    /// The guard at `idx`, Running, is halted: its `_onHalted`, after its subtree. A
+    /// fault is kept for the tick to return.
+    pub(super) fn guard_halted(&mut self, idx: usize, table: Code) {
+        if let Err(e) = self.run_hook(idx, table, Hook::OnHalted)
+            && self.fault.is_none()
+        {
+            *self.fault = Some(e);
         }
     }
 
@@ -302,6 +360,31 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             }
             NodeKind::AlwaysSuccess => Entered::Decided(Status::Success),
             NodeKind::AlwaysFailure => Entered::Decided(Status::Failure),
+            NodeKind::Guard(table) => {
+                frame.kind = FrameKind::Guard;
+                let decided = if Self::fresh(st, parent_mirrors) {
+                    self.guard_before(idx, table)?
+                } else if running {
+                    // `_while` is the one hook asked while the node runs.
+                    match hook(table.words(self.values), Hook::While) {
+                        Some(p) if !self.holds(idx, p)? => {
+                            self.reset_subtree(first);
+                            self.run_hook(idx, table, Hook::OnHalted)?;
+                            Some(Status::Skipped)
+                        }
+                        _ => None,
+                    }
+                } else {
+                    None
+                };
+                match decided {
+                    Some(d) => {
+                        self.guard_after(idx, table, d)?;
+                        Entered::Decided(d)
+                    }
+                    None => Entered::Child(first),
+                }
+            }
             NodeKind::Sleep(d) => {
                 if !running {
                     if d.get() == 0 {
@@ -619,6 +702,17 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 }
                 Status::Running | Status::Skipped => done(Status::Running),
             },
+            FrameKind::Guard => {
+                if let Some(&NodeKind::Guard(table)) = self.nodes.get(node).map(Node::kind) {
+                    self.guard_after(node, table, r)?;
+                }
+                // The guard now holds the node's result; the node is reset as its parent
+                // in BehaviorTree.CPP resets a finished child: its status only.
+                if matches!(r, Status::Success | Status::Failure) {
+                    self.halt_child(first);
+                }
+                done(r)
+            }
             FrameKind::Precondition => {
                 if matches!(r, Status::Success | Status::Failure) {
                     self.set_memory(node, 0, 0);

@@ -62,9 +62,17 @@
 //!     its child has not yet been let go: if the result holds it ticks its child, and
 //!     goes on ticking it without asking again until the child succeeds or fails;
 //!     otherwise it returns its `else` status (Idle for Skipped). That it let its child
-//!     go survives halts, as in BehaviorTree.CPP. A script that stops with a fault ends
-//!     the tick with [`TickError::Script`](crate::TickError::Script), where
-//!     BehaviorTree.CPP throws.
+//!     go survives halts, as in BehaviorTree.CPP. A `Guard` runs BehaviorTree.CPP's
+//!     scripted attributes around its one child: when it starts afresh (as a
+//!     `RateController` does, rule 9), `_failureIf`, `_successIf` and `_skipIf`, the
+//!     first that holds deciding Failure, Success or Skipped without ticking the child,
+//!     then `_while`, which skips when false; while Running, only `_while`, which halts
+//!     the child, runs `_onHalted` and skips when false; when the result is Success or
+//!     Failure, `_onSuccess` or `_onFailure`, then `_post`, and the child is reset (its
+//!     status only); when the guard is halted while Running, `_onHalted` after its
+//!     subtree. A guard that skips keeps its child's status (Idle when it decided). A
+//!     script that stops with a fault ends the tick with
+//!     [`TickError::Script`](crate::TickError::Script), where BehaviorTree.CPP throws.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:
@@ -158,6 +166,7 @@ enum FrameKind {
     KeepRunningUntilFailure,
     RunOnce,
     Precondition,
+    Guard,
     TimeLimit,
     Delay,
     RateController,
@@ -360,6 +369,8 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             None => return Err(oob(nodes.len())),
         };
         let values = self.tree.values();
+        #[cfg(feature = "btcpp")]
+        let mut fault = None;
         let mut run = Run {
             nodes,
             values,
@@ -370,12 +381,19 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
             woken: &mut self.woken,
+            #[cfg(feature = "btcpp")]
+            fault: &mut fault,
         };
         #[cfg(feature = "btcpp")]
         if self.timers {
             run.cold().timers(now);
         }
         let result = run.tick(frames, extra, now);
+        #[cfg(feature = "btcpp")]
+        let result = match run.fault.take() {
+            Some(f) if result.is_ok() => Err(f),
+            _ => result,
+        };
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
             run.cold().reset(0, Scan::All);
@@ -400,6 +418,9 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
             woken: &mut self.woken,
+            // A `_onHalted` script that fails here is not reported: there is no tick.
+            #[cfg(feature = "btcpp")]
+            fault: &mut None,
         };
         run.reset(0, Scan::All);
     }
@@ -434,6 +455,10 @@ struct Run<'r, B, O, const DEPTH: usize> {
     /// Set when a node asks to be ticked again at once.
     #[cfg(feature = "btcpp")]
     woken: &'r mut bool,
+    /// A fault of a script run while halting (a `Guard`'s `_onHalted`), which the tick
+    /// returns.
+    #[cfg(feature = "btcpp")]
+    fault: &'r mut Option<TickError>,
 }
 
 const fn oob(node: usize) -> TickError {
@@ -469,6 +494,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
             woken: &mut *self.woken,
+            #[cfg(feature = "btcpp")]
+            fault: &mut *self.fault,
         }
     }
 
@@ -533,6 +560,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         if !BTCPP {
             return self.set_idle(i);
         }
+        #[cfg(feature = "btcpp")]
+        if let Some(NodeKind::Guard(table)) = self.nodes.get(i).map(Node::kind)
+            && self.status(i) == NodeStatus::Running
+        {
+            let table = *table;
+            self.cold().guard_halted(i, table);
+        }
         let keep = match self.nodes.get(i).map(Node::kind) {
             Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. } | NodeKind::Precondition { .. }) => true,
             Some(NodeKind::RoundRobin | NodeKind::Recovery { .. }) => self.status(i) != NodeStatus::Running,
@@ -562,7 +596,17 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// its children.
     #[inline]
     fn set_returned(&mut self, i: usize, r: Status) {
-        let new = if BTCPP && r == Status::Skipped { NodeStatus::Running } else { r.into() };
+        let new = if BTCPP && r == Status::Skipped {
+            // A Guard takes the status its child kept (BehaviorTree.CPP's node keeps its
+            // own when it skips).
+            if matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Guard(_))) {
+                self.status(i + 1)
+            } else {
+                NodeStatus::Running
+            }
+        } else {
+            r.into()
+        };
         self.set_status(i, new);
     }
 

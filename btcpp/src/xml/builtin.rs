@@ -167,9 +167,6 @@ pub fn builtin(id: &str) -> Option<&'static Builtin> {
 pub const SCRIPT_ATTRIBUTES: &[&str] =
     &["_failureIf", "_successIf", "_skipIf", "_while", "_onSuccess", "_onFailure", "_onHalted", "_post"];
 
-/// Why scripted attributes are refused.
-pub const SCRIPT_ATTRIBUTE_REASON: &str = "scripted pre- and post-conditions need BehaviorTree.CPP's script interpreter on the controller; put a Condition before the node in a Sequence or Fallback instead";
-
 /// Whether an attribute name is one BehaviorTree.CPP takes as a port: it starts with a
 /// letter and is not `name` or `ID` (attributes starting with `_` are metadata such as
 /// `_uid`, `_fullpath`, `_description`, ignored as BehaviorTree.CPP ignores them, or

@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::{SCRIPT_ATTRIBUTE_REASON, SCRIPT_ATTRIBUTES, is_port_name};
+use crate::xml::builtin::{SCRIPT_ATTRIBUTES, is_port_name};
 use crate::xml::document::{Document, Element, TreeDef};
 use crate::xml::model::{ModelKind, NodeModel, convert};
 
@@ -47,6 +47,10 @@ pub struct Inst {
     pub children: Vec<Inst>,
     /// Where the element is.
     pub at: Location,
+    /// Its scripted attributes (`_skipIf`, `_onSuccess`, ...), in document order.
+    pub hooks: Vec<Bound>,
+    /// The scope its scripted attributes read keys in (a SubTree node's: its parent's).
+    pub hook_scope: usize,
 }
 
 impl Inst {
@@ -208,17 +212,17 @@ impl Flattener<'_> {
                 Fault::TooLarge(format!("nesting deeper than {MAX_NESTING} levels (SubTrees included)")),
             ));
         }
-        for a in &e.attrs {
-            if SCRIPT_ATTRIBUTES.contains(&a.name.as_str()) {
-                return Err(ImportError::new(
-                    &a.at,
-                    Fault::Unsupported {
-                        construct: format!("the attribute {} on <{}>", a.name, e.tag),
-                        reason: SCRIPT_ATTRIBUTE_REASON.into(),
-                    },
-                ));
-            }
-        }
+        let hooks: Vec<Bound> = e
+            .attrs
+            .iter()
+            .filter(|a| SCRIPT_ATTRIBUTES.contains(&a.name.as_str()))
+            .map(|a| Bound {
+                port: a.name.clone(),
+                raw: a.value.clone(),
+                value: Value::Literal(a.value.clone()),
+                at: a.at.clone(),
+            })
+            .collect();
         let explicit = matches!(e.tag.as_str(), "Action" | "Condition" | "Control" | "Decorator");
         let subtree = matches!(e.tag.as_str(), "SubTree" | "SubTreePlus");
         let id = if explicit || subtree {
@@ -240,7 +244,10 @@ impl Flattener<'_> {
         let uid = self.next_uid(&e.at)?;
         let name = e.attr("name").map(str::to_string);
         if subtree {
-            return self.subtree(e, id, name, uid, scope, prefix, depth);
+            let mut inst = self.subtree(e, id, name, uid, scope, prefix, depth)?;
+            inst.hooks = hooks;
+            inst.hook_scope = scope;
+            return Ok(inst);
         }
         let mut ports = Vec::new();
         for a in e.attrs.iter().filter(|a| is_port_name(&a.name)) {
@@ -267,6 +274,8 @@ impl Flattener<'_> {
             ports,
             children,
             at: e.at.clone(),
+            hooks,
+            hook_scope: scope,
         })
     }
 
@@ -384,6 +393,8 @@ impl Flattener<'_> {
             ports,
             children: vec![child],
             at: e.at.clone(),
+            hooks: Vec::new(),
+            hook_scope: parent,
         })
     }
 }

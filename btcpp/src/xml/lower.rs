@@ -53,6 +53,9 @@ pub struct NodeMeta {
     /// tree; `Err` naming a key that has no name a script can write (a SubTree's local
     /// key). `None` for other nodes.
     pub flat_script: Option<std::result::Result<String, String>>,
+    /// For a guard: its scripted attributes with their keys as the flattened tree names
+    /// them (what the XML of the flattened tree writes on the node it guards).
+    pub flat_hooks: Vec<(String, String)>,
 }
 
 /// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
@@ -236,6 +239,13 @@ impl Lowerer<'_> {
         let mut stack = vec![root];
         while let Some(n) = stack.pop() {
             stack.extend(n.children.iter());
+            for hook in &n.hooks {
+                if let Ok(script) = script::parse(&hook.raw) {
+                    for name in script.assigned() {
+                        self.written.insert(resolve(&self.flat.scopes, n.hook_scope, name));
+                    }
+                }
+            }
             if matches!(n.id.as_str(), "Script" | "ScriptCondition" | "Precondition")
                 && let Some(code) = n.ports.iter().find(|b| b.port == "code" || b.port == "if")
                 && let Ok(script) = script::parse(&code.raw)
@@ -267,6 +277,32 @@ impl Lowerer<'_> {
     }
 
     fn node(&mut self, n: &Inst) -> Result<()> {
+        if !n.hooks.is_empty() {
+            // A guard in front of the node, holding its scripted attributes.
+            let index = self.out.nodes.len();
+            if index >= usize::from(u16::MAX) {
+                return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
+            }
+            self.out.nodes.push(Node::EMPTY);
+            self.out.meta.push(NodeMeta {
+                id: "Guard".into(),
+                name: None,
+                uid: n.uid,
+                params: Vec::new(),
+                flat_script: None,
+                flat_hooks: Vec::new(),
+            });
+            let kind = self.guard(n)?;
+            self.node_unguarded(n)?;
+            let size = u16::try_from(self.out.nodes.len() - index)
+                .map_err(|_| ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))))?;
+            self.out.nodes[index] = Node::new(kind, size);
+            return Ok(());
+        }
+        self.node_unguarded(n)
+    }
+
+    fn node_unguarded(&mut self, n: &Inst) -> Result<()> {
         if n.is_subtree {
             let attrs = n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
             self.out.subtrees.push(SubtreeMeta {
@@ -294,7 +330,14 @@ impl Lowerer<'_> {
         } else {
             Vec::new()
         };
-        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat_script: None });
+        self.out.meta.push(NodeMeta {
+            id: n.id.clone(),
+            name: n.name.clone(),
+            uid: n.uid,
+            params,
+            flat_script: None,
+            flat_hooks: Vec::new(),
+        });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(
@@ -408,6 +451,37 @@ impl Lowerer<'_> {
         let Some(bound) = n.ports.iter().find(|b| b.port == port) else {
             return Err(ImportError::new(&n.at, Fault::MissingAttribute { element: n.id.clone(), attribute: port }));
         };
+        let (words, flat) = self.compile_script(n, bound, n.scope)?;
+        if let Some(meta) = self.out.meta.last_mut() {
+            meta.flat_script = Some(flat);
+        }
+        self.place(n, &words)
+    }
+
+    /// Words appended to the value table, as a [`Code`].
+    fn place(&mut self, n: &Inst, words: &[u16]) -> Result<Code> {
+        let start = u16::try_from(self.out.values.len()).ok();
+        let len = u16::try_from(words.len()).ok();
+        let full = || ImportError::new(&n.at, Fault::TooLarge("the image's value table is full".into()));
+        let (Some(start), Some(len)) = (start, len) else {
+            return Err(full());
+        };
+        if start.checked_add(len).is_none() {
+            return Err(full());
+        }
+        self.out.values.extend_from_slice(words);
+        Ok(Code { start, len })
+    }
+
+    /// A script attribute of `n` (`bound`) compiled with its keys read in `scope`: its
+    /// program, and its text with every key as the flattened tree names it (`Err`: why
+    /// it has none).
+    fn compile_script(
+        &mut self,
+        n: &Inst,
+        bound: &Bound,
+        scope: usize,
+    ) -> Result<(Vec<u16>, std::result::Result<String, String>)> {
         let fault = |e: script::ScriptError| {
             let mut code: String = bound.raw.chars().take(80).collect();
             if code.len() < bound.raw.len() {
@@ -415,12 +489,18 @@ impl Lowerer<'_> {
             }
             ImportError::new(
                 &bound.at,
-                Fault::Script { node: n.id.clone(), code, message: e.message, offset: e.offset },
+                Fault::Script {
+                    node: n.id.clone(),
+                    attribute: bound.port.clone(),
+                    code,
+                    message: e.message,
+                    offset: e.offset,
+                },
             )
         };
         let parsed = script::parse(&bound.raw).map_err(fault)?;
-        let (words, keys) = {
-            let mut symbols = ScriptSymbols { l: self, n, at: &bound.at, failed: None, keys: Vec::new() };
+        let (words, mut keys) = {
+            let mut symbols = ScriptSymbols { l: self, n, scope, at: &bound.at, failed: None, keys: Vec::new() };
             let compiled = parsed.compile(&mut symbols);
             if let Some(e) = symbols.failed {
                 return Err(e);
@@ -430,7 +510,6 @@ impl Lowerer<'_> {
         // The script as the flattened tree names its keys.
         let mut flat = bound.raw.clone();
         let mut unnamed = None;
-        let mut keys = keys;
         keys.sort_by_key(|k| std::cmp::Reverse(k.0));
         for (offset, written, slot) in keys {
             let name = &self.out.slots[usize::from(slot)].name;
@@ -442,24 +521,45 @@ impl Lowerer<'_> {
                 flat.replace_range(offset..offset + written.len(), name);
             }
         }
-        if let Some(meta) = self.out.meta.last_mut() {
-            meta.flat_script = Some(match unnamed {
-                None => Ok(flat),
-                Some(key) => Err(format!(
-                    "its script uses `{key}`, a key local to a SubTree, which a script in the flattened tree cannot name"
-                )),
-            });
-        }
-        let start = u16::try_from(self.out.values.len()).ok();
-        let len = u16::try_from(words.len()).ok();
-        let (Some(start), Some(len)) = (start, len) else {
-            return Err(ImportError::new(&n.at, Fault::TooLarge("the image's value table is full".into())));
+        let flat = match unnamed {
+            None => Ok(flat),
+            Some(key) => Err(format!(
+                "its script uses `{key}`, a key local to a SubTree, which a script in the flattened tree cannot name"
+            )),
         };
-        if start.checked_add(len).is_none() {
-            return Err(ImportError::new(&n.at, Fault::TooLarge("the image's value table is full".into())));
+        Ok((words, flat))
+    }
+
+    /// The guard of a node with scripted attributes: their table (a mask, then each
+    /// hook's length and program, in [`bt_core::script::Hook`] order) in the value table.
+    fn guard(&mut self, n: &Inst) -> Result<NodeKind> {
+        let mut mask = 0u16;
+        let mut table = vec![0u16];
+        let mut flat_params = Vec::new();
+        let mut unnamed = None;
+        for (bit, name) in SCRIPT_ATTRIBUTES_IN_HOOK_ORDER.iter().enumerate() {
+            let Some(bound) = n.hooks.iter().find(|b| b.port == *name) else { continue };
+            let (words, flat) = self.compile_script(n, bound, n.hook_scope)?;
+            mask |= 1 << bit;
+            let len = u16::try_from(words.len())
+                .map_err(|_| ImportError::new(&bound.at, Fault::TooLarge("a script longer than 65535 words".into())))?;
+            table.push(len);
+            table.extend_from_slice(&words);
+            match flat {
+                Ok(text) => flat_params.push((name.to_string(), text)),
+                Err(why) => unnamed = Some(why),
+            }
         }
-        self.out.values.extend_from_slice(&words);
-        Ok(Code { start, len })
+        table[0] = mask;
+        if let Some(meta) = self.out.meta.last_mut() {
+            meta.params = n.hooks.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
+            meta.flat_script = Some(match unnamed {
+                None => Ok(String::new()),
+                Some(why) => Err(why),
+            });
+            meta.flat_hooks = flat_params;
+        }
+        Ok(NodeKind::Guard(self.place(n, &table)?))
     }
 
     /// The leaf of a behavior of the models' set (an Action, a Condition, or a plugin
@@ -840,6 +940,10 @@ impl Lowerer<'_> {
     }
 }
 
+/// BehaviorTree.CPP's scripted attributes in the order of [`bt_core::script::Hook`].
+const SCRIPT_ATTRIBUTES_IN_HOOK_ORDER: [&str; 8] =
+    ["_failureIf", "_successIf", "_skipIf", "_while", "_onHalted", "_onFailure", "_onSuccess", "_post"];
+
 /// The port name [`Lowerer::slot_value`] is given for a script's keys.
 const SCRIPT_PORT: &str = "code";
 
@@ -848,6 +952,8 @@ struct ScriptSymbols<'l, 'a, 'n> {
     l: &'l mut Lowerer<'a>,
     n: &'n Inst,
     at: &'n Location,
+    /// The scope its keys are read in.
+    scope: usize,
     /// An import error (a key conflict, a full table) met while compiling.
     failed: Option<ImportError>,
     /// Each key as written (its byte offset and text) and its slot.
@@ -861,7 +967,7 @@ impl script::Symbols for ScriptSymbols<'_, '_, '_> {
         offset: usize,
         _assigned: bool,
     ) -> std::result::Result<(u16, bool), script::ScriptError> {
-        let key = resolve(&self.l.flat.scopes, self.n.scope, name);
+        let key = resolve(&self.l.flat.scopes, self.scope, name);
         let declared = self.l.ported.contains(&key)
             || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));
         match self.l.slot_value(&key, PortType::Any, None, self.at, self.n, SCRIPT_PORT) {

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, PortInfo, PortValue};
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, Node, NodeKind, PortInfo, PortValue};
 
 use crate::xml::lower::Imported;
 use crate::xml::write::{NoPorts, XmlError, XmlOptions, to_xml_with};
@@ -140,6 +140,9 @@ impl Imported {
         for (node, m) in self.meta.iter().enumerate() {
             flat.push(match &m.flat_script {
                 None => m.params.clone(),
+                Some(Ok(_)) if matches!(self.nodes.get(node).map(Node::kind), Some(NodeKind::Guard(_))) => {
+                    m.flat_hooks.clone()
+                }
                 Some(Err(why)) => {
                     let kind = self.nodes.get(node).map_or("script", |n| n.kind().name());
                     return Err(XmlError::ScriptText { node, kind, why: why.clone() });

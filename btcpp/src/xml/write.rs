@@ -245,6 +245,8 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
         }
     }
     let indent = |depth: usize| "  ".repeat(depth + 2);
+    // A guard's attributes, for the node it guards (the next one).
+    let mut carried: Option<String> = None;
     for (i, n) in nodes.iter().enumerate() {
         while let Some((end, tag)) = open.last() {
             if *end > i {
@@ -275,7 +277,24 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             }
             None => {}
         }
+        if let Some(c) = carried.take() {
+            meta.push_str(&c);
+        }
         let (tag, attrs): (&'static str, String) = match *n.kind() {
+            // A guard is its node's scripted attributes: written on the node.
+            NodeKind::Guard(_) => {
+                let Some(written) = options.params.get(i) else {
+                    return Err(XmlError::ScriptText {
+                        node: i,
+                        kind: "Guard",
+                        why: "an image keeps its program, not its text (export the imported document: \
+                              sim-host import TREE.xml --format xml)"
+                            .into(),
+                    });
+                };
+                carried = Some(written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect());
+                continue;
+            }
             NodeKind::Sequence => ("ReactiveSequence", String::new()),
             NodeKind::Fallback => ("ReactiveFallback", String::new()),
             NodeKind::SequenceWithMemory => ("Sequence", String::new()),

@@ -38,14 +38,15 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     prints the same set as the Rust table a controller compiles in. Port values become image \
     data: literals are constants typed as the model declares the port, {key}s are blackboard \
     slot numbers, ports left out are unset (the behavior's default).\n\n\
-    Script, ScriptCondition and Precondition run on the controller: their scripts are \
-    compiled at import into small programs the image carries (keys become blackboard slots; \
-    --enum gives the scripting enums the C++ program registers). A script that does not \
-    parse is refused with its place.\n\n\
+    Script, ScriptCondition, Precondition and the scripted attributes (_skipIf, _while, \
+    _onSuccess, ...) run on the controller: their scripts are compiled at import into small \
+    programs the image carries (keys become blackboard slots; --enum gives the scripting \
+    enums the C++ program registers). A script that does not parse is refused with its \
+    place.\n\n\
     What a controller cannot run is refused with file:line:column and the construct named, \
-    and nothing is written: the scripted attributes (_skipIf, _while, _on...), Switch, Loop, \
-    blackboard writers, node types no model declares, ports a model does not declare, \
-    literals on output ports.\n\n\
+    and nothing is written: Switch, Loop, blackboard writers, building strings in scripts, \
+    node types no model declares, ports a model does not declare, literals on output \
+    ports.\n\n\
     --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
     behavior set (a brick task or PDDL domain) back into that set, giving the same image.";
 

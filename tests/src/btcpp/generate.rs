@@ -4,7 +4,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::case::{Case, Script};
-use super::spec::{FIRST_CONDITION_SCRIPT, Kind, SCRIPTS, Spec};
+use super::spec::{FIRST_CONDITION_SCRIPT, HOOKS, Kind, SCRIPTS, Spec};
 
 /// Ticks every random case runs.
 pub const TICKS: u32 = 25;
@@ -43,15 +43,41 @@ pub fn scripted_case(seed: u64, index: u32) -> Case {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (u64::from(index) << 20) ^ 0x5c21_b7ed);
     let once = rng.random_bool(0.25);
     let mut budget = MAX_NODES - 2;
-    let tree = loop {
+    let mut tree = loop {
         let s = node(&mut rng, 2, false, true, &mut budget);
         if !s.kind.is_leaf() && s.len() >= 4 {
             break s;
         }
         budget = MAX_NODES - 2;
     };
+    add_hooks(&mut tree, &mut rng);
     let spec = Spec::new(Kind::Sequence, vec![Spec::leaf(Kind::Script(0)), tree]);
     finish(&mut rng, spec, format!("s{index:04}"), once)
+}
+
+/// Gives about one node in five one or two scripted attributes (`_skipIf`, `_onSuccess`,
+/// ...): conditions for the checks, assignments for the others.
+fn add_hooks(spec: &mut Spec, rng: &mut ChaCha8Rng) {
+    let mut stack = vec![spec];
+    while let Some(s) = stack.pop() {
+        if rng.random_bool(0.2) {
+            let count = rng.random_range(1..=2);
+            while s.hooks.len() < count {
+                let (letter, _) = HOOKS[rng.random_range(0..HOOKS.len())];
+                if s.hooks.iter().any(|(h, _)| *h == letter) {
+                    continue;
+                }
+                let n = SCRIPTS.len() as u8;
+                let script = if "FSKW".contains(letter) {
+                    rng.random_range(FIRST_CONDITION_SCRIPT..n)
+                } else {
+                    rng.random_range(1..FIRST_CONDITION_SCRIPT)
+                };
+                s.hooks.push((letter, script));
+            }
+        }
+        stack.extend(s.children.iter_mut());
+    }
 }
 
 fn finish(rng: &mut ChaCha8Rng, spec: Spec, name: String, once: bool) -> Case {

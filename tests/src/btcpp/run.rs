@@ -8,7 +8,7 @@ use bt_core::{
 };
 
 use super::case::{Case, Recorded, Tick};
-use super::spec::{Kind, SCRIPTS, Spec};
+use super::spec::{HOOKS, Kind, SCRIPTS, Spec};
 use bt_core::script::{ScriptFault, Value};
 use btcpp::xml::script::{ScriptError, Symbols, parse};
 
@@ -98,7 +98,7 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
 /// # Errors
 /// A message when the builder refuses it.
 pub fn build(spec: &Spec) -> Result<Vec<Node>, String> {
-    Ok(build_with_values(spec)?.0)
+    Ok(build_nodes(spec)?.nodes)
 }
 
 /// The keys of [`SCRIPTS`], as slots.
@@ -119,35 +119,85 @@ impl Symbols for Keys {
     }
 }
 
+/// A spec as bt-core nodes: a node with scripted attributes gets a `Guard` in front.
+#[derive(Clone, Debug)]
+pub struct Built {
+    /// The nodes.
+    pub nodes: Vec<Node>,
+    /// Their value table (programs of scripts and guards).
+    pub values: Vec<u16>,
+    /// The spec node each bt-core node stands for (a guard and its node: the same).
+    pub to_spec: Vec<usize>,
+    /// The bt-core node whose status is each spec node's (a guarded node: its guard).
+    pub shown: Vec<usize>,
+}
+
 /// The spec as a bt-core node array and its value table (the scripts' programs,
 /// compiled by the importer's compiler).
 ///
 /// # Errors
 /// A message when the builder refuses it or a script does not compile.
 pub fn build_with_values(spec: &Spec) -> Result<(Vec<Node>, Vec<u16>), String> {
-    let mut values = Vec::new();
-    let mut nodes = build_nodes(spec)?;
-    for (node, s) in nodes.iter_mut().zip(spec.preorder()) {
-        if let Kind::Script(i) | Kind::ScriptCondition(i) | Kind::Precondition(i, _) = s.kind {
-            let text = SCRIPTS.get(usize::from(i)).ok_or(format!("no script {i}"))?;
-            let code = parse(text).and_then(|p| p.compile(&mut Keys)).map_err(|e| format!("{text}: {}", e.message))?;
-            let start = u16::try_from(values.len()).map_err(|_| "value table full".to_string())?;
-            let len = u16::try_from(code.len()).map_err(|_| "script too long".to_string())?;
-            values.extend_from_slice(&code);
-            let code = bt_core::Code { start, len };
-            let kind = match *node.kind() {
-                NodeKind::Script(_) => NodeKind::Script(code),
-                NodeKind::Precondition { otherwise, .. } => NodeKind::Precondition { code, otherwise },
-                _ => NodeKind::ScriptCondition(code),
-            };
-            *node = Node::new(kind, node.size());
-        }
-    }
-    Ok((nodes, values))
+    let b = build_full(spec)?;
+    Ok((b.nodes, b.values))
 }
 
-fn build_nodes(spec: &Spec) -> Result<Vec<Node>, String> {
-    let mut storage = vec![Node::EMPTY; spec.len()];
+fn compile(i: u8) -> Result<Vec<u16>, String> {
+    let text = SCRIPTS.get(usize::from(i)).ok_or(format!("no script {i}"))?;
+    parse(text).and_then(|p| p.compile(&mut Keys)).map_err(|e| format!("{text}: {}", e.message))
+}
+
+/// [`build_with_values`], with the maps between bt-core and spec nodes.
+///
+/// # Errors
+/// As [`build_with_values`].
+pub fn build_full(spec: &Spec) -> Result<Built, String> {
+    let mut values = Vec::new();
+    let Built { mut nodes, to_spec, shown, .. } = build_nodes(spec)?;
+    let pre = spec.preorder();
+    let place = |values: &mut Vec<u16>, words: &[u16]| -> Result<bt_core::Code, String> {
+        let start = u16::try_from(values.len()).map_err(|_| "value table full".to_string())?;
+        let len = u16::try_from(words.len()).map_err(|_| "script too long".to_string())?;
+        values.extend_from_slice(words);
+        Ok(bt_core::Code { start, len })
+    };
+    for (ours, node) in nodes.iter_mut().enumerate() {
+        let s = pre[to_spec[ours]];
+        let kind = match *node.kind() {
+            NodeKind::Guard(_) => {
+                let mut table = vec![0u16];
+                for (bit, (letter, _)) in HOOKS.iter().enumerate() {
+                    if let Some(&(_, i)) = s.hooks.iter().find(|(h, _)| h == letter) {
+                        let words = compile(i)?;
+                        table[0] |= 1 << bit;
+                        table.push(words.len() as u16);
+                        table.extend_from_slice(&words);
+                    }
+                }
+                NodeKind::Guard(place(&mut values, &table)?)
+            }
+            NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
+                let (Kind::Script(i) | Kind::ScriptCondition(i) | Kind::Precondition(i, _)) = s.kind else {
+                    return Err("a script node without a script".into());
+                };
+                let code = place(&mut values, &compile(i)?)?;
+                match *node.kind() {
+                    NodeKind::Script(_) => NodeKind::Script(code),
+                    NodeKind::Precondition { otherwise, .. } => NodeKind::Precondition { code, otherwise },
+                    _ => NodeKind::ScriptCondition(code),
+                }
+            }
+            _ => continue,
+        };
+        *node = Node::new(kind, node.size());
+    }
+    Ok(Built { nodes, values, to_spec, shown })
+}
+
+/// The nodes (scripts' and guards' programs not placed yet) and the maps of [`Built`].
+fn build_nodes(spec: &Spec) -> Result<Built, String> {
+    let guards = spec.preorder().iter().filter(|n| !n.hooks.is_empty()).count();
+    let mut storage = vec![Node::EMPTY; spec.len() + guards];
     let mut b = Builder::<16>::new(&mut storage);
     // Iterative pre-order with explicit closes.
     enum Step<'a> {
@@ -156,6 +206,7 @@ fn build_nodes(spec: &Spec) -> Result<Vec<Node>, String> {
     }
     let mut stack = vec![Step::Open(spec)];
     let mut id = 0usize;
+    let (mut to_spec, mut shown) = (Vec::new(), Vec::new());
     while let Some(step) = stack.pop() {
         match step {
             Step::Close => {
@@ -163,6 +214,13 @@ fn build_nodes(spec: &Spec) -> Result<Vec<Node>, String> {
             }
             Step::Open(s) => {
                 let k = kind(s, id);
+                shown.push(to_spec.len());
+                if !s.hooks.is_empty() {
+                    b.open(NodeKind::Guard(bt_core::Code { start: 0, len: 1 })).map_err(|e| e.to_string())?;
+                    to_spec.push(id);
+                    stack.push(Step::Close);
+                }
+                to_spec.push(id);
                 id += 1;
                 if s.kind.is_leaf() {
                     b.leaf(k).map_err(|e| e.to_string())?;
@@ -174,7 +232,7 @@ fn build_nodes(spec: &Spec) -> Result<Vec<Node>, String> {
             }
         }
     }
-    Ok(b.finish().map_err(|e| e.to_string())?.to_vec())
+    Ok(Built { nodes: b.finish().map_err(|e| e.to_string())?.to_vec(), values: Vec::new(), to_spec, shown })
 }
 
 struct Scripted<'a> {
@@ -183,11 +241,18 @@ struct Scripted<'a> {
     events: Vec<String>,
     /// The keys of [`SCRIPTS`].
     blackboard: [Option<Value>; 3],
+    /// The spec node of each bt-core node ([`Built::to_spec`]).
+    to_spec: Vec<usize>,
 }
 
 impl Scripted<'_> {
+    /// The spec's (BehaviorTree.CPP's) id of bt-core node `node`.
+    fn spec(&self, node: NodeId) -> usize {
+        self.to_spec.get(usize::from(node)).copied().unwrap_or(usize::from(node))
+    }
+
     fn next(&mut self, node: NodeId) -> Status {
-        let node = usize::from(node);
+        let node = self.spec(node);
         let Some(script) = self.case.scripts.iter().find(|s| s.node == node) else {
             return Status::Failure;
         };
@@ -223,7 +288,7 @@ fn status_letter(s: NodeStatus) -> char {
 impl BehaviorSet for Scripted<'_> {
     fn condition(&mut self, _: &Leaf, ctx: Context<'_>) -> Status {
         let s = self.next(ctx.node);
-        self.events.push(format!("{}{}", ctx.node, letter(s)));
+        self.events.push(format!("{}{}", self.spec(ctx.node), letter(s)));
         s
     }
 
@@ -231,20 +296,21 @@ impl BehaviorSet for Scripted<'_> {
         let s = self.next(ctx.node);
         let c = letter(s);
         let c = if ctx.starting { c } else { c.to_ascii_lowercase() };
-        self.events.push(format!("{}{c}", ctx.node));
+        self.events.push(format!("{}{c}", self.spec(ctx.node)));
         s
     }
 
     fn halt(&mut self, _: &Leaf, node: NodeId) {
-        self.events.push(format!("H{node}"));
+        self.events.push(format!("H{}", self.spec(node)));
     }
 
     fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
         let v = bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)?;
         // For the replay of logs, not for the harness's events: `$` marks it.
-        let kind = self.case.spec.preorder().get(usize::from(ctx.node)).map(|n| n.kind);
+        let node = self.spec(ctx.node);
+        let kind = self.case.spec.preorder().get(node).map(|n| n.kind);
         let held = matches!(kind, Some(Kind::Script(_))) || bt_core::script::truth(v).unwrap_or(false);
-        self.events.push(format!("${}{}", ctx.node, if held { 'S' } else { 'F' }));
+        self.events.push(format!("${node}{}", if held { 'S' } else { 'F' }));
         Ok(v)
     }
 }
@@ -261,12 +327,12 @@ pub fn now(case: &Case, k: u32) -> u32 {
 /// # Errors
 /// A message when the tree does not build or validate, or a tick fails.
 pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
-    let (nodes, values) = build_with_values(&case.spec)?;
+    let Built { nodes, values, to_spec, shown } = build_full(&case.spec)?;
     let catalog = catalog();
     let tree = Tree::<16>::validate_with(&nodes, &values, catalog.as_slice()).map_err(|e| e.to_string())?;
     let mut state = vec![bt_core::NodeState::IDLE; nodes.len()];
     let mut exec = Executor::new(tree, &mut state).map_err(|e| e.to_string())?;
-    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3] };
+    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3], to_spec };
     let mut out = vec![];
     for k in 0..case.ticks {
         let now = now(case, k);
@@ -282,7 +348,9 @@ pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
                 root = exec.tick(&mut world, now).map_err(|e| format!("tick {k}: {e}"))?;
             }
         }
-        let statuses = exec.states().iter().map(|s| status_letter(s.status())).collect();
+        // BehaviorTree.CPP's nodes' statuses: a guarded node's is its guard's.
+        let states = exec.states();
+        let statuses = shown.iter().map(|&i| states.get(i).map_or('I', |s| status_letter(s.status()))).collect();
         out.push(Tick { root: letter(root), events: std::mem::take(&mut world.events), statuses });
     }
     Ok(out)

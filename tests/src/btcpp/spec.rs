@@ -202,19 +202,35 @@ pub struct Spec {
     pub kind: Kind,
     /// Its children, in order.
     pub children: Vec<Spec>,
+    /// Its scripted attributes: a [`HOOKS`] letter and a [`SCRIPTS`] index each.
+    pub hooks: Vec<(char, u8)>,
 }
+
+/// The scripted attributes, by their letter in the spec (`{K=6,s=1}`): `F` `_failureIf`,
+/// `S` `_successIf`, `K` `_skipIf`, `W` `_while`, `H` `_onHalted`, `f` `_onFailure`,
+/// `s` `_onSuccess`, `P` `_post`, in bt-core's hook order.
+pub const HOOKS: [(char, &str); 8] = [
+    ('F', "_failureIf"),
+    ('S', "_successIf"),
+    ('K', "_skipIf"),
+    ('W', "_while"),
+    ('H', "_onHalted"),
+    ('f', "_onFailure"),
+    ('s', "_onSuccess"),
+    ('P', "_post"),
+];
 
 impl Spec {
     /// A node with children.
     #[must_use]
     pub fn new(kind: Kind, children: Vec<Spec>) -> Self {
-        Self { kind, children }
+        Self { kind, children, hooks: vec![] }
     }
 
     /// A leaf.
     #[must_use]
     pub fn leaf(kind: Kind) -> Self {
-        Self { kind, children: vec![] }
+        Self { kind, children: vec![], hooks: vec![] }
     }
 
     /// The nodes in pre-order (the node ids both sides use).
@@ -292,6 +308,11 @@ fn write_xml(spec: &Spec, next: &mut usize, out: &mut String) {
         };
         out.push_str(&format!(r#" {attr}="{value}""#));
     }
+    for (h, i) in &spec.hooks {
+        let attr = HOOKS.iter().find(|(c, _)| c == h).map_or("", |(_, a)| a);
+        let code = SCRIPTS.get(usize::from(*i)).copied().unwrap_or("").replace('&', "&amp;").replace('<', "&lt;");
+        out.push_str(&format!(r#" {attr}="{code}""#));
+    }
     if spec.children.is_empty() {
         out.push_str("/>");
         return;
@@ -310,6 +331,10 @@ impl fmt::Display for Spec {
         if !params.is_empty() {
             let values: Vec<_> = params.into_iter().map(|(_, v)| v).collect();
             write!(f, "({})", values.join(","))?;
+        }
+        if !self.hooks.is_empty() {
+            let hooks: Vec<String> = self.hooks.iter().map(|(h, i)| format!("{h}={i}")).collect();
+            write!(f, "{{{}}}", hooks.join(","))?;
         }
         if !self.children.is_empty() {
             f.write_str("[")?;
@@ -396,6 +421,27 @@ impl Parser<'_> {
             "A" => Kind::Action,
             _ => return Err(format!("unknown kind `{name}` at byte {at}")),
         };
+        let mut hooks = vec![];
+        if self.peek() == Some(b'{') {
+            self.at += 1;
+            loop {
+                let h = self.peek().map(char::from).ok_or(format!("expected a hook at byte {}", self.at))?;
+                if !HOOKS.iter().any(|(c, _)| *c == h) || self.s.get(self.at + 1) != Some(&b'=') {
+                    return Err(format!("bad hook at byte {}", self.at));
+                }
+                self.at += 2;
+                let i = self.word().parse().map_err(|_| format!("bad script index at byte {}", self.at))?;
+                hooks.push((h, i));
+                match self.peek() {
+                    Some(b',') => self.at += 1,
+                    Some(b'}') => {
+                        self.at += 1;
+                        break;
+                    }
+                    _ => return Err(format!("expected , or }} at byte {}", self.at)),
+                }
+            }
+        }
         let mut children = vec![];
         if self.peek() == Some(b'[') {
             self.at += 1;
@@ -411,6 +457,6 @@ impl Parser<'_> {
                 }
             }
         }
-        Ok(Spec { kind, children })
+        Ok(Spec { kind, children, hooks })
     }
 }
