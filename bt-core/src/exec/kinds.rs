@@ -114,12 +114,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         && self.status(first) == NodeStatus::Running =>
                 {
                     self.reset_subtree(first);
-                    *self.woken = true;
+                    self.side.woken = true;
                 }
                 NodeKind::Delay(d) if Self::elapsed(st, now) >= d.get() && self.status(first) == NodeStatus::Idle => {
-                    *self.woken = true;
+                    self.side.woken = true;
                 }
-                NodeKind::Sleep(d) if Self::elapsed(st, now) >= d.get() => *self.woken = true,
+                NodeKind::Sleep(d) if Self::elapsed(st, now) >= d.get() => self.side.woken = true,
                 _ => {}
             }
         }
@@ -174,11 +174,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 
     /// The guard at `idx`, Running, is halted: its `_onHalted`, after its subtree. A
     /// fault is kept for the tick to return.
+    #[cold]
+    #[inline(never)]
     pub(super) fn guard_halted(&mut self, idx: usize, table: Code) {
+        if self.status(idx) != NodeStatus::Running {
+            return;
+        }
         if let Err(e) = self.run_hook(idx, table, Hook::OnHalted)
-            && self.fault.is_none()
+            && self.side.fault.is_none()
         {
-            *self.fault = Some(e);
+            self.side.fault = Some(e);
         }
     }
 
@@ -461,7 +466,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 Status::Success if more && top.a == 1 => {
                     // BehaviorTree.CPP's wake-up: return, ask to be ticked again.
                     self.set_memory(node, child_end as u16, 0);
-                    *self.woken = true;
+                    self.side.woken = true;
                     done(Status::Running)
                 }
                 Status::Success | Status::Skipped if more => {
@@ -675,7 +680,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                                 // BehaviorTree.CPP's wake-up: return, ask to be ticked
                                 // again. A child that had been Running goes again now.
                                 self.set_memory(node, top.a, 0);
-                                *self.woken = true;
+                                self.side.woken = true;
                                 return done(Status::Running);
                             }
                             x.child_was_idle = true;

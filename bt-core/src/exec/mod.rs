@@ -264,8 +264,8 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     still_running: bool,
     /// The tree has a `TimeLimit` or `Delay`: see [`Run::timers`].
     timers: bool,
-    /// A node asked to be ticked again at once: see [`Executor::woken`].
-    woken: bool,
+    /// What a tick leaves beside the statuses: see [`Side`].
+    side: Side,
 }
 
 #[derive(Debug)]
@@ -297,7 +297,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
                 .nodes()
                 .iter()
                 .any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_) | NodeKind::Sleep(_)));
-        Ok(Self { tree, state, stack, still_running, timers, woken: false })
+        Ok(Self { tree, state, stack, still_running, timers, side: Side::default() })
     }
 
     /// True when a node asked to be ticked again at once since [`Executor::take_woken`]
@@ -315,12 +315,12 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
     /// ```
     #[must_use]
     pub fn woken(&self) -> bool {
-        self.woken
+        self.side.woken
     }
 
     /// Returns [`Executor::woken`] and clears it.
     pub fn take_woken(&mut self) -> bool {
-        core::mem::take(&mut self.woken)
+        core::mem::take(&mut self.side.woken)
     }
 
     /// The tree being ticked.
@@ -369,8 +369,6 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             None => return Err(oob(nodes.len())),
         };
         let values = self.tree.values();
-        #[cfg(feature = "btcpp")]
-        let mut fault = None;
         let mut run = Run {
             nodes,
             values,
@@ -380,17 +378,16 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             observer,
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
-            woken: &mut self.woken,
-            #[cfg(feature = "btcpp")]
-            fault: &mut fault,
+            side: &mut self.side,
         };
         #[cfg(feature = "btcpp")]
         if self.timers {
             run.cold().timers(now);
         }
         let result = run.tick(frames, extra, now);
+        // A guard's `_onHalted` that failed while the tick halted its node.
         #[cfg(feature = "btcpp")]
-        let result = match run.fault.take() {
+        let result = match run.side.fault.take() {
             Some(f) if result.is_ok() => Err(f),
             _ => result,
         };
@@ -417,12 +414,14 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             observer,
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
-            woken: &mut self.woken,
-            // A `_onHalted` script that fails here is not reported: there is no tick.
-            #[cfg(feature = "btcpp")]
-            fault: &mut None,
+            side: &mut self.side,
         };
         run.reset(0, Scan::All);
+        // An `_onHalted` script that failed here is not reported: there is no tick.
+        #[cfg(feature = "btcpp")]
+        {
+            self.side.fault = None;
+        }
     }
 }
 
@@ -452,13 +451,20 @@ struct Run<'r, B, O, const DEPTH: usize> {
     /// children, and no `Timeout`, which counts the tick; the other decorators return
     /// Running unchanged, and the clocked ones decide on the way down.
     still_running: bool,
-    /// Set when a node asks to be ticked again at once.
+    /// What the tick leaves beside the statuses.
     #[cfg(feature = "btcpp")]
-    woken: &'r mut bool,
+    side: &'r mut Side,
+}
+
+/// What a tick leaves beside the statuses (one pointer in [`Run`], which the tick loop
+/// keeps in registers).
+#[derive(Debug, Default)]
+struct Side {
+    /// A node asked to be ticked again at once: see [`Executor::woken`].
+    woken: bool,
     /// A fault of a script run while halting (a `Guard`'s `_onHalted`), which the tick
     /// returns.
-    #[cfg(feature = "btcpp")]
-    fault: &'r mut Option<TickError>,
+    fault: Option<TickError>,
 }
 
 const fn oob(node: usize) -> TickError {
@@ -493,9 +499,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             observer: &mut *self.observer,
             still_running: self.still_running,
             #[cfg(feature = "btcpp")]
-            woken: &mut *self.woken,
-            #[cfg(feature = "btcpp")]
-            fault: &mut *self.fault,
+            side: &mut *self.side,
         }
     }
 
@@ -561,10 +565,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             return self.set_idle(i);
         }
         #[cfg(feature = "btcpp")]
-        if let Some(NodeKind::Guard(table)) = self.nodes.get(i).map(Node::kind)
-            && self.status(i) == NodeStatus::Running
-        {
-            let table = *table;
+        if let Some(&NodeKind::Guard(table)) = self.nodes.get(i).map(Node::kind) {
             self.cold().guard_halted(i, table);
         }
         let keep = match self.nodes.get(i).map(Node::kind) {
@@ -596,18 +597,22 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// its children.
     #[inline]
     fn set_returned(&mut self, i: usize, r: Status) {
-        let new = if BTCPP && r == Status::Skipped {
-            // A Guard takes the status its child kept (BehaviorTree.CPP's node keeps its
-            // own when it skips).
-            if matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Guard(_))) {
-                self.status(i + 1)
-            } else {
-                NodeStatus::Running
-            }
-        } else {
-            r.into()
-        };
+        let new = if BTCPP && r == Status::Skipped { self.skipped_status(i) } else { r.into() };
         self.set_status(i, new);
+    }
+
+    /// The status of a control node or decorator `i` that returned Skipped: Running, as
+    /// BehaviorTree.CPP leaves it (it marked itself Running before it ticked its
+    /// children), but a Guard takes the status its child kept (BehaviorTree.CPP's node
+    /// keeps its own when it skips).
+    #[cold]
+    #[inline(never)]
+    fn skipped_status(&self, i: usize) -> NodeStatus {
+        if matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Guard(_))) {
+            self.status(i + 1)
+        } else {
+            NodeStatus::Running
+        }
     }
 
     #[inline(always)]
