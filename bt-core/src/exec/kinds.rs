@@ -174,6 +174,17 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
 
     /// The guard at `idx`, Running, is halted: its `_onHalted`, after its subtree. A
     /// fault is kept for the tick to return.
+    /// The tick's result, or the fault of a guard's `_onHalted` that failed while the
+    /// tick halted its node (which it clears).
+    #[cold]
+    #[inline(never)]
+    pub(super) fn guard_fault(&mut self, result: Result<Status, TickError>) -> Result<Status, TickError> {
+        match self.side.fault.take() {
+            Some(f) if result.is_ok() => Err(f),
+            _ => result,
+        }
+    }
+
     #[cold]
     #[inline(never)]
     pub(super) fn guard_halted(&mut self, idx: usize, table: Code) {

@@ -166,11 +166,11 @@ enum FrameKind {
     KeepRunningUntilFailure,
     RunOnce,
     Precondition,
-    Guard,
     TimeLimit,
     Delay,
     RateController,
     Gate,
+    Guard,
 }
 
 impl FrameKind {
@@ -266,6 +266,8 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     timers: bool,
     /// What a tick leaves beside the statuses: see [`Side`].
     side: Side,
+    /// The tree has a `Guard`, whose `_onHalted` may fail while a tick halts.
+    guards: bool,
 }
 
 #[derive(Debug)]
@@ -297,7 +299,8 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
                 .nodes()
                 .iter()
                 .any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_) | NodeKind::Sleep(_)));
-        Ok(Self { tree, state, stack, still_running, timers, side: Side::default() })
+        let guards = BTCPP && tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::Guard(_)));
+        Ok(Self { tree, state, stack, still_running, timers, side: Side::default(), guards })
     }
 
     /// True when a node asked to be ticked again at once since [`Executor::take_woken`]
@@ -387,10 +390,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         let result = run.tick(frames, extra, now);
         // A guard's `_onHalted` that failed while the tick halted its node.
         #[cfg(feature = "btcpp")]
-        let result = match run.side.fault.take() {
-            Some(f) if result.is_ok() => Err(f),
-            _ => result,
-        };
+        let result = if self.guards { run.cold().guard_fault(result) } else { result };
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
             run.cold().reset(0, Scan::All);
