@@ -267,6 +267,7 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     /// What a tick leaves beside the statuses: see [`Side`].
     side: Side,
     /// The tree has a `Guard`, whose `_onHalted` may fail while a tick halts.
+    #[cfg(feature = "btcpp")]
     guards: bool,
 }
 
@@ -299,8 +300,16 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
                 .nodes()
                 .iter()
                 .any(|n| matches!(n.kind(), NodeKind::TimeLimit(_) | NodeKind::Delay(_) | NodeKind::Sleep(_)));
-        let guards = BTCPP && tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::Guard(_)));
-        Ok(Self { tree, state, stack, still_running, timers, side: Side::default(), guards })
+        Ok(Self {
+            tree,
+            state,
+            stack,
+            still_running,
+            timers,
+            side: Side::default(),
+            #[cfg(feature = "btcpp")]
+            guards: tree.nodes().iter().any(|n| matches!(n.kind(), NodeKind::Guard(_))),
+        })
     }
 
     /// True when a node asked to be ticked again at once since [`Executor::take_woken`]
@@ -464,6 +473,7 @@ struct Side {
     woken: bool,
     /// A fault of a script run while halting (a `Guard`'s `_onHalted`), which the tick
     /// returns.
+    #[cfg(feature = "btcpp")]
     fault: Option<TickError>,
 }
 
