@@ -583,24 +583,19 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     let too_small = EncodeError::BufferTooSmall { capacity };
     let (header, body) = out.split_at_mut_checked(HEADER_LEN).ok_or(too_small)?;
     header.get_mut(0..4).ok_or(too_small)?.copy_from_slice(&MAGIC);
-    let scripts = nodes.iter().any(|n| {
-        matches!(
-            n.kind(),
-            NodeKind::Script(_)
-                | NodeKind::ScriptCondition(_)
-                | NodeKind::Precondition { .. }
-                | NodeKind::Sleep(_)
-                | NodeKind::Guard(_)
-        )
-    });
-    let version = if scripts { VERSION } else { VERSION_WITHOUT_SCRIPTS };
-    header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());
     header.get_mut(6..14).ok_or(too_small)?.copy_from_slice(&fingerprint.to_le_bytes());
     header.get_mut(14..16).ok_or(too_small)?.copy_from_slice(&count.to_le_bytes());
     let mut w = Writer { buf: body, used: 0, too_small };
+    // The oldest version that has every node's tag (see `WireKind::in_version`).
+    let mut version = VERSION_WITHOUT_SCRIPTS;
     for node in nodes {
-        w.put(&to_wire(node))?;
+        let wire = to_wire(node);
+        if !wire.kind.in_version(version) {
+            version = VERSION;
+        }
+        w.put(&wire)?;
     }
+    header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());
     if !parts.values.is_empty() {
         // The body's length first: the count and the values, each a varint.
         let len = varint_len(parts.values.len() as u32)

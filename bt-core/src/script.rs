@@ -97,13 +97,11 @@ impl Blackboard for [Option<Value>] {
 
 impl<const N: usize> Blackboard for [Option<Value>; N] {
     fn get(&self, slot: u16) -> Option<Value> {
-        self.as_slice().get(usize::from(slot)).copied().flatten()
+        Blackboard::get(self.as_slice(), slot)
     }
 
     fn set(&mut self, slot: u16, value: Value) {
-        if let Some(s) = self.get_mut(usize::from(slot)) {
-            *s = Some(value);
-        }
+        Blackboard::set(self.as_mut_slice(), slot, value);
     }
 }
 
@@ -156,32 +154,16 @@ pub enum ScriptFault {
     StackOverflow,
 }
 
-const INT: u16 = 1;
-const DOUBLE: u16 = 2;
-const STR: u16 = 3;
-const LOAD: u16 = 4;
-const NEG: u16 = 5;
-const NOT: u16 = 6;
-const COMPL: u16 = 7;
-const ADD: u16 = 8;
-const CONCAT: u16 = 17;
-const CMP: u16 = 18;
-const CMP_CHAIN: u16 = 19;
-const JUMP_UNLESS: u16 = 20;
-const JUMP: u16 = 21;
-const POP: u16 = 22;
-const STORE: u16 = 23;
-
-/// The instructions, for the host's compiler.
+/// The instructions (the layout table above), for the host's compiler.
 #[allow(missing_docs)]
 pub mod op {
-    pub const INT: u16 = super::INT;
-    pub const DOUBLE: u16 = super::DOUBLE;
-    pub const STR: u16 = super::STR;
-    pub const LOAD: u16 = super::LOAD;
-    pub const NEG: u16 = super::NEG;
-    pub const NOT: u16 = super::NOT;
-    pub const COMPL: u16 = super::COMPL;
+    pub const INT: u16 = 1;
+    pub const DOUBLE: u16 = 2;
+    pub const STR: u16 = 3;
+    pub const LOAD: u16 = 4;
+    pub const NEG: u16 = 5;
+    pub const NOT: u16 = 6;
+    pub const COMPL: u16 = 7;
     pub const ADD: u16 = 8;
     pub const SUB: u16 = 9;
     pub const MUL: u16 = 10;
@@ -191,16 +173,18 @@ pub mod op {
     pub const BIT_XOR: u16 = 14;
     pub const AND: u16 = 15;
     pub const OR: u16 = 16;
-    pub const CONCAT: u16 = super::CONCAT;
-    pub const CMP: u16 = super::CMP;
-    pub const CMP_CHAIN: u16 = super::CMP_CHAIN;
-    pub const JUMP_UNLESS: u16 = super::JUMP_UNLESS;
-    pub const JUMP: u16 = super::JUMP;
-    pub const POP: u16 = super::POP;
-    pub const STORE: u16 = super::STORE;
+    pub const CONCAT: u16 = 17;
+    pub const CMP: u16 = 18;
+    pub const CMP_CHAIN: u16 = 19;
+    pub const JUMP_UNLESS: u16 = 20;
+    pub const JUMP: u16 = 21;
+    pub const POP: u16 = 22;
+    pub const STORE: u16 = 23;
     /// `store`'s flag: a port declares the slot.
     pub const DECLARED: u16 = 1;
 }
+
+use op::{ADD, CMP, CMP_CHAIN, COMPL, CONCAT, DOUBLE, INT, JUMP, JUMP_UNLESS, LOAD, NEG, NOT, POP, STORE, STR};
 
 /// Operand words of each opcode (`None`: not an opcode).
 const fn operands(op: u16) -> Option<usize> {
@@ -548,13 +532,13 @@ fn int_of(v: Value) -> Option<i64> {
 fn binary(op: u16, l: Value, r: Value) -> Result<Value, ScriptFault> {
     let (Some(a), Some(b)) = (l.number(), r.number()) else {
         return Err(match (l, r, op) {
-            (Value::Str(_), Value::Str(_), op::ADD) => ScriptFault::StringBuilding,
+            (Value::Str(_), Value::Str(_), ADD) => ScriptFault::StringBuilding,
             (Value::Str(_), _, CONCAT) | (_, Value::Str(_), CONCAT) => ScriptFault::StringBuilding,
             _ => ScriptFault::NotPermitted,
         });
     };
     Ok(Value::Double(match op {
-        op::ADD => a + b,
+        ADD => a + b,
         op::SUB => a - b,
         op::MUL => a * b,
         op::DIV => a / b,

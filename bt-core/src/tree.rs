@@ -228,6 +228,11 @@ fn name(kind: &NodeKind) -> &'static str {
 
 fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catalog: &C) -> Result<(), LoadError> {
     let zero = |kind| Err(LoadError::BadArgument { node: id, fault: ArgumentFault::ZeroCount { kind } });
+    // A range of the value table that leaves it (a leaf's values, a script's program).
+    let out_of_range = |start, len| LoadError::BadArgument {
+        node: id,
+        fault: ArgumentFault::ValuesOutOfRange { start, len, table: values.min(usize::from(u16::MAX)) as u16 },
+    };
     if !supported(node.kind()) {
         return Err(LoadError::UnsupportedKind { node: id, kind: LEFT_OUT_KIND });
     }
@@ -252,14 +257,7 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
             if let Some((start, len)) = leaf.range()
                 && usize::from(start) + usize::from(len) > values
             {
-                return Err(LoadError::BadArgument {
-                    node: id,
-                    fault: ArgumentFault::ValuesOutOfRange {
-                        start,
-                        len,
-                        table: values.min(usize::from(u16::MAX)) as u16,
-                    },
-                });
+                return Err(out_of_range(start, len));
             }
             let found = leaf.argc() as u16; // at most u16::MAX by construction
             if found != u16::from(info.arity) {
@@ -276,14 +274,7 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
         | NodeKind::Guard(code)
             if code.len == 0 || usize::from(code.start) + usize::from(code.len) > values =>
         {
-            Err(LoadError::BadArgument {
-                node: id,
-                fault: ArgumentFault::ValuesOutOfRange {
-                    start: code.start,
-                    len: code.len,
-                    table: values.min(usize::from(u16::MAX)) as u16,
-                },
-            })
+            Err(out_of_range(code.start, code.len))
         }
         _ => Ok(()),
     }

@@ -24,7 +24,7 @@ struct Table {
 }
 
 impl Symbols for Table {
-    fn slot(&mut self, name: &str, _: usize, _: bool) -> Result<(u16, bool), ScriptError> {
+    fn slot(&mut self, name: &str, _: usize) -> Result<(u16, bool), ScriptError> {
         let i = self.keys.iter().position(|k| k == name).unwrap_or_else(|| {
             self.keys.push(name.to_string());
             self.keys.len() - 1

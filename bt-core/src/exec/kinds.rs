@@ -25,7 +25,7 @@
 use super::{Ascent, Entered, Extra, Frame, FrameKind, NodeState, Run};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
 use crate::node::{Code, Node, NodeId, NodeKind, Span};
-use crate::script::{Hook, hook};
+use crate::script::{Hook, Value, hook, truth};
 use crate::status::{NodeStatus, Status};
 
 /// Start times are kept in 24 bits.
@@ -125,55 +125,59 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// Runs a script of node `idx` through the behavior set; a fault ends the tick.
+    fn run_script(&mut self, idx: usize, program: &[u16], now: u32) -> Result<Value, TickError> {
+        let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
+        self.behaviors.script(program, ctx).map_err(|fault| TickError::Script { node: idx as NodeId, fault })
+    }
+
     /// Runs a script of node `idx` and says whether its result holds.
-    fn holds(&mut self, idx: usize, program: &[u16]) -> Result<bool, TickError> {
-        let ctx = Context { node: idx as NodeId, now: 0, starting: true, values: self.values };
-        let fault = |fault| TickError::Script { node: idx as NodeId, fault };
-        let v = self.behaviors.script(program, ctx).map_err(fault)?;
-        crate::script::truth(v).map_err(fault)
+    fn holds(&mut self, idx: usize, program: &[u16], now: u32) -> Result<bool, TickError> {
+        let v = self.run_script(idx, program, now)?;
+        truth(v).map_err(|fault| TickError::Script { node: idx as NodeId, fault })
     }
 
     /// Runs hook `h` of the guard at `idx`, if it has one.
-    fn run_hook(&mut self, idx: usize, table: Code, h: Hook) -> Result<(), TickError> {
+    fn run_hook(&mut self, idx: usize, table: Code, h: Hook, now: u32) -> Result<(), TickError> {
         if let Some(program) = hook(table.words(self.values), h) {
-            let ctx = Context { node: idx as NodeId, now: 0, starting: true, values: self.values };
-            self.behaviors.script(program, ctx).map_err(|fault| TickError::Script { node: idx as NodeId, fault })?;
+            self.run_script(idx, program, now)?;
         }
         Ok(())
     }
 
     /// A guard's checks before its node starts: `_failureIf`, `_successIf`, `_skipIf`,
     /// then `_while`, as BehaviorTree.CPP asks them; the status they decide, if any.
-    fn guard_before(&mut self, idx: usize, table: Code) -> Result<Option<Status>, TickError> {
+    fn guard_before(&mut self, idx: usize, table: Code, now: u32) -> Result<Option<Status>, TickError> {
         let t = table.words(self.values);
         for (h, then) in
             [(Hook::FailureIf, Status::Failure), (Hook::SuccessIf, Status::Success), (Hook::SkipIf, Status::Skipped)]
         {
             if let Some(p) = hook(t, h)
-                && self.holds(idx, p)?
+                && self.holds(idx, p, now)?
             {
                 return Ok(Some(then));
             }
         }
         match hook(t, Hook::While) {
-            Some(p) if !self.holds(idx, p)? => Ok(Some(Status::Skipped)),
+            Some(p) if !self.holds(idx, p, now)? => Ok(Some(Status::Skipped)),
             _ => Ok(None),
         }
     }
 
     /// A guard's hooks after its node returned `r`: `_onSuccess` or `_onFailure`, then
     /// `_post`, when it finished.
-    fn guard_after(&mut self, idx: usize, table: Code, r: Status) -> Result<(), TickError> {
+    fn guard_after(&mut self, idx: usize, table: Code, r: Status, now: u32) -> Result<(), TickError> {
         match r {
-            Status::Success => self.run_hook(idx, table, Hook::OnSuccess)?,
-            Status::Failure => self.run_hook(idx, table, Hook::OnFailure)?,
+            Status::Success => self.run_hook(idx, table, Hook::OnSuccess, now)?,
+            Status::Failure => self.run_hook(idx, table, Hook::OnFailure, now)?,
             _ => return Ok(()),
         }
-        self.run_hook(idx, table, Hook::Post)
+        self.run_hook(idx, table, Hook::Post, now)
     }
 
-    /// The guard at `idx`, Running, is halted: its `_onHalted`, after its subtree. A
-    /// fault is kept for the tick to return.
+    /// The guard at `idx`, Running, is halted: its `_onHalted`, after its subtree (its
+    /// script is told `now` 0: halts have no clock). A fault is kept for the tick to
+    /// return.
     /// The tick's result, or the fault of a guard's `_onHalted` that failed while the
     /// tick halted its node (which it clears).
     #[cold]
@@ -191,7 +195,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         if self.status(idx) != NodeStatus::Running {
             return;
         }
-        if let Err(e) = self.run_hook(idx, table, Hook::OnHalted)
+        if let Err(e) = self.run_hook(idx, table, Hook::OnHalted, 0)
             && self.side.fault.is_none()
         {
             self.side.fault = Some(e);
@@ -379,13 +383,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             NodeKind::Guard(table) => {
                 frame.kind = FrameKind::Guard;
                 let decided = if Self::fresh(st, parent_mirrors) {
-                    self.guard_before(idx, table)?
+                    self.guard_before(idx, table, now)?
                 } else if running {
                     // `_while` is the one hook asked while the node runs.
                     match hook(table.words(self.values), Hook::While) {
-                        Some(p) if !self.holds(idx, p)? => {
+                        Some(p) if !self.holds(idx, p, now)? => {
                             self.reset_subtree(first);
-                            self.run_hook(idx, table, Hook::OnHalted)?;
+                            self.run_hook(idx, table, Hook::OnHalted, now)?;
                             Some(Status::Skipped)
                         }
                         _ => None,
@@ -395,7 +399,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 };
                 match decided {
                     Some(d) => {
-                        self.guard_after(idx, table, d)?;
+                        self.guard_after(idx, table, d, now)?;
                         Entered::Decided(d)
                     }
                     None => Entered::Child(first),
@@ -418,27 +422,20 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 frame.kind = FrameKind::Precondition;
                 if st.aux == 1 {
                     Entered::Child(first)
+                } else if self.holds(idx, code.words(self.values), now)? {
+                    self.set_memory(idx, 1, 0);
+                    Entered::Child(first)
                 } else {
-                    let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
-                    let fault = |fault| TickError::Script { node: idx as NodeId, fault };
-                    let v = self.behaviors.script(code.words(self.values), ctx).map_err(fault)?;
-                    if crate::script::truth(v).map_err(fault)? {
-                        self.set_memory(idx, 1, 0);
-                        Entered::Child(first)
-                    } else {
-                        Entered::Decided(otherwise)
-                    }
+                    Entered::Decided(otherwise)
                 }
             }
-            NodeKind::Script(code) | NodeKind::ScriptCondition(code) => {
-                let ctx = Context { node: idx as NodeId, now, starting: true, values: self.values };
-                let fault = |fault| TickError::Script { node: idx as NodeId, fault };
-                let v = self.behaviors.script(code.words(self.values), ctx).map_err(fault)?;
-                Entered::Decided(if matches!(kind, NodeKind::Script(_)) || crate::script::truth(v).map_err(fault)? {
-                    Status::Success
-                } else {
-                    Status::Failure
-                })
+            NodeKind::Script(code) => {
+                self.run_script(idx, code.words(self.values), now)?;
+                Entered::Decided(Status::Success)
+            }
+            NodeKind::ScriptCondition(code) => {
+                let holds = self.holds(idx, code.words(self.values), now)?;
+                Entered::Decided(if holds { Status::Success } else { Status::Failure })
             }
             _ => return Err(super::oob(idx)),
         };
@@ -720,7 +717,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             },
             FrameKind::Guard => {
                 if let Some(&NodeKind::Guard(table)) = self.nodes.get(node).map(Node::kind) {
-                    self.guard_after(node, table, r)?;
+                    self.guard_after(node, table, r, now)?;
                 }
                 // The guard now holds the node's result; the node is reset as its parent
                 // in BehaviorTree.CPP resets a finished child: its status only.

@@ -163,9 +163,10 @@ pub fn builtin(id: &str) -> Option<&'static Builtin> {
     BUILTINS.iter().find(|b| b.id == id)
 }
 
-/// The attributes BehaviorTree.CPP reserves for scripted pre- and post-conditions.
-pub const SCRIPT_ATTRIBUTES: &[&str] =
-    &["_failureIf", "_successIf", "_skipIf", "_while", "_onSuccess", "_onFailure", "_onHalted", "_post"];
+/// The attributes BehaviorTree.CPP reserves for scripted pre- and post-conditions, in
+/// the order of [`bt_core::script::Hook`] (a guard's table).
+pub const SCRIPT_ATTRIBUTES: [&str; 8] =
+    ["_failureIf", "_successIf", "_skipIf", "_while", "_onHalted", "_onFailure", "_onSuccess", "_post"];
 
 /// Whether an attribute name is one BehaviorTree.CPP takes as a port: it starts with a
 /// letter and is not `name` or `ID` (attributes starting with `_` are metadata such as

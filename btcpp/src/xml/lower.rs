@@ -18,7 +18,7 @@ use bt_core::port::{SlotInfo, UNSET};
 use bt_core::{BehaviorId, Catalog, Code, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue, Span};
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::{Shape, builtin, nav2};
+use crate::xml::builtin::{SCRIPT_ATTRIBUTES, Shape, builtin, nav2};
 use crate::xml::catalog::{Models, XmlCatalog};
 use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
 use crate::xml::model::{Literal, ModelKind, convert};
@@ -48,14 +48,12 @@ pub struct NodeMeta {
     /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
     /// resolved value. Empty for leaves and plugin decorators (their ports are values).
     pub params: Vec<(String, String)>,
-    /// For a script node: its script with every key written as the flattened tree names
-    /// it (a key a SubTree remaps becomes its parent's), for the XML of the flattened
-    /// tree; `Err` naming a key that has no name a script can write (a SubTree's local
-    /// key). `None` for other nodes.
-    pub flat_script: Option<std::result::Result<String, String>>,
-    /// For a guard: its scripted attributes with their keys as the flattened tree names
-    /// them (what the XML of the flattened tree writes on the node it guards).
-    pub flat_hooks: Vec<(String, String)>,
+    /// For a script node or a guard: its attributes as the XML of the flattened tree
+    /// writes them, each script with every key as that tree names it (a key a SubTree
+    /// remaps becomes its parent's; a guard's attributes go on the node it guards);
+    /// `Err` naming a key no script there can name (a SubTree's local key). `None` for
+    /// other nodes, whose `params` are written as they are.
+    pub flat: Option<std::result::Result<Vec<(String, String)>, String>>,
 }
 
 /// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
@@ -284,14 +282,7 @@ impl Lowerer<'_> {
                 return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
             }
             self.out.nodes.push(Node::EMPTY);
-            self.out.meta.push(NodeMeta {
-                id: "Guard".into(),
-                name: None,
-                uid: n.uid,
-                params: Vec::new(),
-                flat_script: None,
-                flat_hooks: Vec::new(),
-            });
+            self.out.meta.push(NodeMeta { id: "Guard".into(), name: None, uid: n.uid, params: Vec::new(), flat: None });
             let kind = self.guard(n)?;
             self.node_unguarded(n)?;
             let size = u16::try_from(self.out.nodes.len() - index)
@@ -330,14 +321,7 @@ impl Lowerer<'_> {
         } else {
             Vec::new()
         };
-        self.out.meta.push(NodeMeta {
-            id: n.id.clone(),
-            name: n.name.clone(),
-            uid: n.uid,
-            params,
-            flat_script: None,
-            flat_hooks: Vec::new(),
-        });
+        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat: None });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(
@@ -453,7 +437,10 @@ impl Lowerer<'_> {
         };
         let (words, flat) = self.compile_script(n, bound, n.scope)?;
         if let Some(meta) = self.out.meta.last_mut() {
-            meta.flat_script = Some(flat);
+            let written = |text: &String| {
+                meta.params.iter().map(|(k, v)| (k.clone(), if k == port { text.clone() } else { v.clone() })).collect()
+            };
+            meta.flat = Some(flat.as_ref().map(written).map_err(Clone::clone));
         }
         self.place(n, &words)
     }
@@ -535,29 +522,25 @@ impl Lowerer<'_> {
     fn guard(&mut self, n: &Inst) -> Result<NodeKind> {
         let mut mask = 0u16;
         let mut table = vec![0u16];
-        let mut flat_params = Vec::new();
-        let mut unnamed = None;
-        for (bit, name) in SCRIPT_ATTRIBUTES_IN_HOOK_ORDER.iter().enumerate() {
+        let mut flat = Ok(Vec::new());
+        for (bit, name) in SCRIPT_ATTRIBUTES.iter().enumerate() {
             let Some(bound) = n.hooks.iter().find(|b| b.port == *name) else { continue };
-            let (words, flat) = self.compile_script(n, bound, n.hook_scope)?;
+            let (words, text) = self.compile_script(n, bound, n.hook_scope)?;
             mask |= 1 << bit;
             let len = u16::try_from(words.len())
                 .map_err(|_| ImportError::new(&bound.at, Fault::TooLarge("a script longer than 65535 words".into())))?;
             table.push(len);
             table.extend_from_slice(&words);
-            match flat {
-                Ok(text) => flat_params.push((name.to_string(), text)),
-                Err(why) => unnamed = Some(why),
+            match (&mut flat, text) {
+                (Ok(written), Ok(text)) => written.push((name.to_string(), text)),
+                (_, Err(why)) => flat = Err(why),
+                (Err(_), Ok(_)) => {}
             }
         }
         table[0] = mask;
         if let Some(meta) = self.out.meta.last_mut() {
             meta.params = n.hooks.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
-            meta.flat_script = Some(match unnamed {
-                None => Ok(String::new()),
-                Some(why) => Err(why),
-            });
-            meta.flat_hooks = flat_params;
+            meta.flat = Some(flat);
         }
         Ok(NodeKind::Guard(self.place(n, &table)?))
     }
@@ -872,11 +855,11 @@ impl Lowerer<'_> {
         type_name: Option<&str>,
         at: &Location,
         n: &Inst,
-        _port: &str,
+        port: &str,
     ) -> Result<u16> {
         if let Some(&id) = self.slot_ids.get(key) {
             // A slot a script named first takes the type of the first port that names it.
-            if self.script_slots.contains(&id) && _port != SCRIPT_PORT {
+            if self.script_slots.contains(&id) && port != SCRIPT_PORT {
                 self.script_slots.remove(&id);
                 let slot = &mut self.out.slots[usize::from(id)];
                 slot.info.ty = ty;
@@ -933,16 +916,12 @@ impl Lowerer<'_> {
         self.out.slots.push(Slot { name, info: SlotInfo { ty, initial }, type_name: type_name.map(str::to_string) });
         self.slot_first.push(at.clone());
         self.slot_ids.insert(key.clone(), id);
-        if _port == SCRIPT_PORT {
+        if port == SCRIPT_PORT {
             self.script_slots.insert(id);
         }
         Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET))
     }
 }
-
-/// BehaviorTree.CPP's scripted attributes in the order of [`bt_core::script::Hook`].
-const SCRIPT_ATTRIBUTES_IN_HOOK_ORDER: [&str; 8] =
-    ["_failureIf", "_successIf", "_skipIf", "_while", "_onHalted", "_onFailure", "_onSuccess", "_post"];
 
 /// The port name [`Lowerer::slot_value`] is given for a script's keys.
 const SCRIPT_PORT: &str = "code";
@@ -961,12 +940,7 @@ struct ScriptSymbols<'l, 'a, 'n> {
 }
 
 impl script::Symbols for ScriptSymbols<'_, '_, '_> {
-    fn slot(
-        &mut self,
-        name: &str,
-        offset: usize,
-        _assigned: bool,
-    ) -> std::result::Result<(u16, bool), script::ScriptError> {
+    fn slot(&mut self, name: &str, offset: usize) -> std::result::Result<(u16, bool), script::ScriptError> {
         let key = resolve(&self.l.flat.scopes, self.scope, name);
         let declared = self.l.ported.contains(&key)
             || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));

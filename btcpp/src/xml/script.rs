@@ -317,9 +317,9 @@ pub fn parse(src: &str) -> Result<Script, ScriptError> {
 
 /// What the compiler asks of its caller.
 pub trait Symbols {
-    /// The slot of blackboard key `name` and whether a port of the tree declares it;
-    /// `assigned` when the script assigns it.
-    fn slot(&mut self, name: &str, offset: usize, assigned: bool) -> Result<(u16, bool), ScriptError>;
+    /// The slot of blackboard key `name` (at byte `offset` of the script) and whether a
+    /// port of the tree declares it.
+    fn slot(&mut self, name: &str, offset: usize) -> Result<(u16, bool), ScriptError>;
     /// The constant holding string `text`.
     fn string(&mut self, text: &str) -> Result<u16, ScriptError>;
     /// The value of scripting enum `name` (BT.CPP's `registerScriptingEnum`), which a
@@ -425,7 +425,7 @@ impl Compiler<'_> {
                     let w = words(v.to_bits());
                     self.emit(&[op::DOUBLE, w[0], w[1], w[2], w[3]], 1);
                 } else {
-                    let (slot, _) = self.symbols.slot(name, *at, false)?;
+                    let (slot, _) = self.symbols.slot(name, *at)?;
                     self.emit(&[op::LOAD, slot], 1);
                 }
             }
@@ -469,7 +469,7 @@ impl Compiler<'_> {
                 self.patch(to_end)?;
             }
             Expr::Assign(mode, name, at, rhs) => {
-                let (slot, declared) = self.symbols.slot(name, *at, true)?;
+                let (slot, declared) = self.symbols.slot(name, *at)?;
                 self.expr(rhs)?;
                 self.emit(&[op::STORE, *mode, slot, u16::from(declared)], 0);
             }

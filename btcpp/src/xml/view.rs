@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, Node, NodeKind, PortInfo, PortValue};
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, PortInfo, PortValue};
 
 use crate::xml::lower::Imported;
 use crate::xml::write::{NoPorts, XmlError, XmlOptions, to_xml_with};
@@ -138,24 +138,13 @@ impl Imported {
         // Scripts with their keys as the flattened tree names them.
         let mut flat: Vec<Vec<(String, String)>> = Vec::with_capacity(self.meta.len());
         for (node, m) in self.meta.iter().enumerate() {
-            flat.push(match &m.flat_script {
+            flat.push(match &m.flat {
                 None => m.params.clone(),
-                Some(Ok(_)) if matches!(self.nodes.get(node).map(Node::kind), Some(NodeKind::Guard(_))) => {
-                    m.flat_hooks.clone()
-                }
+                Some(Ok(written)) => written.clone(),
                 Some(Err(why)) => {
                     let kind = self.nodes.get(node).map_or("script", |n| n.kind().name());
                     return Err(XmlError::ScriptText { node, kind, why: why.clone() });
                 }
-                Some(Ok(text)) => m
-                    .params
-                    .iter()
-                    .map(
-                        |(k, v)| {
-                            if k == "code" || k == "if" { (k.clone(), text.clone()) } else { (k.clone(), v.clone()) }
-                        },
-                    )
-                    .collect(),
             });
         }
         let params: Vec<&[(String, String)]> = flat.iter().map(Vec::as_slice).collect();

@@ -87,6 +87,25 @@ pub enum XmlError {
     },
 }
 
+/// Attributes as written: ` key="value"` each.
+fn attr_text(written: &[(String, String)]) -> String {
+    written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect()
+}
+
+/// The attributes of script node or guard `i`: known only for an imported tree.
+fn script_attrs(options: &XmlOptions<'_>, i: usize, n: &Node) -> Result<String, XmlError> {
+    match options.params.get(i) {
+        Some(written) => Ok(attr_text(written)),
+        None => Err(XmlError::ScriptText {
+            node: i,
+            kind: n.kind().name(),
+            why: "an image keeps its program, not its text (export the imported document: \
+                  sim-host import TREE.xml --format xml)"
+                .into(),
+        }),
+    }
+}
+
 fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
@@ -283,16 +302,7 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
         let (tag, attrs): (&'static str, String) = match *n.kind() {
             // A guard is its node's scripted attributes: written on the node.
             NodeKind::Guard(_) => {
-                let Some(written) = options.params.get(i) else {
-                    return Err(XmlError::ScriptText {
-                        node: i,
-                        kind: "Guard",
-                        why: "an image keeps its program, not its text (export the imported document: \
-                              sim-host import TREE.xml --format xml)"
-                            .into(),
-                    });
-                };
-                carried = Some(written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect());
+                carried = Some(script_attrs(options, i, n)?);
                 continue;
             }
             NodeKind::Sequence => ("ReactiveSequence", String::new()),
@@ -335,17 +345,8 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             // The image keeps a script's program, not its text: written only where the
             // document's attributes are known (an imported tree).
             NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
-                let Some(written) = options.params.get(i) else {
-                    return Err(XmlError::ScriptText {
-                        node: i,
-                        kind: n.kind().name(),
-                        why: "an image keeps its program, not its text (export the imported document: \
-                              sim-host import TREE.xml --format xml)"
-                            .into(),
-                    });
-                };
                 let tag = n.kind().name();
-                let attrs: String = written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect();
+                let attrs = script_attrs(options, i, n)?;
                 if matches!(n.kind(), NodeKind::Precondition { .. }) {
                     let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
                     open.push((end, tag.to_string()));
@@ -391,7 +392,7 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             }
         };
         let attrs = match options.params.get(i) {
-            Some(written) => written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect(),
+            Some(written) => attr_text(written),
             None => attrs,
         };
         let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");

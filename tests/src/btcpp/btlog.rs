@@ -266,7 +266,7 @@ pub fn compare(rec: &Recorded, theirs: &[u8], diff: &Comparison) -> Result<Compa
     }
     // What `sim-host export` writes for the same nodes numbers them as BehaviorTree.CPP
     // numbered the case's XML in its log.
-    let exported = if image_xml_compared || !has_scripts(rec) {
+    let exported = if !has_scripts(rec) {
         btcpp::xml::to_xml(&nodes, run::catalog().as_slice(), &NoPorts).map_err(|e| format!("{name}: {e}"))?
     } else {
         // Not exported from an image: the scripts' text is not in it.

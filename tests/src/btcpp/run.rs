@@ -107,7 +107,7 @@ const KEYS: [&str; 3] = ["n", "m", "flag"];
 struct Keys;
 
 impl Symbols for Keys {
-    fn slot(&mut self, name: &str, offset: usize, _: bool) -> Result<(u16, bool), ScriptError> {
+    fn slot(&mut self, name: &str, offset: usize) -> Result<(u16, bool), ScriptError> {
         match KEYS.iter().position(|k| *k == name) {
             Some(i) => Ok((i as u16, false)),
             None => Err(ScriptError { offset, message: format!("no key `{name}`") }),
@@ -243,6 +243,8 @@ struct Scripted<'a> {
     blackboard: [Option<Value>; 3],
     /// The spec node of each bt-core node ([`Built::to_spec`]).
     to_spec: Vec<usize>,
+    /// Whether each spec node is a `Script` (whose run always counts as Success).
+    is_script: Vec<bool>,
 }
 
 impl Scripted<'_> {
@@ -308,8 +310,7 @@ impl BehaviorSet for Scripted<'_> {
         let v = bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)?;
         // For the replay of logs, not for the harness's events: `$` marks it.
         let node = self.spec(ctx.node);
-        let kind = self.case.spec.preorder().get(node).map(|n| n.kind);
-        let held = matches!(kind, Some(Kind::Script(_))) || bt_core::script::truth(v).unwrap_or(false);
+        let held = self.is_script.get(node) == Some(&true) || bt_core::script::truth(v).unwrap_or(false);
         self.events.push(format!("${node}{}", if held { 'S' } else { 'F' }));
         Ok(v)
     }
@@ -332,7 +333,9 @@ pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
     let tree = Tree::<16>::validate_with(&nodes, &values, catalog.as_slice()).map_err(|e| e.to_string())?;
     let mut state = vec![bt_core::NodeState::IDLE; nodes.len()];
     let mut exec = Executor::new(tree, &mut state).map_err(|e| e.to_string())?;
-    let mut world = Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3], to_spec };
+    let is_script = case.spec.preorder().iter().map(|n| matches!(n.kind, Kind::Script(_))).collect();
+    let mut world =
+        Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3], to_spec, is_script };
     let mut out = vec![];
     for k in 0..case.ticks {
         let now = now(case, k);
