@@ -19,8 +19,8 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("t04_reactive_sequence_1.xml", None, Ok(6)),
     ("t05_crossdoor.xml", Some("MainTree"), Ok(10)),
     ("t06_subtree_port_remapping.xml", Some("MainTree"), Ok(9)),
-    // The program registers SubA and SubB from other strings.
-    ("t07_load_multiple_xml.xml", None, Err("no <BehaviorTree ID=\"SubA\">")),
+    // With the two documents its program registers first (see below).
+    ("t07_load_multiple_xml.xml", None, Ok(4)),
     ("t07_load_multiple_xml_1.xml", None, Ok(1)),
     ("t07_load_multiple_xml_2.xml", None, Ok(1)),
     ("t08_additional_node_args.xml", None, Ok(3)),
@@ -31,16 +31,16 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("t12_default_ports.xml", None, Ok(1)),
     ("t13_access_by_ref.xml", None, Ok(4)),
     ("t14_subtree_model.xml", None, Ok(3)),
-    // The program loads MySub from t14_subtree_model.xml.
-    ("t14_subtree_model_1.xml", None, Err("no <BehaviorTree ID=\"MySub\">")),
+    // With t14_subtree_model.xml, where its program loads MySub from.
+    ("t14_subtree_model_1.xml", None, Ok(6)),
     ("t15_nodes_mocking.xml", Some("MainTree"), Ok(11)),
     ("t15_nodes_mocking_strict_failure.xml", Some("MainTree"), Ok(12)),
-    // This example's PrintNumber has a port `val`; t02's and others' `value`.
-    ("t16_global_blackboard.xml", Some("MainTree"), Err("<PrintNumber> has no port `val`")),
+    // With its program's own PrintNumber (port `val`; the others' has `value`).
+    ("t16_global_blackboard.xml", Some("MainTree"), Ok(5)),
     ("t17_blackboard_backup.xml", Some("MainTree"), Ok(10)),
     ("t18_waypoints.xml", None, Err("<LoopDouble> is not supported")),
-    // A polymorphic cast (Cat to Animal) registered in C++.
-    ("t19_polymorphic_ports.xml", None, Err("blackboard key `pet` is used as Animal::Ptr here and as Cat::Ptr")),
+    // With the polymorphic casts its program registers (see below).
+    ("t19_polymorphic_ports.xml", None, Ok(5)),
     ("test_files/Check.xml", None, Ok(3)),
     ("test_files/log_test.xml", Some("Main"), Ok(7)),
     ("test_files/subtree_test.xml", Some("BehaviorTree"), Ok(5)),
@@ -51,27 +51,59 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("trees/parent_include_child_include_sibling.xml", None, Ok(5)),
 ];
 
+/// Trees that import but whose flattened XML cannot be written, and why.
+const NO_XML: &[(&str, &str)] = &[
+    // MySub's model starts `sub_in_value` at 42, and its ScriptCondition reads the key.
+    ("t14_subtree_model_1.xml", "blackboard key `MySub::3/sub_in_value` (slot 1) starts at 42"),
+];
+
+/// What the example's C++ program registers before it creates the tree: the models
+/// (and other documents), scripting enums and polymorphic casts.
+fn program(dir: &Path, file: &str) -> ImportOptions<'static> {
+    let models = |files: &[&str]| files.iter().map(|f| dir.join(f)).collect();
+    let mut options = ImportOptions { models: models(&["example_nodes.xml"]), ..ImportOptions::default() };
+    match file {
+        // Color { RED = 1, BLUE = 2, GREEN = 3 } and THE_ANSWER = 42.
+        "t09_scripting.xml" => {
+            options.enums =
+                [("RED", 1), ("BLUE", 2), ("GREEN", 3), ("THE_ANSWER", 42)].map(|(n, v)| (n.to_string(), v)).to_vec();
+        }
+        // SubA and SubB, from its second and third document.
+        "t07_load_multiple_xml.xml" => {
+            options.models =
+                models(&["example_nodes.xml", "t07_load_multiple_xml_1.xml", "t07_load_multiple_xml_2.xml"]);
+        }
+        "t14_subtree_model_1.xml" => options.models = models(&["example_nodes.xml", "t14_subtree_model.xml"]),
+        "t16_global_blackboard.xml" => options.models = models(&["t16_nodes.xml"]),
+        // registerPolymorphicCast<Cat, Animal>() and <Sphynx, Cat>().
+        "t19_polymorphic_ports.xml" => {
+            options.casts = [("Cat::Ptr", "Animal::Ptr"), ("Sphynx::Ptr", "Cat::Ptr")]
+                .map(|(d, b)| (d.to_string(), b.to_string()))
+                .to_vec();
+        }
+        _ => {}
+    }
+    options
+}
+
 #[test]
 fn behaviortree_cpp_examples_import_or_are_refused_for_their_reason() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btcpp-examples");
     for &(file, main, expected) in EXPECTED {
-        // t09's program registers Color { RED = 1, BLUE = 2, GREEN = 3 } and THE_ANSWER = 42.
-        let enums = if file == "t09_scripting.xml" {
-            [("RED", 1), ("BLUE", 2), ("GREEN", 3), ("THE_ANSWER", 42)].map(|(n, v)| (n.to_string(), v)).to_vec()
-        } else {
-            vec![]
-        };
-        let options = ImportOptions {
-            models: vec![dir.join("example_nodes.xml")],
-            main: main.map(str::to_string),
-            enums,
-            known: None,
-        };
+        let options = ImportOptions { main: main.map(str::to_string), ..program(&dir, file) };
         match (import(&dir.join(file), &options), expected) {
             (Ok(i), Ok(nodes)) => {
                 assert_eq!(i.nodes.len(), nodes, "{file}");
                 // Its XML (scripts written as the document wrote them) imports as the same image.
-                let xml = i.to_xml().unwrap_or_else(|e| panic!("{file}: {e}"));
+                let xml = match (i.to_xml(), NO_XML.iter().find(|(f, _)| *f == file)) {
+                    (Ok(xml), None) => xml,
+                    (Err(e), Some((_, why))) => {
+                        assert!(e.to_string().contains(why), "{file}: {e}");
+                        continue;
+                    }
+                    (Ok(_), Some((_, why))) => panic!("{file}: its XML was written, expected the refusal {why}"),
+                    (Err(e), None) => panic!("{file}: {e}"),
+                };
                 let again = import_text(&dir.join(file), &xml, &ImportOptions { models: vec![], ..options.clone() })
                     .unwrap_or_else(|e| panic!("{file}: its XML: {e}\n{xml}"));
                 assert_eq!(again.image().unwrap(), i.image().unwrap(), "{file}: its XML gives another image");

@@ -383,28 +383,91 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
 }
 
 /// The XML of a flattened tree writes scripts with the keys as it names them: a key a
-/// SubTree remaps becomes its parent's; a SubTree's own key cannot be named.
+/// SubTree remaps becomes its parent's, a SubTree's own key a name made of its path; a
+/// key the SubTree starts at a literal cannot be written.
 #[test]
 fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
+    let round_trip = |doc: &str| {
+        let i = import_text(Path::new("t.xml"), doc, &ImportOptions::default()).unwrap();
+        let xml = i.to_xml().unwrap();
+        let again = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
+        assert_eq!(again.image().unwrap(), i.image().unwrap(), "{xml}");
+        xml
+    };
     let remapped = r#"<root BTCPP_format="4" main_tree_to_execute="M">
   <BehaviorTree ID="M"><Sequence><SubTree ID="S" out="{result}"/><Script code="done := result"/></Sequence></BehaviorTree>
   <BehaviorTree ID="S"><Script code="out := 'ok'"/></BehaviorTree>
 </root>"#;
-    let i = import_text(Path::new("t.xml"), remapped, &ImportOptions::default()).unwrap();
-    let xml = i.to_xml().unwrap();
+    let xml = round_trip(remapped);
     assert!(xml.contains(r#"code="result := &apos;ok&apos;""#), "{xml}");
-    let again = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
-    assert_eq!(again.image().unwrap(), i.image().unwrap());
 
+    // Two instances' own `x` stay two keys.
     let local = r#"<root BTCPP_format="4" main_tree_to_execute="M">
-  <BehaviorTree ID="M"><SubTree ID="S"/></BehaviorTree>
-  <BehaviorTree ID="S"><Script code="x := 1"/></BehaviorTree>
+  <BehaviorTree ID="M"><Sequence><SubTree ID="S"/><SubTree ID="S"/></Sequence></BehaviorTree>
+  <BehaviorTree ID="S"><Script code="x := x + 1"/></BehaviorTree>
 </root>"#;
-    let i = import_text(Path::new("t.xml"), local, &ImportOptions::default()).unwrap();
-    let e = i.to_xml().unwrap_err().to_string();
+    let xml = round_trip(local);
+    assert!(xml.contains(r#"code="S_2_x := S_2_x + 1""#) && xml.contains(r#"code="S_4_x := S_4_x + 1""#), "{xml}");
+
+    let started = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><SubTree ID="S" x="3"/></BehaviorTree>
+  <BehaviorTree ID="S"><Script code="x := x + 1"/></BehaviorTree>
+</root>"#;
+    let i = import_text(Path::new("t.xml"), started, &ImportOptions::default()).unwrap();
     assert_eq!(
-        e,
-        "node 0 is a Script whose script cannot be written: its script uses `x`, a key local to a SubTree, \
-         which a script in the flattened tree cannot name"
+        i.to_xml().unwrap_err().to_string(),
+        "blackboard key `S::1/x` (slot 0) starts at 3, given by its SubTree; the flattened tree has no SubTree to give it"
     );
+
+    let clash = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+  <BehaviorTree ID="M"><Sequence><Script code="S_3_x := 1"/><SubTree ID="S"/></Sequence></BehaviorTree>
+  <BehaviorTree ID="S"><Script code="x := 2"/></BehaviorTree>
+</root>"#;
+    let i = import_text(Path::new("t.xml"), clash, &ImportOptions::default()).unwrap();
+    assert_eq!(
+        i.to_xml().unwrap_err().to_string(),
+        "blackboard keys `S_3_x` and `S::3/x` (slot 1) would both be written as `S_3_x`"
+    );
+}
+
+/// Polymorphic casts as BehaviorTree.CPP's registry allows them: an input port reads a
+/// key of a type that reaches the port's through casts upwards, or of its direct base;
+/// output ports and types without a cast stay conflicts.
+#[test]
+fn input_ports_read_through_registered_polymorphic_casts() {
+    let doc = |body: &str| {
+        format!(
+            r#"<root BTCPP_format="4">
+  <BehaviorTree ID="M"><Sequence>{body}</Sequence></BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="MakeSphynx"><output_port name="p" type="Sphynx::Ptr"/></Action>
+    <Action ID="MakeAnimal"><output_port name="p" type="Animal::Ptr"/></Action>
+    <Action ID="MakeCat"><output_port name="p" type="Cat::Ptr"/></Action>
+    <Action ID="UseAnimal"><input_port name="p" type="Animal::Ptr"/></Action>
+    <Action ID="UseCat"><input_port name="p" type="Cat::Ptr"/></Action>
+    <Action ID="UseSphynx"><input_port name="p" type="Sphynx::Ptr"/></Action>
+  </TreeNodesModel>
+</root>"#
+        )
+    };
+    let casts = |list: &[(&str, &str)]| ImportOptions {
+        casts: list.iter().map(|(d, b)| (d.to_string(), b.to_string())).collect(),
+        ..ImportOptions::default()
+    };
+    let both = casts(&[("Cat::Ptr", "Animal::Ptr"), ("Sphynx::Ptr", "Cat::Ptr")]);
+    let import = |body: &str, options: &ImportOptions<'_>| {
+        import_text(Path::new("t.xml"), &doc(body), options).map(|i| i.slots.len()).map_err(|e| e.to_string())
+    };
+    // Upwards, through two casts.
+    let up = r#"<MakeSphynx p="{a}"/><UseAnimal p="{a}"/>"#;
+    assert_eq!(import(up, &both), Ok(1));
+    let e = import(up, &casts(&[("Cat::Ptr", "Animal::Ptr")])).unwrap_err();
+    assert!(e.contains("blackboard key `a` is used as Animal::Ptr here and as Sphynx::Ptr"), "{e}");
+    assert!(import(up, &ImportOptions::default()).is_err());
+    // Down one cast, not two.
+    assert_eq!(import(r#"<MakeAnimal p="{a}"/><UseCat p="{a}"/>"#, &both), Ok(1));
+    assert!(import(r#"<MakeAnimal p="{a}"/><UseSphynx p="{a}"/>"#, &both).is_err());
+    // An output port of another type is a conflict, cast or not.
+    let e = import(r#"<MakeCat p="{a}"/><MakeSphynx p="{a}"/>"#, &both).unwrap_err();
+    assert!(e.contains("is used as Sphynx::Ptr here and as Cat::Ptr"), "{e}");
 }

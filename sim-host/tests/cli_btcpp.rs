@@ -409,3 +409,30 @@ fn scripts_import_with_the_enums_their_program_registers() {
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("expected NAME=VALUE"), "{err}");
 }
+
+#[test]
+fn imports_take_the_other_documents_and_casts_their_program_registers() {
+    let x = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/btcpp-examples");
+    let path = |f: &str| x.join(f).to_str().unwrap().to_string();
+    let nodes = path("example_nodes.xml");
+    // t07's program registers SubA and SubB from two more documents first; the tree file's
+    // only tree is the main one.
+    let (tree, a, b) =
+        (path("t07_load_multiple_xml.xml"), path("t07_load_multiple_xml_1.xml"), path("t07_load_multiple_xml_2.xml"));
+    let shown = ok(&sim_host(&["import", &tree, "--nodes", &nodes, "--nodes", &a, "--nodes", &b, "--format", "ascii"]));
+    assert!(shown.contains("Executing SubA") && shown.contains("Executing SubB"), "{shown}");
+    // t19's registerPolymorphicCast<Cat, Animal>() and <Sphynx, Cat>().
+    let tree = path("t19_polymorphic_ports.xml");
+    let refused = sim_host(&["import", &tree, "--nodes", &nodes, "--format", "ascii"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(err.contains("blackboard key `pet` is used as Animal::Ptr here and as Cat::Ptr"), "{err}");
+    let casts = ["--cast", "Cat::Ptr=Animal::Ptr", "--cast", "Sphynx::Ptr=Cat::Ptr"];
+    let mut args = vec!["import", tree.as_str(), "--nodes", nodes.as_str(), "--format", "ascii"];
+    args.extend(casts);
+    ok(&sim_host(&args));
+    let bad = sim_host(&["import", &tree, "--nodes", &nodes, "--cast", "Cat::Ptr"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("expected DERIVED=BASE"), "{err}");
+}

@@ -72,6 +72,8 @@ pub struct Document {
     pub main: Option<(String, Location)>,
     /// Every `<TreeNodesModel>` entry, in reading order.
     pub models: Vec<NodeModel>,
+    /// The IDs of the trees the first file itself defines (not its includes).
+    pub own: Vec<String>,
     /// `BTCPP_format` of the first file (`None` for v3-style files without it).
     pub format: Option<String>,
     /// Files read so far (canonical paths): a file included twice is read once.
@@ -255,6 +257,9 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         };
         if let Some(first) = doc.trees.get(&id) {
             return Err(ImportError::new(&bt.at, Fault::DuplicateTree { id, first: first.at.clone() }));
+        }
+        if first {
+            doc.own.push(id.clone());
         }
         doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone() });
     }

@@ -148,7 +148,7 @@ pub fn blackboard_key(value: &str) -> Option<&str> {
 }
 
 /// Which tree is the main one: `main` if given, else the document's
-/// `main_tree_to_execute`, else the only tree.
+/// `main_tree_to_execute`, else the tree file's only tree, else the only tree read.
 ///
 /// # Errors
 /// [`Fault::NoSuchTree`], [`Fault::NoMainTree`] or [`Fault::NoTree`].
@@ -157,6 +157,9 @@ pub fn main_tree<'d>(doc: &'d Document, main: Option<&str>) -> Result<&'d TreeDe
     let (id, at) = match (main, &doc.main) {
         (Some(m), _) => (m.to_string(), None),
         (None, Some((m, at))) => (m.clone(), Some(at)),
+        // The tree file's only tree, as BehaviorTree.CPP picks it among the trees other
+        // files registered before.
+        (None, None) if let [only] = doc.own.as_slice() => (only.clone(), None),
         (None, None) => match doc.trees.len() {
             0 => return Err(ImportError::nowhere(Fault::NoTree)),
             1 => return Ok(doc.trees.values().next().expect("one tree")),

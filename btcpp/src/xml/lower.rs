@@ -50,10 +50,10 @@ pub struct NodeMeta {
     pub params: Vec<(String, String)>,
     /// For a script node or a guard: its attributes as the XML of the flattened tree
     /// writes them, each script with every key as that tree names it (a key a SubTree
-    /// remaps becomes its parent's; a guard's attributes go on the node it guards);
-    /// `Err` naming a key no script there can name (a SubTree's local key). `None` for
-    /// other nodes, whose `params` are written as they are.
-    pub flat: Option<std::result::Result<Vec<(String, String)>, String>>,
+    /// remaps becomes its parent's, a SubTree's local key its [`script_name`]; a
+    /// guard's attributes go on the node it guards). `None` for other nodes, whose
+    /// `params` are written as they are.
+    pub flat: Option<Vec<(String, String)>>,
 }
 
 /// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
@@ -149,7 +149,13 @@ impl Imported {
 /// # Errors
 /// The first [`ImportError`]: unknown node types and ports, constructs without a
 /// bt-core equivalent, bad literals, type conflicts on a key, trees too large.
-pub fn lower(flat: &Flat, models: &Models, target: Target<'_>, enums: &[(String, i64)]) -> Result<Imported> {
+pub fn lower(
+    flat: &Flat,
+    models: &Models,
+    target: Target<'_>,
+    enums: &[(String, i64)],
+    casts: &[(String, String)],
+) -> Result<Imported> {
     let catalog = match target {
         Target::Models => models.catalog(),
         Target::Known(_) => XmlCatalog::default(),
@@ -168,6 +174,7 @@ pub fn lower(flat: &Flat, models: &Models, target: Target<'_>, enums: &[(String,
         catalog,
         known,
         enums: enums.iter().cloned().collect(),
+        casts,
         written: BTreeSet::new(),
         ported: BTreeSet::new(),
         script_slots: BTreeSet::new(),
@@ -194,6 +201,54 @@ pub fn lower(flat: &Flat, models: &Models, target: Target<'_>, enums: &[(String,
     Ok(out)
 }
 
+/// Whether a value of type `from` may be read as `to` through `casts`
+/// (`(derived, base)`): upwards through any number of casts, or down one, as
+/// BehaviorTree.CPP's polymorphic cast registry allows.
+fn converts(casts: &[(String, String)], from: &str, to: &str) -> bool {
+    if casts.iter().any(|(derived, base)| derived == to && base == from) {
+        return true;
+    }
+    // Upwards: the bases reachable from `from` (a cycle of casts ends when no type is new).
+    let mut reached = vec![from];
+    let mut next = 0;
+    while let Some(&t) = reached.get(next) {
+        if t == to {
+            return true;
+        }
+        for (derived, base) in casts {
+            if derived == t && !reached.contains(&base.as_str()) {
+                reached.push(base);
+            }
+        }
+        next += 1;
+    }
+    false
+}
+
+/// The name a slot has in the XML of the flattened tree, where scripts name it too: its
+/// key when that is a script identifier, else (a SubTree's local key, `MySub::3/x`)
+/// every run of other characters made one `_` (`MySub_3_x`), with a `_` in front of a
+/// digit.
+#[must_use]
+pub fn script_name(name: &str) -> std::borrow::Cow<'_, str> {
+    let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    if name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') && name.chars().all(word) {
+        return name.into();
+    }
+    let mut out = String::with_capacity(name.len() + 1);
+    if !name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
+        out.push('_');
+    }
+    for c in name.chars() {
+        if word(c) {
+            out.push(c);
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.into()
+}
+
 /// A known set's behaviors by name.
 fn known_names(k: &dyn Grounded) -> BTreeMap<String, BehaviorId> {
     let mut names = BTreeMap::new();
@@ -213,6 +268,8 @@ struct Lowerer<'a> {
     known: Option<(&'a dyn Grounded, BTreeMap<String, BehaviorId>)>,
     /// Scripting enums: names scripts read as numbers.
     enums: BTreeMap<String, i64>,
+    /// Polymorphic casts, `(derived, base)`.
+    casts: &'a [(String, String)],
     /// Keys some output or in/out port, or a script, writes.
     written: BTreeSet<Key>,
     /// Keys some port names (they exist before any script runs, as in BehaviorTree.CPP).
@@ -440,7 +497,7 @@ impl Lowerer<'_> {
             let written = |text: &String| {
                 meta.params.iter().map(|(k, v)| (k.clone(), if k == port { text.clone() } else { v.clone() })).collect()
             };
-            meta.flat = Some(flat.as_ref().map(written).map_err(Clone::clone));
+            meta.flat = Some(written(&flat));
         }
         self.place(n, &words)
     }
@@ -461,14 +518,8 @@ impl Lowerer<'_> {
     }
 
     /// A script attribute of `n` (`bound`) compiled with its keys read in `scope`: its
-    /// program, and its text with every key as the flattened tree names it (`Err`: why
-    /// it has none).
-    fn compile_script(
-        &mut self,
-        n: &Inst,
-        bound: &Bound,
-        scope: usize,
-    ) -> Result<(Vec<u16>, std::result::Result<String, String>)> {
+    /// program, and its text with every key as the flattened tree names it.
+    fn compile_script(&mut self, n: &Inst, bound: &Bound, scope: usize) -> Result<(Vec<u16>, String)> {
         let fault = |e: script::ScriptError| {
             let mut code: String = bound.raw.chars().take(80).collect();
             if code.len() < bound.raw.len() {
@@ -496,24 +547,13 @@ impl Lowerer<'_> {
         };
         // The script as the flattened tree names its keys.
         let mut flat = bound.raw.clone();
-        let mut unnamed = None;
         keys.sort_by_key(|k| std::cmp::Reverse(k.0));
         for (offset, written, slot) in keys {
-            let name = &self.out.slots[usize::from(slot)].name;
-            let valid = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
-            if !valid {
-                unnamed = Some(written.clone());
-            } else if *name != written && flat.get(offset..offset + written.len()) == Some(written.as_str()) {
-                flat.replace_range(offset..offset + written.len(), name);
+            let name = script_name(&self.out.slots[usize::from(slot)].name);
+            if *name != written && flat.get(offset..offset + written.len()) == Some(written.as_str()) {
+                flat.replace_range(offset..offset + written.len(), &name);
             }
         }
-        let flat = match unnamed {
-            None => Ok(flat),
-            Some(key) => Err(format!(
-                "its script uses `{key}`, a key local to a SubTree, which a script in the flattened tree cannot name"
-            )),
-        };
         Ok((words, flat))
     }
 
@@ -522,7 +562,7 @@ impl Lowerer<'_> {
     fn guard(&mut self, n: &Inst) -> Result<NodeKind> {
         let mut mask = 0u16;
         let mut table = vec![0u16];
-        let mut flat = Ok(Vec::new());
+        let mut flat = Vec::new();
         for (bit, name) in SCRIPT_ATTRIBUTES.iter().enumerate() {
             let Some(bound) = n.hooks.iter().find(|b| b.port == *name) else { continue };
             let (words, text) = self.compile_script(n, bound, n.hook_scope)?;
@@ -531,11 +571,7 @@ impl Lowerer<'_> {
                 .map_err(|_| ImportError::new(&bound.at, Fault::TooLarge("a script longer than 65535 words".into())))?;
             table.push(len);
             table.extend_from_slice(&words);
-            match (&mut flat, text) {
-                (Ok(written), Ok(text)) => written.push((name.to_string(), text)),
-                (_, Err(why)) => flat = Err(why),
-                (Err(_), Ok(_)) => {}
-            }
+            flat.push((name.to_string(), text));
         }
         table[0] = mask;
         if let Some(meta) = self.out.meta.last_mut() {
@@ -789,7 +825,7 @@ impl Lowerer<'_> {
                 Given::Default(d) => match blackboard_key(&d) {
                     Some(k) => {
                         let key = resolve(&self.flat.scopes, n.scope, k);
-                        self.slot_value(&key, ty, p.type_name.as_deref(), &n.at, n, &p.name)?
+                        self.slot_value(&key, (ty, direction), p.type_name.as_deref(), &n.at, n, &p.name)?
                     }
                     // The behavior applies a literal default itself.
                     None => UNSET,
@@ -808,7 +844,7 @@ impl Lowerer<'_> {
                         Some(text) if direction == PortDirection::Input => {
                             self.constant(&text, p.type_name.as_deref(), &b.at, n, &p.name)?
                         }
-                        _ => self.slot_value(k, ty, p.type_name.as_deref(), &b.at, n, &p.name)?,
+                        _ => self.slot_value(k, (ty, direction), p.type_name.as_deref(), &b.at, n, &p.name)?,
                     },
                 },
             };
@@ -851,7 +887,7 @@ impl Lowerer<'_> {
     fn slot_value(
         &mut self,
         key: &Key,
-        ty: PortType,
+        (ty, direction): (PortType, PortDirection),
         type_name: Option<&str>,
         at: &Location,
         n: &Inst,
@@ -873,7 +909,10 @@ impl Lowerer<'_> {
             let conflict = ty != PortType::Any
                 && first != PortType::Any
                 && first != PortType::String
-                && (ty != first || (ty == PortType::Other && slot.type_name.as_deref() != type_name));
+                && (ty != first || (ty == PortType::Other && slot.type_name.as_deref() != type_name))
+                // An input port may read through a registered polymorphic cast.
+                && !(direction == PortDirection::Input
+                    && slot.type_name.as_deref().zip(type_name).is_some_and(|(from, to)| converts(self.casts, from, to)));
             if conflict {
                 return Err(ImportError::new(
                     at,
@@ -944,7 +983,7 @@ impl script::Symbols for ScriptSymbols<'_, '_, '_> {
         let key = resolve(&self.l.flat.scopes, self.scope, name);
         let declared = self.l.ported.contains(&key)
             || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));
-        match self.l.slot_value(&key, PortType::Any, None, self.at, self.n, SCRIPT_PORT) {
+        match self.l.slot_value(&key, (PortType::Any, PortDirection::InOut), None, self.at, self.n, SCRIPT_PORT) {
             Ok(v) => match PortValue::from_u16(v) {
                 PortValue::Slot(id) => {
                     self.keys.push((offset, name.to_string(), id));

@@ -30,7 +30,9 @@ use crate::error::Result;
 #[derive(Clone, Debug, Default)]
 pub struct ImportOptions<'k> {
     /// Files whose `<TreeNodesModel>` declare the node types (Nav2's
-    /// `nav2_tree_nodes.xml`, a Groot2 project); read before the tree file.
+    /// `nav2_tree_nodes.xml`, a Groot2 project); read before the tree file. Their
+    /// `<BehaviorTree>`s are registered too, as a C++ program registers several files
+    /// (`registerBehaviorTreeFromFile`) before it creates the tree.
     pub models: Vec<PathBuf>,
     /// The tree to import, instead of `main_tree_to_execute`.
     pub main: Option<String>,
@@ -39,6 +41,12 @@ pub struct ImportOptions<'k> {
     pub known: Option<&'k dyn Grounded>,
     /// Scripting enums (BT.CPP's `registerScriptingEnum`): names scripts read as numbers.
     pub enums: Vec<(String, i64)>,
+    /// Polymorphic casts (BT.CPP's `registerPolymorphicCast<Derived, Base>()`), as
+    /// `(derived, base)` port type names written as the models write them: an input
+    /// port may then read a key of another type when the key's type reaches the port's
+    /// through these casts upwards (`Sphynx::Ptr` to `Cat::Ptr` to `Animal::Ptr`) or is
+    /// the port's direct base, as BT.CPP allows.
+    pub casts: Vec<(String, String)>,
 }
 
 impl std::fmt::Debug for dyn Grounded + '_ {
@@ -74,5 +82,5 @@ pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) ->
     let main = flatten::main_tree(doc, options.main.as_deref())?;
     let flat = flatten::flatten(doc, main, &models.subtree_models())?;
     let target = options.known.map_or(Target::Models, Target::Known);
-    lower::lower(&flat, &models, target, &options.enums)
+    lower::lower(&flat, &models, target, &options.enums, &options.casts)
 }

@@ -136,16 +136,22 @@ impl Imported {
         let names: Vec<Option<String>> = self.meta.iter().map(|m| m.name.clone()).collect();
         let uids: Vec<u16> = self.meta.iter().map(|m| m.uid).collect();
         // Scripts with their keys as the flattened tree names them.
-        let mut flat: Vec<Vec<(String, String)>> = Vec::with_capacity(self.meta.len());
-        for (node, m) in self.meta.iter().enumerate() {
-            flat.push(match &m.flat {
-                None => m.params.clone(),
-                Some(Ok(written)) => written.clone(),
-                Some(Err(why)) => {
-                    let kind = self.nodes.get(node).map_or("script", |n| n.kind().name());
-                    return Err(XmlError::ScriptText { node, kind, why: why.clone() });
-                }
-            });
+        let flat: Vec<Vec<(String, String)>> =
+            self.meta.iter().map(|m| m.flat.clone().unwrap_or_else(|| m.params.clone())).collect();
+        // Keys as scripts can name them (a SubTree's local key `MySub::3/x` as `MySub_3_x`),
+        // in the ports as in the scripts.
+        let mut renamed = self.clone();
+        let mut seen = std::collections::BTreeMap::new();
+        for (slot, s) in renamed.slots.iter_mut().enumerate() {
+            let name = crate::xml::lower::script_name(&s.name).into_owned();
+            if let Some(constant) = s.info.initial {
+                let value = self.constants.get(usize::from(constant)).map(|c| c.text()).unwrap_or_default();
+                return Err(XmlError::StartValue { slot, key: s.name.clone(), value });
+            }
+            if let Some(first) = seen.insert(name.clone(), s.name.clone()) {
+                return Err(XmlError::SameKey { slot, name, first, second: s.name.clone() });
+            }
+            s.name = name;
         }
         let params: Vec<&[(String, String)]> = flat.iter().map(Vec::as_slice).collect();
         let options = XmlOptions {
@@ -156,6 +162,6 @@ impl Imported {
             params: &params,
             tree_id: &self.main,
         };
-        to_xml_with(&self.nodes, self, &NoPorts, &options)
+        to_xml_with(&renamed.nodes, &renamed, &NoPorts, &options)
     }
 }

@@ -79,6 +79,32 @@ pub enum XmlError {
         /// Why.
         why: String,
     },
+    /// A key a SubTree instance starts at a literal, which a tree without that SubTree
+    /// cannot write.
+    #[error(
+        "blackboard key `{key}` (slot {slot}) starts at {value}, given by its SubTree; \
+         the flattened tree has no SubTree to give it"
+    )]
+    StartValue {
+        /// Its slot.
+        slot: usize,
+        /// The key.
+        key: String,
+        /// The literal it starts at.
+        value: String,
+    },
+    /// Two blackboard keys that the XML would write with one name.
+    #[error("blackboard keys `{first}` and `{second}` (slot {slot}) would both be written as `{name}`")]
+    SameKey {
+        /// The second key's slot.
+        slot: usize,
+        /// The name both would have.
+        name: String,
+        /// The first key.
+        first: String,
+        /// The second key.
+        second: String,
+    },
     /// Subtree sizes that do not nest.
     #[error("node {node}: subtree size does not fit inside its parent")]
     Malformed {

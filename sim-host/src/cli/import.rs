@@ -55,11 +55,14 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     sim-host import navigate_to_pose.xml --nodes nav2_tree_nodes.xml --out nav.bt\n  \
     sim-host import tree.xml --format ascii\n  \
     sim-host import tower.xml --behaviors tower --out tower.bt\n  \
-    sim-host import t09_scripting.xml --nodes nodes.xml --enum RED=1 --enum BLUE=2 --enum THE_ANSWER=42")]
+    sim-host import t09_scripting.xml --nodes nodes.xml --enum RED=1 --enum BLUE=2 --enum THE_ANSWER=42\n  \
+    sim-host import main.xml --nodes nodes.xml --nodes subtrees.xml --cast Cat::Ptr=Animal::Ptr")]
 pub struct Args {
     /// The BehaviorTree.CPP XML file.
     pub tree: PathBuf,
-    /// Files with <TreeNodesModel> declaring the node types (repeatable).
+    /// Files with <TreeNodesModel> declaring the node types, or with more <BehaviorTree>s
+    /// for the tree's SubTrees, as a C++ program registers several files before it
+    /// creates the tree (repeatable).
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
     /// The tree to import instead of main_tree_to_execute.
@@ -78,6 +81,21 @@ pub struct Args {
     /// registerScriptingEnums): scripts read NAME as the number VALUE (repeatable).
     #[arg(long = "enum", value_name = "NAME=VALUE", value_parser = parse_enum)]
     pub enums: Vec<(String, i64)>,
+    /// A polymorphic cast, as the C++ program registers it
+    /// (registerPolymorphicCast<Derived, Base>), with the port types as the models write
+    /// them: an input port of type BASE may then read a key written as DERIVED
+    /// (repeatable; casts chain upwards).
+    #[arg(long = "cast", value_name = "DERIVED=BASE", value_parser = parse_cast)]
+    pub casts: Vec<(String, String)>,
+}
+
+fn parse_cast(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((derived, base)) if !derived.trim().is_empty() && !base.trim().is_empty() => {
+            Ok((derived.trim().to_string(), base.trim().to_string()))
+        }
+        _ => Err(format!("`{text}`: expected DERIVED=BASE, like Cat::Ptr=Animal::Ptr")),
+    }
 }
 
 fn parse_enum(text: &str) -> Result<(String, i64), String> {
@@ -110,6 +128,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         main: args.main.clone(),
         known: known.as_ref().and_then(|k| k.grounded.as_deref()),
         enums: args.enums.clone(),
+        casts: args.casts.clone(),
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {
