@@ -180,10 +180,13 @@ public:
     return s;
   }
 
+  // As BT::StatefulActionNode's halt(): Idle again. A parent resets a halted child
+  // anyway; a node that `_while` halts itself is reset only here.
   void halt() override
   {
     const bool running = status() == BT::NodeStatus::RUNNING;
     log_->add((running ? "H" : "h") + std::to_string(leaf_->node));
+    resetStatus();
   }
 
 private:

@@ -118,9 +118,8 @@ rm -f "$fixtures"/scripted-*.txt
     }
   }
   END { printf "kept %d scripted cases\n", kept > "/dev/stderr" }'
-# Their Groot2 logs: every kept case without scripted attributes (`{...}` in its spec),
-# which our logs do not cover yet.
-awk '/^case / { n = $2 } /^spec / { if (index($0, "{") == 0) print n }' "$fixtures"/scripted-*.txt |
+# Their Groot2 logs: every kept case.
+awk '/^case / { print $2 }' "$fixtures"/scripted-*.txt |
   while read -r name; do cp "$tmp/logs/$name.btlog" "$fixtures/btlog/"; done
 
 # The trees of BehaviorTree.CPP's own tests.

@@ -3,6 +3,8 @@
 
 use std::collections::VecDeque;
 
+use bt_core::script::Hook;
+
 use crate::btlog::LogWriter;
 use crate::btlog::replay::{Leaves, Replay, Ticking, status};
 use crate::btlog::tree::LogTree;
@@ -31,10 +33,28 @@ struct Queue<'a> {
     calls: VecDeque<(usize, u8)>,
     wrong: Option<String>,
     tree: &'a LogTree,
+    /// Guards whose `_onHalted` the run ran before BehaviorTree.CPP would in the tick
+    /// (halt before start halts before the new start), not yet asked for.
+    early: Vec<usize>,
+}
+
+impl Queue<'_> {
+    /// Whether `core` is the guard of a node with `_onHalted`.
+    fn has_on_halted(&self, core: usize) -> bool {
+        self.tree.nodes.iter().any(|n| n.hooks.is_some_and(|h| h.core == core && h.has(Hook::OnHalted)))
+    }
 }
 
 impl Leaves for Queue<'_> {
     fn tick(&mut self, core: usize) -> u8 {
+        // An `_onHalted` the run ran earlier in the tick waits for the replay to ask.
+        while let Some(&(c, _)) = self.calls.front()
+            && c != core
+            && self.has_on_halted(c)
+        {
+            self.early.push(c);
+            self.calls.pop_front();
+        }
         match self.calls.pop_front() {
             Some((c, s)) if c == core => s,
             other => {
@@ -59,6 +79,27 @@ impl Leaves for Queue<'_> {
     }
 
     fn halt(&mut self, _: usize) {}
+
+    /// Where our executor ran it in the tick does not matter (halt before start may
+    /// halt earlier in the tick than BehaviorTree.CPP does), only that it did.
+    fn halted_hook(&mut self, core: usize) {
+        if let Some(k) = self.early.iter().position(|&c| c == core) {
+            self.early.remove(k);
+            return;
+        }
+        match self.calls.iter().position(|&(c, _)| c == core) {
+            Some(k) => {
+                self.calls.remove(k);
+            }
+            None => {
+                if self.wrong.is_none() {
+                    self.wrong = Some(format!(
+                        "BehaviorTree.CPP runs node {core}'s _onHalted, which the run did not in this tick"
+                    ));
+                }
+            }
+        }
+    }
 }
 
 impl<'t> RunLog<'t> {
@@ -84,10 +125,16 @@ impl<'t> RunLog<'t> {
     /// # Errors
     /// [`Mismatch`] when BehaviorTree.CPP's model ticks other leaves.
     pub fn tick(&mut self, tick: u32, usec: i64, now: u32, calls: &[(usize, u8)]) -> Result<u8, Mismatch> {
-        let mut q = Queue { calls: calls.iter().copied().collect(), wrong: None, tree: self.tree };
+        let mut q = Queue { calls: calls.iter().copied().collect(), wrong: None, tree: self.tree, early: Vec::new() };
         let (root, transitions) = self.replay.tick(&mut q, now, self.ticking);
         if let Some(what) = q.wrong {
             return Err(Mismatch { tick, what });
+        }
+        if let Some(&c) = q.early.first() {
+            return Err(Mismatch {
+                tick,
+                what: format!("the run ran node {c}'s _onHalted, which BehaviorTree.CPP does not"),
+            });
         }
         if let Some(&(c, _)) = q.calls.front() {
             return Err(Mismatch {

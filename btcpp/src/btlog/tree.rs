@@ -6,6 +6,7 @@ use bt_core::{Catalog, Node, NodeKind, PortValue};
 
 use crate::btlog::stdmap;
 use crate::xml::Imported;
+use crate::xml::builtin::SCRIPT_ATTRIBUTES;
 use crate::xml::write::type_id;
 
 /// What a node does, in BehaviorTree.CPP's terms.
@@ -129,6 +130,26 @@ pub struct LogNode {
     pub core: Option<usize>,
     /// For a SubTree node: the node's `_fullpath` and the instance's path.
     pub subtree: Option<(String, String)>,
+    /// Its scripted attributes (`_skipIf`, `_onSuccess`, ...), when it has any.
+    pub hooks: Option<Hooks>,
+}
+
+/// A node's scripted attributes: bt-core's guard in front of the node runs them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hooks {
+    /// The guard's bt-core node (the run's script calls of the hooks are its).
+    pub core: usize,
+    /// Which attributes it has: bit `k` for [`SCRIPT_ATTRIBUTES`]`[k]`
+    /// ([`bt_core::script::Hook`] order).
+    pub mask: u8,
+}
+
+impl Hooks {
+    /// Whether it has attribute `hook`.
+    #[must_use]
+    pub fn has(self, hook: bt_core::script::Hook) -> bool {
+        self.mask & (1 << hook as u8) != 0
+    }
 }
 
 /// A leaf type's model, as registered in the factory.
@@ -355,6 +376,8 @@ impl LogTree {
         values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
     ) -> Result<Self, NotExpressible> {
         let mut out: Vec<LogNode> = Vec::with_capacity(nodes.len() + subtrees.len());
+        // A guard's attributes, until the node it guards is made.
+        let mut pending: Option<Pending> = None;
         // Open nodes: (index in out, end of its bt-core subtree).
         let mut open: Vec<(usize, usize)> = Vec::new();
         for (i, n) in nodes.iter().enumerate() {
@@ -383,8 +406,29 @@ impl LogTree {
                     attrs,
                     core: None,
                     subtree: Some((s.path.clone(), s.instance.clone())),
+                    hooks: None,
                 });
+                attach(&mut out, &mut pending);
                 open.push((idx, i + usize::from(n.size())));
+            }
+            if let NodeKind::Guard(_) = n.kind() {
+                // No node of its own: its attributes go on the node it guards (the next
+                // one made, with its uid: a SubTree node, or the bt-core node after it).
+                let written = params.get(i).copied().flatten().filter(|w| !w.is_empty());
+                let Some(written) = written else {
+                    return Err(NotExpressible { node: i, kind: n.kind().name() });
+                };
+                let mut mask = 0u8;
+                let mut attrs = Vec::new();
+                for (bit, name) in SCRIPT_ATTRIBUTES.iter().enumerate() {
+                    if let Some((_, text)) = written.iter().find(|(k, _)| k == name) {
+                        mask |= 1 << bit;
+                        attrs.push((name.to_string(), text.clone()));
+                    }
+                }
+                pending =
+                    Some(Pending { uid: uids.get(i).copied().unwrap_or(0), hooks: Hooks { core: i, mask }, attrs });
+                continue;
             }
             let idx = out.len();
             if let Some(&(p, _)) = open.last() {
@@ -434,7 +478,9 @@ impl LogTree {
                 attrs,
                 core: Some(i),
                 subtree: None,
+                hooks: None,
             });
+            attach(&mut out, &mut pending);
             if n.size() > 1 {
                 open.push((idx, i + usize::from(n.size())));
             }
@@ -460,6 +506,26 @@ impl LogTree {
             models.push(LeafModel { tag, id: type_id(info.name), ports });
         }
         Ok(Self { main: main.to_string(), nodes: out, models })
+    }
+}
+
+/// A guard's attributes waiting for their node.
+struct Pending {
+    uid: u16,
+    hooks: Hooks,
+    /// The attributes in the order BehaviorTree.CPP writes them (its condition maps'
+    /// order, which is [`SCRIPT_ATTRIBUTES`]'), with the scripts as written.
+    attrs: Vec<(String, String)>,
+}
+
+/// Gives the node just made (the last of `out`) the pending attributes if they are its.
+fn attach(out: &mut [LogNode], pending: &mut Option<Pending>) {
+    if let Some(node) = out.last_mut()
+        && pending.as_ref().is_some_and(|p| p.uid == node.uid)
+        && let Some(p) = pending.take()
+    {
+        node.hooks = Some(p.hooks);
+        node.attrs.extend(p.attrs);
     }
 }
 

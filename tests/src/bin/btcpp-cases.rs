@@ -18,9 +18,12 @@ fn from_line(line: &str) -> Result<Case, String> {
     let mut words = line.split_whitespace();
     let name = words.next().ok_or("no name")?.to_string();
     let ticks = words.next().and_then(|t| t.parse().ok()).ok_or("no tick count")?;
-    // The spec is the words up to the scripts (which contain `=`) or `once`.
+    // The spec is the words up to the scripts (`NODE=STATUSES`) or `once`; its scripted
+    // attributes (`{W=6}`) contain `=` too.
     let rest: Vec<&str> = words.collect();
-    let split = rest.iter().position(|w| w.contains('=') || *w == "once").unwrap_or(rest.len());
+    let script =
+        |w: &str| w.split_once('=').is_some_and(|(n, _)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+    let split = rest.iter().position(|w| script(w) || *w == "once").unwrap_or(rest.len());
     let spec = Spec::parse(&rest[..split].join(" "))?;
     let mut once = false;
     let mut given = vec![];

@@ -243,7 +243,7 @@ struct Scripted<'a> {
     blackboard: [Option<Value>; 3],
     /// The spec node of each bt-core node ([`Built::to_spec`]).
     to_spec: Vec<usize>,
-    /// Whether each spec node is a `Script` (whose run always counts as Success).
+    /// Whether each bt-core node is a `Script` (whose run always counts as Success).
     is_script: Vec<bool>,
 }
 
@@ -308,10 +308,11 @@ impl BehaviorSet for Scripted<'_> {
 
     fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
         let v = bt_core::script::run(code, &bt_core::PortTable::EMPTY, &mut self.blackboard)?;
-        // For the replay of logs, not for the harness's events: `$` marks it.
-        let node = self.spec(ctx.node);
-        let held = self.is_script.get(node) == Some(&true) || bt_core::script::truth(v).unwrap_or(false);
-        self.events.push(format!("${node}{}", if held { 'S' } else { 'F' }));
+        // For the replay of logs, not for the harness's events: `$` marks it, and it
+        // names the bt-core node (a guard's scripts are the guard's, not its node's).
+        let held =
+            self.is_script.get(usize::from(ctx.node)) == Some(&true) || bt_core::script::truth(v).unwrap_or(false);
+        self.events.push(format!("${}{}", ctx.node, if held { 'S' } else { 'F' }));
         Ok(v)
     }
 }
@@ -333,7 +334,7 @@ pub fn run(case: &Case) -> Result<Vec<Tick>, String> {
     let tree = Tree::<16>::validate_with(&nodes, &values, catalog.as_slice()).map_err(|e| e.to_string())?;
     let mut state = vec![bt_core::NodeState::IDLE; nodes.len()];
     let mut exec = Executor::new(tree, &mut state).map_err(|e| e.to_string())?;
-    let is_script = case.spec.preorder().iter().map(|n| matches!(n.kind, Kind::Script(_))).collect();
+    let is_script = nodes.iter().map(|n| matches!(n.kind(), NodeKind::Script(_))).collect();
     let mut world =
         Scripted { case, calls: vec![0; nodes.len()], events: vec![], blackboard: [None; 3], to_spec, is_script };
     let mut out = vec![];

@@ -35,7 +35,9 @@
 
 mod kinds;
 
-use crate::btlog::tree::{Kind, LogTree};
+use bt_core::script::Hook;
+
+use crate::btlog::tree::{Hooks, Kind, LogTree};
 
 /// A node's status as BehaviorTree.CPP numbers it in logs.
 pub mod status {
@@ -59,6 +61,11 @@ pub trait Leaves {
     fn tick(&mut self, core: usize) -> u8;
     /// Running action `core` is halted.
     fn halt(&mut self, core: usize);
+    /// The `_onHalted` script of the node guarded by `core` runs (its result is not
+    /// used). By default, asked as [`Leaves::tick`].
+    fn halted_hook(&mut self, core: usize) {
+        self.tick(core);
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -219,8 +226,12 @@ impl<'t> Replay<'t> {
         self.tree.nodes[i].children[k]
     }
 
+    /// `executeTick()` of node `i`.
     fn execute(&mut self, i: usize, leaves: &mut dyn Leaves) -> u8 {
-        let s = self.tick_node(i, leaves);
+        let s = match self.tree.nodes[i].hooks {
+            Some(h) => self.guarded(i, h, leaves),
+            None => self.tick_node(i, leaves),
+        };
         if s != SKIPPED {
             self.set_status(i, s);
         }
@@ -233,14 +244,63 @@ impl<'t> Replay<'t> {
         s
     }
 
-    /// `haltNode()` of node `i`.
+    /// `executeTick()`'s part for a node with scripted attributes, before its status is
+    /// set: from Idle `_failureIf`, `_successIf`, `_skipIf` (the first that holds
+    /// decides) and `_while` (false: skipped); while Running only `_while`, which halts
+    /// the node when false; then, when the node succeeded or failed, `_onSuccess` or
+    /// `_onFailure`, and `_post`. A script's truth is asked as a leaf's result
+    /// (Success: it holds).
+    fn guarded(&mut self, i: usize, h: Hooks, leaves: &mut dyn Leaves) -> u8 {
+        let mut ask = |hook: Hook| h.has(hook).then(|| leaves.tick(h.core) == SUCCESS);
+        let decided = match self.rt[i].status {
+            IDLE => [(Hook::FailureIf, FAILURE), (Hook::SuccessIf, SUCCESS), (Hook::SkipIf, SKIPPED)]
+                .into_iter()
+                .find_map(|(hook, then)| (ask(hook) == Some(true)).then_some(then))
+                .or_else(|| (ask(Hook::While) == Some(false)).then_some(SKIPPED)),
+            RUNNING if ask(Hook::While) == Some(false) => {
+                self.halt(i, leaves);
+                Some(SKIPPED)
+            }
+            _ => None,
+        };
+        let s = match decided {
+            Some(s) => s,
+            None => self.tick_node(i, leaves),
+        };
+        let on = match s {
+            SUCCESS => Hook::OnSuccess,
+            FAILURE => Hook::OnFailure,
+            _ => return s,
+        };
+        for hook in [on, Hook::Post] {
+            if h.has(hook) {
+                leaves.tick(h.core);
+            }
+        }
+        s
+    }
+
+    /// `haltNode()` of node `i`: its `halt()`, then its `_onHalted`.
     fn halt(&mut self, i: usize, leaves: &mut dyn Leaves) {
+        self.halt_only(i, leaves);
+        if let Some(h) = self.tree.nodes[i].hooks
+            && h.has(Hook::OnHalted)
+        {
+            leaves.halted_hook(h.core);
+        }
+    }
+
+    /// `halt()` of node `i`.
+    fn halt_only(&mut self, i: usize, leaves: &mut dyn Leaves) {
         let node = &self.tree.nodes[i];
         match node.kind {
+            // Idle again, as `StatefulActionNode::halt()` leaves it (a parent resets a
+            // halted child anyway; a node `_while` halts itself is reset only here).
             Kind::Action => {
                 if let Some(core) = node.core {
                     leaves.halt(core);
                 }
+                self.reset_status(i);
             }
             Kind::Condition | Kind::AlwaysSuccess | Kind::AlwaysFailure | Kind::Script | Kind::ScriptCondition => {}
             // Its timer is cancelled; it is reset.
