@@ -14,6 +14,17 @@ pub enum PlanError {
         /// The limit.
         limit: u64,
     },
+    /// Heuristic search stored more states than its memory bound allows.
+    #[error(
+        "the search for a plan stopped: its {states} states need more than {limit} bytes \
+         (the bound of one search)"
+    )]
+    SearchMemory {
+        /// States stored when it stopped.
+        states: u64,
+        /// The bound, in bytes.
+        limit: u64,
+    },
     /// The tree's value table (the values of leaves with more than
     /// `bt_core::MAX_ARGS` arguments) would hold more than an image does.
     #[error("the tree's leaves with more than 3 arguments need more than {limit} values in its value table")]

@@ -91,7 +91,7 @@ struct Node {
 /// # Errors
 /// [`PlanError::NoPlan`] when every reachable state was expanded without reaching
 /// the goal, or the relaxation shows none can; [`PlanError::Timeout`];
-/// [`PlanError::TooLarge`] when the stored states pass [`SearchOptions::memory`].
+/// [`PlanError::SearchMemory`] when the stored states pass [`SearchOptions::memory`].
 pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> {
     gbfs_from(g, g.init(), options)
 }
@@ -103,7 +103,7 @@ pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> 
 pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Result<Found, PlanError> {
     let mut h = Relaxation::new(g);
     let succ = Successors::new(g);
-    let mut reg = Registry::new();
+    let mut reg = Registry::new(g, start);
     let mut nodes: Vec<Node> = Vec::new();
     let mut helpful = Vec::new();
     let init = start.clone();
@@ -166,11 +166,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
                 continue;
             }
             if reg.bytes() > options.memory {
-                return Err(PlanError::TooLarge {
-                    what: "bytes of search states",
-                    count: reg.bytes() as u64,
-                    limit: options.memory as u64,
-                });
+                return Err(PlanError::SearchMemory { states: reg.len() as u64, limit: options.memory as u64 });
             }
             nodes.push(Node { parent: id, action: a });
             closed.push(false);

@@ -1,9 +1,12 @@
 //! Search states stored once: each as the sorted list of its true atoms in one arena,
-//! found again through a hash table of their hashes.
+//! found again through a hash table of their hashes. Static atoms (of predicates no
+//! action changes, such as a grid's `connected`) are the same in every state of a
+//! search: they are kept once, not per state.
 
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 
+use crate::ground::Grounding;
 use crate::state::State;
 
 /// Every state met, by id.
@@ -16,6 +19,10 @@ pub(super) struct Registry {
     by_hash: HashMap<u64, u32>,
     next: Vec<u32>,
     scratch: Vec<u32>,
+    /// Whether each atom is static.
+    fixed: Vec<bool>,
+    /// The static atoms true in every state of the search.
+    always: Vec<u32>,
 }
 
 const END: u32 = u32::MAX;
@@ -27,8 +34,20 @@ fn hash(atoms: &[u32]) -> u64 {
 }
 
 impl Registry {
-    pub(super) fn new() -> Self {
-        Self { arena: Vec::new(), start: vec![0], by_hash: HashMap::new(), next: Vec::new(), scratch: Vec::new() }
+    /// A registry for states of `g` reached from `start` (whose static atoms every one
+    /// of them shares).
+    pub(super) fn new(g: &Grounding, start: &State) -> Self {
+        let fixed: Vec<bool> = (0..g.atom_count()).map(|a| u32::try_from(a).is_ok_and(|a| g.is_static(a))).collect();
+        let always = start.iter().filter(|&a| fixed.get(a as usize).copied().unwrap_or(false)).collect();
+        Self {
+            arena: Vec::new(),
+            start: vec![0],
+            by_hash: HashMap::new(),
+            next: Vec::new(),
+            scratch: Vec::new(),
+            fixed,
+            always,
+        }
     }
 
     /// How many states.
@@ -51,7 +70,7 @@ impl Registry {
     pub(super) fn insert(&mut self, state: &State) -> (u32, bool) {
         let mut atoms = std::mem::take(&mut self.scratch);
         atoms.clear();
-        atoms.extend(state.iter());
+        atoms.extend(state.iter().filter(|&a| !self.fixed.get(a as usize).copied().unwrap_or(false)));
         let h = hash(&atoms);
         let mut at = self.by_hash.get(&h).copied().unwrap_or(END);
         let mut last = END;
@@ -79,7 +98,7 @@ impl Registry {
     /// Writes state `id` into `out`.
     pub(super) fn load(&self, id: u32, out: &mut State) {
         out.clear();
-        for &a in self.get(id) {
+        for &a in self.get(id).iter().chain(&self.always) {
             out.set(a, true);
         }
     }
