@@ -234,6 +234,11 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         Err(e) => return failed(e, secs()),
     };
     let seconds = secs();
+    // A tree finished after the timeout (its last check ran past the deadline) does not
+    // count as solved within it.
+    if seconds > settings.timeout.as_secs_f64() {
+        return Run::new(Outcome::Timeout, seconds);
+    }
     let mut out = Run::new(Outcome::Solved, seconds);
     out.method = Some(plan.method);
     out.closed = plan.closed.map(|c| c.to_string());
