@@ -9,7 +9,9 @@
 //! leave the world in a state the domain can produce. During disturbed episodes an
 //! action whose preconditions were changed under it fails instead of completing
 //! ([`StripsWorld::set_checked_completion`]). The tree is run as planned, without
-//! expanding it at run time.
+//! expanding it at run time, and ticked on after a root Failure as a robot would: an
+//! episode ends at the goal, at [`Settings::failures`] Failures in a row (2 by
+//! default), or at its tick budget ([`episode_ticks`]).
 //!
 //! Some domains have actions that cannot be undone (a peg jumped in peg solitaire, a
 //! tile painted in floortile, fuel burnt in nomystery): a disturbance there can leave
@@ -102,6 +104,11 @@ pub struct Settings {
     pub rate: f64,
     /// Most disturbances in one episode.
     pub max_disturbances: u32,
+    /// Root Failures in a row that end a disturbed episode: 2 by default, as a robot
+    /// ticks on after a failed tick (an action whose preconditions an agent changed
+    /// while it ran fails) and as seed 003's episodes end on a status twice in a row;
+    /// 1 ends it at the first.
+    pub failures: u32,
     /// Plan with [`Options::close_backchained`].
     pub close_backchained: bool,
     /// Plan with this [`Options::close_nodes`].
@@ -116,6 +123,7 @@ impl Default for Settings {
             seed: 1,
             rate: 0.2,
             max_disturbances: 3,
+            failures: 2,
             close_backchained: false,
             close_nodes: Options::default().close_nodes,
         }
@@ -373,7 +381,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
             catalog,
             &mut world,
             budget,
-            false,
+            strips::Ends { on_loop: false, failures: settings.failures },
             |_, w| {
                 history.push((w.state().clone(), w.executed().len()));
                 if changes.len() as u32 >= settings.max_disturbances

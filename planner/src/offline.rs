@@ -261,7 +261,7 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
             self.catalog,
             &mut world,
             self.max_ticks,
-            true,
+            strips::Ends::DETERMINISTIC,
             |_, w| {
                 if w.executed().len() != done {
                     done = w.executed().len();
@@ -337,7 +337,7 @@ fn run_algorithm1<C: Catalog>(
             catalog.as_ref(),
             &mut world,
             options.max_ticks,
-            true,
+            strips::Ends::DETERMINISTIC,
             |_, _| {},
             &mut states,
         )?;
@@ -391,7 +391,7 @@ fn finish<C: Catalog>(
         catalog.as_ref(),
         &mut fresh,
         options.max_ticks,
-        true,
+        strips::Ends::DETERMINISTIC,
         |_, _| {},
         &mut states,
     )?;

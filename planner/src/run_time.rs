@@ -216,7 +216,15 @@ pub fn expand_at<C: Catalog + ?Sized>(
     let mut ticks: u32 = 0;
     loop {
         let tree = (planner.nodes(), planner.values());
-        let verdict = strips::run_to_goal(tree, catalog, &mut world, max_ticks - ticks, true, |_, _| {}, &mut states)?;
+        let verdict = strips::run_to_goal(
+            tree,
+            catalog,
+            &mut world,
+            max_ticks - ticks,
+            strips::Ends::DETERMINISTIC,
+            |_, _| {},
+            &mut states,
+        )?;
         match verdict {
             Verdict::Reached { ticks: t } => {
                 ticks += t;
@@ -261,7 +269,15 @@ fn afresh<C: Catalog + ?Sized>(
         world.set_state(s);
     }
     let tree = (planner.nodes(), planner.values());
-    match strips::run_to_goal(tree, catalog, &mut world, max_ticks, true, |_, _| {}, &mut Vec::new())? {
+    match strips::run_to_goal(
+        tree,
+        catalog,
+        &mut world,
+        max_ticks,
+        strips::Ends::DETERMINISTIC,
+        |_, _| {},
+        &mut Vec::new(),
+    )? {
         Verdict::Reached { ticks } => Ok(ticks),
         Verdict::Failed { ticks } => Err(not_reached(planner, from, format!("the root fails at tick {ticks}"))),
         Verdict::Oscillates { actions } => Err(oscillates(&g, &actions, planner, from)),

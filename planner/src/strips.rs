@@ -313,14 +313,31 @@ impl Verdict {
     }
 }
 
+/// What ends a run of [`run_to_goal`] besides the goal and the tick budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ends {
+    /// Stop as soon as the world returns to a state it was in after an action
+    /// completed, with the same actions running (the tree and the world are
+    /// deterministic, so it would loop); `false` when the world changes at random.
+    pub on_loop: bool,
+    /// Root Failures in a row that end the run: 1, the first; 2, a robot that ticks on
+    /// after a failed tick and stops when the next one fails too.
+    pub failures: u32,
+}
+
+impl Ends {
+    /// A deterministic run: it ends at the first Failure or loop.
+    pub const DETERMINISTIC: Self = Self { on_loop: true, failures: 1 };
+    /// A run whose world changes at random: it ends at the first Failure.
+    pub const RANDOM: Self = Self { on_loop: false, failures: 1 };
+}
+
 /// Ticks `nodes` (with their value table) in `world` until the goal is reached: the root returns Success *and*
 /// every goal condition holds in the world. A Success with a goal condition false
 /// (an action undid a condition checked earlier in the same tick) is not the end: the
-/// next tick starts a new activation. With `detect_loops`, the episode stops as soon
-/// as the world returns to a state it was in after an action completed, with the same
-/// actions running (the tree and the world are deterministic, so it would loop); give
-/// `false` when `script` changes the world at random. `script(tick, world)` runs
-/// before every tick. `states` receives the node states after the last tick.
+/// next tick starts a new activation. `ends` says what else ends it (a Failure, a
+/// loop). `script(tick, world)` runs before every tick. `states` receives the node
+/// states after the last tick.
 ///
 /// # Errors
 /// As [`run`].
@@ -329,7 +346,7 @@ pub fn run_to_goal<C: Catalog + ?Sized>(
     catalog: &C,
     world: &mut StripsWorld,
     max_ticks: u32,
-    detect_loops: bool,
+    ends: Ends,
     mut script: impl FnMut(u32, &mut StripsWorld),
     states: &mut Vec<NodeState>,
 ) -> Result<Verdict, PlanError> {
@@ -341,16 +358,18 @@ pub fn run_to_goal<C: Catalog + ?Sized>(
     let mut seen: std::collections::HashMap<(State, Vec<(NodeId, ActionId)>), usize> = std::collections::HashMap::new();
     let mut completed = world.executed.len();
     let mut ticks = 0;
+    let mut failures = 0;
     while ticks < max_ticks {
         ticks += 1;
         script(ticks, world);
         let status = exec.tick(world, ticks)?;
+        failures = if status == Status::Failure { failures + 1 } else { 0 };
         match status {
-            Status::Failure => return Ok(Verdict::Failed { ticks }),
+            Status::Failure if failures >= ends.failures.max(1) => return Ok(Verdict::Failed { ticks }),
             Status::Success if world.goal_reached() => return Ok(Verdict::Reached { ticks }),
             _ => {}
         }
-        if detect_loops && world.executed.len() != completed {
+        if ends.on_loop && world.executed.len() != completed {
             completed = world.executed.len();
             let key = (world.state.clone(), world.running());
             if let Some(&before) = seen.get(&key) {

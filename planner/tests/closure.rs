@@ -144,8 +144,16 @@ fn the_factored_tree_starts_the_first_rule_that_holds() {
     for s in near_init(&g, 3).into_iter().chain(policy.path(&g, g.init())) {
         let mut world = StripsWorld::new(g.clone());
         world.set_state(s.clone());
-        strips::run_to_goal((&flat.nodes, &flat.values), c.as_ref(), &mut world, 1, false, |_, _| {}, &mut states)
-            .unwrap();
+        strips::run_to_goal(
+            (&flat.nodes, &flat.values),
+            c.as_ref(),
+            &mut world,
+            1,
+            strips::Ends::RANDOM,
+            |_, _| {},
+            &mut states,
+        )
+        .unwrap();
         let started: Vec<u32> = (0..g.actions().len() as u32).filter(|&a| world.starts(a) > 0).collect();
         let expected: Vec<u32> =
             if g.goal_holds(&s) { Vec::new() } else { policy.first(&s).map(|r| r.action).into_iter().collect() };

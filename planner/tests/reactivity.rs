@@ -149,3 +149,45 @@ fn a_condition_assumed_true_that_turns_false_is_expanded_on_the_fly() {
     assert!(planner.nodes().len() > before);
     assert!(world.holds_named("at", &["cube", "goal"]));
 }
+
+/// A disturbed run goes on after one failed tick, as a robot ticks on, when
+/// `Ends::failures` is 2; with 1 the first Failure ends it.
+#[test]
+fn a_run_can_tick_on_after_a_failed_tick() {
+    use planner::strips::{self, Ends, Verdict};
+    let (g, c, planner) = cube();
+    let go = action(&g, "move-to(goal)");
+    let (tree, values) = (planner.nodes().to_vec(), planner.values().to_vec());
+    let run = |failures| {
+        let mut world = StripsWorld::new(g.clone());
+        world.set_checked_completion(true);
+        let mut blocked = None;
+        let ends = Ends { on_loop: false, failures };
+        let verdict = strips::run_to_goal(
+            (&tree, &values),
+            c.as_ref(),
+            &mut world,
+            100,
+            ends,
+            |t, w| match blocked {
+                // The sphere rolls into the path while the robot moves to the goal, and
+                // out of it again at the next tick.
+                None if w.starts(go) == 1 && w.completions(go) == 0 => {
+                    w.set_named("path-free", &["goal"], false);
+                    blocked = Some(t);
+                }
+                Some(b) if t == b + 1 => {
+                    w.set_named("path-free", &["goal"], true);
+                }
+                _ => {}
+            },
+            &mut Vec::new(),
+        )
+        .unwrap();
+        (verdict, blocked)
+    };
+    let (first, blocked) = run(1);
+    assert!(matches!(first, Verdict::Failed { ticks } if Some(ticks) == blocked), "{first:?}, blocked at {blocked:?}");
+    let (on, _) = run(2);
+    assert!(on.reached(), "{on:?}");
+}

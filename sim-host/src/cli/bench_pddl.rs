@@ -48,6 +48,12 @@ pub struct Args {
     /// Seed of the disturbances.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Root Failures in a row that end a disturbed episode: 2 (a robot ticks on after
+    /// one failed tick, such as an action whose preconditions the agent changed while
+    /// it ran) or 1 (the first Failure ends it).
+    #[arg(long, value_name = "N", default_value_t = Settings::default().failures,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub failures: u32,
     /// The plan validator: called as `PROGRAM DOMAIN PROBLEM PLAN`, exit status 0 when
     /// the plan is valid (e.g. VAL's `Validate`).
     #[arg(long, value_name = "PROGRAM")]
@@ -89,6 +95,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         timeout: Duration::from_secs(args.timeout),
         episodes: args.episodes,
         seed: args.seed,
+        failures: args.failures,
         close_backchained: args.close_backchained,
         close_nodes: args.close_nodes,
         ..Settings::default()
@@ -213,6 +220,7 @@ fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
     }
     cmd.args(["--close-nodes", &args.close_nodes.to_string()]);
     cmd.args(["--seed", &args.seed.to_string()]);
+    cmd.args(["--failures", &args.failures.to_string()]);
     // Planning stops itself at the timeout; the disturbed episodes come after it.
     let limit = Duration::from_secs(args.timeout.saturating_mul(2).saturating_add(30));
     let (output, secs) = timed(cmd, limit)?;
