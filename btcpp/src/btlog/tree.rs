@@ -426,8 +426,14 @@ impl LogTree {
                         attrs.push((name.to_string(), text.clone()));
                     }
                 }
-                pending =
-                    Some(Pending { uid: uids.get(i).copied().unwrap_or(0), hooks: Hooks { core: i, mask }, attrs });
+                // One guard's attributes wait at a time: the node it guards comes next.
+                if let Some(p) = pending.replace(Pending {
+                    uid: uids.get(i).copied().unwrap_or(0),
+                    hooks: Hooks { core: i, mask },
+                    attrs,
+                }) {
+                    return Err(NotExpressible { node: p.hooks.core, kind: n.kind().name() });
+                }
                 continue;
             }
             let idx = out.len();
@@ -484,6 +490,10 @@ impl LogTree {
             if n.size() > 1 {
                 open.push((idx, i + usize::from(n.size())));
             }
+        }
+        // A guard whose node never came (numbered otherwise) has no BehaviorTree.CPP form.
+        if let Some(p) = pending {
+            return Err(NotExpressible { node: p.hooks.core, kind: "Guard" });
         }
         let mut models = Vec::new();
         for b in 0..catalog.len() {
