@@ -1,7 +1,9 @@
 //! Search states stored once: each as the sorted list of its true atoms in one arena,
 //! found again through a hash table of their hashes. Static atoms (of predicates no
 //! action changes, such as a grid's `connected`) are the same in every state of a
-//! search: they are kept once, not per state.
+//! search: they are kept once, not per state. Where the other atoms (fluents) are few
+//! and many of them true, as in maintenance, a state is a bitset over the fluents
+//! instead, whichever is smaller for the start state.
 
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
@@ -23,6 +25,18 @@ pub(super) struct Registry {
     fixed: Vec<bool>,
     /// The static atoms true in every state of the search.
     always: Vec<u32>,
+    /// How a state's fluents are written.
+    encoding: Encoding,
+}
+
+/// A state's fluents as stored.
+#[derive(Debug)]
+enum Encoding {
+    /// The true ones, in increasing order.
+    List,
+    /// One bit per fluent (`fluents`, in increasing order; `index` gives each atom's
+    /// position among them, [`END`] for static atoms).
+    Bits { fluents: Vec<u32>, index: Vec<u32> },
 }
 
 const END: u32 = u32::MAX;
@@ -37,8 +51,29 @@ impl Registry {
     /// A registry for states of `g` reached from `start` (whose static atoms every one
     /// of them shares).
     pub(super) fn new(g: &Grounding, start: &State) -> Self {
+        Self::with_encoding(g, start, None)
+    }
+
+    /// [`Registry::new`], with the encoding chosen (`Some(true)`: bits) or not.
+    fn with_encoding(g: &Grounding, start: &State, bits: Option<bool>) -> Self {
         let fixed: Vec<bool> = (0..g.atom_count()).map(|a| u32::try_from(a).is_ok_and(|a| g.is_static(a))).collect();
-        let always = start.iter().filter(|&a| fixed.get(a as usize).copied().unwrap_or(false)).collect();
+        let always: Vec<u32> = start.iter().filter(|&a| fixed.get(a as usize).copied().unwrap_or(false)).collect();
+        let fluents: Vec<u32> = (0..g.atom_count())
+            .filter(|&a| !fixed.get(a).copied().unwrap_or(true))
+            .filter_map(|a| u32::try_from(a).ok())
+            .collect();
+        let true_fluents = start.iter().count() - always.len();
+        let encoding = if bits.unwrap_or(fluents.len().div_ceil(32) < true_fluents) {
+            let mut index = vec![END; g.atom_count()];
+            for (k, &a) in fluents.iter().enumerate() {
+                if let Some(slot) = index.get_mut(a as usize) {
+                    *slot = k as u32;
+                }
+            }
+            Encoding::Bits { fluents, index }
+        } else {
+            Encoding::List
+        };
         Self {
             arena: Vec::new(),
             start: vec![0],
@@ -47,6 +82,28 @@ impl Registry {
             scratch: Vec::new(),
             fixed,
             always,
+            encoding,
+        }
+    }
+
+    /// Writes the fluents of `state` as stored into `out`.
+    fn encode(&self, state: &State, out: &mut Vec<u32>) {
+        out.clear();
+        match &self.encoding {
+            Encoding::List => {
+                out.extend(state.iter().filter(|&a| !self.fixed.get(a as usize).copied().unwrap_or(false)))
+            }
+            Encoding::Bits { fluents, index } => {
+                out.resize(fluents.len().div_ceil(32), 0);
+                for a in state.iter() {
+                    let k = index.get(a as usize).copied().unwrap_or(END);
+                    if let Some(w) = out.get_mut(k as usize / 32)
+                        && k != END
+                    {
+                        *w |= 1 << (k % 32);
+                    }
+                }
+            }
         }
     }
 
@@ -69,8 +126,7 @@ impl Registry {
     /// The id of `state`, storing it if it is new; and whether it was.
     pub(super) fn insert(&mut self, state: &State) -> (u32, bool) {
         let mut atoms = std::mem::take(&mut self.scratch);
-        atoms.clear();
-        atoms.extend(state.iter().filter(|&a| !self.fixed.get(a as usize).copied().unwrap_or(false)));
+        self.encode(state, &mut atoms);
         let h = hash(&atoms);
         let mut at = self.by_hash.get(&h).copied().unwrap_or(END);
         let mut last = END;
@@ -98,8 +154,63 @@ impl Registry {
     /// Writes state `id` into `out`.
     pub(super) fn load(&self, id: u32, out: &mut State) {
         out.clear();
-        for &a in self.get(id).iter().chain(&self.always) {
+        for &a in &self.always {
             out.set(a, true);
         }
+        match &self.encoding {
+            Encoding::List => {
+                for &a in self.get(id) {
+                    out.set(a, true);
+                }
+            }
+            Encoding::Bits { fluents, .. } => {
+                for (i, &w) in self.get(id).iter().enumerate() {
+                    let mut rest = w;
+                    while rest != 0 {
+                        let k = i * 32 + rest.trailing_zeros() as usize;
+                        rest &= rest - 1;
+                        if let Some(&a) = fluents.get(k) {
+                            out.set(a, true);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+
+    /// Both encodings give every state back as it was stored, and the same ids.
+    #[test]
+    fn states_come_back_as_stored_in_either_encoding() {
+        let g = crate::domains::blocks_world(5).unwrap();
+        let mut regs = [false, true].map(|bits| Registry::with_encoding(&g, g.init(), Some(bits)));
+        assert!(matches!(regs[1].encoding, Encoding::Bits { .. }) && matches!(regs[0].encoding, Encoding::List));
+        // A walk through the state space: every applicable action of each state in turn.
+        let mut frontier = vec![g.init().clone()];
+        let mut out = State::new(g.atom_count());
+        for _ in 0..200 {
+            let Some(s) = frontier.pop() else { break };
+            let ids = regs.each_mut().map(|r| r.insert(&s));
+            assert_eq!(ids[0], ids[1]);
+            for r in &regs {
+                r.load(ids[0].0, &mut out);
+                assert_eq!(out, s);
+            }
+            if ids[0].1 {
+                for a in 0..g.actions().len() as u32 {
+                    if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
+                        let mut n = s.clone();
+                        x.apply(&mut n);
+                        frontier.insert(0, n);
+                    }
+                }
+            }
+        }
+        assert!(regs[0].len() > 20, "{}", regs[0].len());
     }
 }
