@@ -387,8 +387,10 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
 /// key the SubTree starts at a literal cannot be written.
 #[test]
 fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
+    let imported = |doc: &str| import_text(Path::new("t.xml"), doc, &ImportOptions::default()).unwrap();
+    let refusal = |doc: &str| imported(doc).to_xml().unwrap_err().to_string();
     let round_trip = |doc: &str| {
-        let i = import_text(Path::new("t.xml"), doc, &ImportOptions::default()).unwrap();
+        let i = imported(doc);
         let xml = i.to_xml().unwrap();
         let again = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
         assert_eq!(again.image().unwrap(), i.image().unwrap(), "{xml}");
@@ -413,9 +415,8 @@ fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
   <BehaviorTree ID="M"><SubTree ID="S" x="3"/></BehaviorTree>
   <BehaviorTree ID="S"><Script code="x := x + 1"/></BehaviorTree>
 </root>"#;
-    let i = import_text(Path::new("t.xml"), started, &ImportOptions::default()).unwrap();
     assert_eq!(
-        i.to_xml().unwrap_err().to_string(),
+        refusal(started),
         "blackboard key `S::1/x` (slot 0) starts at 3, given by its SubTree; the flattened tree has no SubTree to give it"
     );
 
@@ -423,11 +424,7 @@ fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
   <BehaviorTree ID="M"><Sequence><Script code="S_3_x := 1"/><SubTree ID="S"/></Sequence></BehaviorTree>
   <BehaviorTree ID="S"><Script code="x := 2"/></BehaviorTree>
 </root>"#;
-    let i = import_text(Path::new("t.xml"), clash, &ImportOptions::default()).unwrap();
-    assert_eq!(
-        i.to_xml().unwrap_err().to_string(),
-        "blackboard keys `S_3_x` and `S::3/x` (slot 1) would both be written as `S_3_x`"
-    );
+    assert_eq!(refusal(clash), "blackboard keys `S_3_x` and `S::3/x` (slot 1) would both be written as `S_3_x`");
 }
 
 /// Polymorphic casts as BehaviorTree.CPP's registry allows them: an input port reads a
