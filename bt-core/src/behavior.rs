@@ -57,6 +57,22 @@ pub trait BehaviorSet {
         let _ = (code, ctx);
         Err(ScriptFault::Unsupported)
     }
+
+    /// Takes the front element of the blackboard queue in slot `queue` into slot
+    /// `value`, for a `Loop` whose queue is a `{key}`: `Ok(true)` when it took one,
+    /// `Ok(false)` when the queue is empty. `ctx.node` is the `Loop`'s node, and
+    /// `ctx.starting` is set on its first pop of an activation (BehaviorTree.CPP reads a
+    /// string entry such as `"1;2;3"` afresh then, and pops a queue entry in place). The
+    /// set owns its queues: a controller keeps them in fixed storage (a
+    /// `heapless::Deque` per queue slot). The default refuses, for sets without queues.
+    ///
+    /// # Errors
+    /// The [`ScriptFault`] that stopped it (an unset entry, one that holds no queue); the
+    /// tick ends with it.
+    fn pop(&mut self, queue: u16, value: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
+        let _ = (queue, value, ctx);
+        Err(ScriptFault::Unsupported)
+    }
 }
 
 impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
@@ -78,6 +94,11 @@ impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
     #[inline(always)]
     fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
         (**self).script(code, ctx)
+    }
+
+    #[inline(always)]
+    fn pop(&mut self, queue: u16, value: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
+        (**self).pop(queue, value, ctx)
     }
 }
 

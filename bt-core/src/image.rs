@@ -59,6 +59,7 @@
 //! | 36 | `Precondition` (version 3) | program as tag 34, then the `else` status, one byte: 0 Success, 1 Failure, 2 Running, 3 Skipped |
 //! | 37 | `Sleep` (version 3) | span as `TimeLimit` |
 //! | 38 | `Guard` (version 3) | its table of scripts: start `u16`, length `u16` in the value table |
+//! | 39 | `Loop` (version 3) | its queue's table as tag 38, then the `if_empty` status as tag 36's `else` |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -332,6 +333,8 @@ enum WireKind {
     Sleep(WireSpan),
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Guard(WireCode),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Loop(WireCode, u8),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -342,11 +345,16 @@ struct WireCode {
 
 impl WireKind {
     /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
-    /// to 33, version 3 up to 38.
+    /// to 33, version 3 up to 39.
     fn in_version(&self, version: u16) -> bool {
         if matches!(
             self,
-            Self::Script(_) | Self::ScriptCondition(_) | Self::Precondition(..) | Self::Sleep(_) | Self::Guard(_)
+            Self::Script(_)
+                | Self::ScriptCondition(_)
+                | Self::Precondition(..)
+                | Self::Sleep(_)
+                | Self::Guard(_)
+                | Self::Loop(..)
         ) {
             return version >= 3;
         }
@@ -426,16 +434,35 @@ fn to_wire(node: &Node) -> WireNode {
         &NodeKind::Sleep(d) => WireKind::Sleep(span(d)),
         NodeKind::Guard(c) => WireKind::Guard(WireCode { start: c.start, len: c.len }),
         NodeKind::Precondition { code, otherwise } => {
-            let otherwise = match otherwise {
-                crate::Status::Success => 0,
-                crate::Status::Failure => 1,
-                crate::Status::Running => 2,
-                crate::Status::Skipped => 3,
-            };
-            WireKind::Precondition(WireCode { start: code.start, len: code.len }, otherwise)
+            WireKind::Precondition(WireCode { start: code.start, len: code.len }, status_byte(*otherwise))
+        }
+        NodeKind::Loop { table, if_empty } => {
+            WireKind::Loop(WireCode { start: table.start, len: table.len }, status_byte(*if_empty))
         }
     };
     WireNode { size: node.size(), kind }
+}
+
+/// A status written in a node (tags 36 and 39).
+const fn status_byte(s: crate::Status) -> u8 {
+    match s {
+        crate::Status::Success => 0,
+        crate::Status::Failure => 1,
+        crate::Status::Running => 2,
+        crate::Status::Skipped => 3,
+    }
+}
+
+/// The status of a byte [`status_byte`] wrote.
+#[cfg(feature = "btcpp")]
+const fn byte_status(b: u8) -> Option<crate::Status> {
+    Some(match b {
+        0 => crate::Status::Success,
+        1 => crate::Status::Failure,
+        2 => crate::Status::Running,
+        3 => crate::Status::Skipped,
+        _ => return None,
+    })
 }
 
 /// A leaf's wire form: inline (`Ok`), or extended (`Err`, with start and length).
@@ -529,13 +556,11 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
         WireKind::Guard(c) => NodeKind::Guard(crate::node::Code { start: c.start, len: c.len }),
         WireKind::Precondition(c, otherwise) => NodeKind::Precondition {
             code: crate::node::Code { start: c.start, len: c.len },
-            otherwise: match otherwise {
-                0 => crate::Status::Success,
-                1 => crate::Status::Failure,
-                2 => crate::Status::Running,
-                3 => crate::Status::Skipped,
-                _ => return Err(LoadError::MalformedNode { node: id, offset }),
-            },
+            otherwise: byte_status(otherwise).ok_or(LoadError::MalformedNode { node: id, offset })?,
+        },
+        WireKind::Loop(c, if_empty) => NodeKind::Loop {
+            table: crate::node::Code { start: c.start, len: c.len },
+            if_empty: byte_status(if_empty).ok_or(LoadError::MalformedNode { node: id, offset })?,
         },
         // The kinds of version 1 and the extended leaves: `from_wire`.
         WireKind::Sequence
@@ -918,6 +943,7 @@ pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
                     crate::script::check(code.words(tree.values()), &ports)
                 }
                 NodeKind::Guard(table) => crate::script::check_guard(table.words(tree.values()), &ports),
+                NodeKind::Loop { table, .. } => crate::script::check_queue(table.words(tree.values()), &ports),
                 _ => Ok(()),
             };
             checked.map_err(|fault| LoadError::BadScript { node: id as NodeId, fault })?;

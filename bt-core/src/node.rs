@@ -400,6 +400,19 @@ pub enum NodeKind {
         /// The `else` status.
         otherwise: crate::Status,
     },
+    /// BehaviorTree.CPP's `LoopInt`, `LoopBool`, `LoopDouble`, `LoopString` (and the
+    /// `LoopNode<T>` a program registers): while its child is not Running, takes the
+    /// next element of its queue into the `value` slot and ticks the child; Running after
+    /// each Success of the child, Failure when the child fails, `if_empty` once the queue
+    /// has no element left. Its table ([`script::queue`](crate::script::queue)) holds
+    /// either one assignment program per element of a literal queue, or the slots of a
+    /// blackboard queue that [`BehaviorSet::pop`](crate::BehaviorSet::pop) takes from.
+    Loop {
+        /// The queue's table.
+        table: Code,
+        /// The status when the queue is empty.
+        if_empty: crate::Status,
+    },
 }
 
 /// How many children a kind of node takes.
@@ -461,6 +474,7 @@ impl NodeKind {
             Self::Precondition { .. } => "Precondition",
             Self::Sleep(_) => "Sleep",
             Self::Guard(_) => "Guard",
+            Self::Loop { .. } => "Loop",
         }
     }
 
@@ -494,6 +508,7 @@ impl NodeKind {
             | Self::RateController(_)
             | Self::Gate(_)
             | Self::Precondition { .. }
+            | Self::Loop { .. }
             | Self::Guard(_) => Arity::One,
             Self::Condition(_)
             | Self::Action(_)

@@ -134,6 +134,15 @@ pub fn write_label<C: Catalog + ?Sized>(
         NodeKind::Precondition { code, otherwise } => {
             write!(f, "-^- Precondition ({} words, else {otherwise:?})", code.len)
         }
+        NodeKind::Loop { table, if_empty } => match crate::script::queue(table.words(values)) {
+            Some(crate::script::Queue::Literal(l)) => {
+                write!(f, "-^- Loop({} elements, if empty {if_empty:?})", l.first().copied().unwrap_or(0))
+            }
+            Some(crate::script::Queue::Key { queue, .. }) => {
+                write!(f, "-^- Loop(queue in slot {queue}, if empty {if_empty:?})")
+            }
+            None => write!(f, "-^- Loop(if empty {if_empty:?})"),
+        },
     }
 }
 

@@ -388,6 +388,139 @@ pub fn check_guard(table: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFau
     if rest.is_empty() { Ok(()) } else { Err(bad(table.len() - rest.len())) }
 }
 
+/// What a [`NodeKind::Loop`](crate::NodeKind::Loop)'s elements are: the `T` of
+/// BehaviorTree.CPP's `LoopNode<T>`, which names the node (`LoopInt`, ...).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Element {
+    /// A type the C++ program registers its own `LoopNode<T>` for; the table names the
+    /// node.
+    Registered = 0,
+    /// `LoopInt`.
+    Int = 1,
+    /// `LoopBool`.
+    Bool = 2,
+    /// `LoopDouble`.
+    Double = 3,
+    /// `LoopString`.
+    String = 4,
+}
+
+/// The queue of a [`NodeKind::Loop`](crate::NodeKind::Loop), as its table holds it.
+///
+/// The table starts with a header word (the [`Element`] type in the low byte, bit 8 set
+/// for a blackboard queue) and the string constant naming the node for
+/// [`Element::Registered`] (`0xFFFF` otherwise). A literal queue (`queue="1;2;3"`)
+/// follows with its element count, then each element's length in words and its
+/// program, an assignment of the element to the `value` slot, run through
+/// [`BehaviorSet::script`](crate::BehaviorSet::script). A blackboard queue
+/// (`queue="{key}"`) follows with the queue's slot and the `value` slot, for
+/// [`BehaviorSet::pop`](crate::BehaviorSet::pop).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Queue<'t> {
+    /// The literal queue's element programs, count first (the table past the name).
+    Literal(&'t [u16]),
+    /// A blackboard queue.
+    Key {
+        /// The slot holding the queue.
+        queue: u16,
+        /// The slot each element goes to.
+        value: u16,
+    },
+}
+
+/// Bit 8 of a loop table's header: a blackboard queue.
+pub const QUEUE_KEY: u16 = 0x100;
+
+/// A loop table's element type and the constant naming it (`None` for the built-in
+/// types), or `None` when the header is not one.
+#[must_use]
+pub fn queue_element(table: &[u16]) -> Option<(Element, Option<u16>)> {
+    let (&header, rest) = table.split_first()?;
+    let element = match header & !QUEUE_KEY {
+        0 => Element::Registered,
+        1 => Element::Int,
+        2 => Element::Bool,
+        3 => Element::Double,
+        4 => Element::String,
+        _ => return None,
+    };
+    let name = rest.first().copied().filter(|&n| n != u16::MAX);
+    Some((element, name))
+}
+
+/// A loop table's queue, or `None` when it is malformed ([`check_queue`] rules that out).
+#[must_use]
+pub fn queue(table: &[u16]) -> Option<Queue<'_>> {
+    let (&header, rest) = table.split_first()?;
+    let rest = rest.get(1..)?;
+    if header & QUEUE_KEY != 0 {
+        match *rest {
+            [queue, value] => Some(Queue::Key { queue, value }),
+            _ => None,
+        }
+    } else {
+        Some(Queue::Literal(rest))
+    }
+}
+
+/// The program of element `k` (0-based) of a literal queue, `None` past its end.
+#[must_use]
+pub fn element(literal: &[u16], k: u16) -> Option<&[u16]> {
+    let (&count, mut rest) = literal.split_first()?;
+    if k >= count {
+        return None;
+    }
+    for i in 0..=k {
+        let (&len, tail) = rest.split_first()?;
+        let (program, after) = tail.split_at_checked(usize::from(len))?;
+        if i == k {
+            return Some(program);
+        }
+        rest = after;
+    }
+    None
+}
+
+/// Checks a loop table: a known header, the name a string constant when given (and
+/// given for [`Element::Registered`]), a blackboard queue's two slots within the ports
+/// table, or a literal queue's programs each present whole and [`check`]ed, nothing
+/// after the last.
+///
+/// # Errors
+/// The first fault, [`ScriptFault::Malformed`] at the table's word for the framing.
+pub fn check_queue(table: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
+    let bad = |at: usize| ScriptFault::Malformed { at: at as u16 };
+    let (element, name) = queue_element(table).ok_or(bad(0))?;
+    match name {
+        Some(k) if !matches!(ports.constant(k), Some(Constant::Str(_))) => return Err(bad(1)),
+        None if element == Element::Registered => return Err(bad(1)),
+        _ => {}
+    }
+    match queue(table).ok_or(bad(0))? {
+        Queue::Key { queue, value } => {
+            if queue >= ports.slot_count() {
+                return Err(bad(2));
+            }
+            if value >= ports.slot_count() {
+                return Err(bad(3));
+            }
+            Ok(())
+        }
+        Queue::Literal(literal) => {
+            let (&count, mut rest) = literal.split_first().ok_or(bad(2))?;
+            for _ in 0..count {
+                let at = table.len() - rest.len();
+                let (&len, tail) = rest.split_first().ok_or(bad(at))?;
+                let (program, after) = tail.split_at_checked(usize::from(len)).ok_or(bad(at))?;
+                check(program, ports)?;
+                rest = after;
+            }
+            if rest.is_empty() { Ok(()) } else { Err(bad(table.len() - rest.len())) }
+        }
+    }
+}
+
 struct Stack {
     values: [Value; STACK],
     len: usize,

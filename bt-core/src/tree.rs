@@ -272,6 +272,7 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
         | NodeKind::ScriptCondition(code)
         | NodeKind::Precondition { code, .. }
         | NodeKind::Guard(code)
+        | NodeKind::Loop { table: code, .. }
             if code.len == 0 || usize::from(code.start) + usize::from(code.len) > values =>
         {
             Err(out_of_range(code.start, code.len))

@@ -82,10 +82,15 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
         span().prop_map(NodeKind::Delay),
         span().prop_map(NodeKind::RateController),
         Just(NodeKind::Gate(Leaf::new(common::act(1)))),
-        prop_oneof![Just(Status::Success), Just(Status::Failure), Just(Status::Running), Just(Status::Skipped)]
-            .prop_map(|otherwise| NodeKind::Precondition { code: Code { start: 0, len: 1 }, otherwise }),
+        status().prop_map(|otherwise| NodeKind::Precondition { code: Code { start: 0, len: 1 }, otherwise }),
         Just(NodeKind::Guard(GUARD_CODE)),
+        (prop_oneof![Just(KEY_QUEUE), Just(LITERAL_QUEUE)], status())
+            .prop_map(|(table, if_empty)| NodeKind::Loop { table, if_empty }),
     ]
+}
+
+fn status() -> impl Strategy<Value = Status> {
+    prop_oneof![Just(Status::Success), Just(Status::Failure), Just(Status::Running), Just(Status::Skipped)]
 }
 
 fn tree() -> impl Strategy<Value = T> {
@@ -200,6 +205,14 @@ const GUARD: [u16; 17] =
     [0xFF, 1, HOOK, 1, HOOK + 1, 1, HOOK + 2, 1, HOOK + 3, 1, HOOK + 4, 1, HOOK + 5, 1, HOOK + 6, 1, HOOK + 7];
 const GUARD_CODE: Code = Code { start: 1, len: GUARD.len() as u16 };
 
+/// The loops' tables after the guards': a blackboard queue (the scripted set's `pop`
+/// takes an element when the loop's outcome is Success) and a literal queue of
+/// [`LITERAL_ELEMENTS`] (each program one word, which the scripted set runs as a script).
+const QUEUES: [u16; 11] = [script::QUEUE_KEY | 1, u16::MAX, 0, 0, 1, u16::MAX, LITERAL_ELEMENTS, 1, 0, 1, 0];
+const LITERAL_ELEMENTS: u16 = 2;
+const KEY_QUEUE: Code = Code { start: GUARD_CODE.start + GUARD_CODE.len, len: 4 };
+const LITERAL_QUEUE: Code = Code { start: KEY_QUEUE.start + 4, len: 7 };
+
 /// Whether hook `h` of the guard at `node` holds on this tick: bit `h` of its byte.
 fn hook_holds(script: &[u8], node: usize, h: u16) -> bool {
     (script[node] >> h) & 1 == 1
@@ -208,9 +221,10 @@ fn hook_holds(script: &[u8], node: usize, h: u16) -> bool {
 fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
     let v = script[node];
     match nodes[node].kind() {
-        NodeKind::Condition(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
-            [Status::Success, Status::Failure][usize::from(v % 2)]
-        }
+        NodeKind::Condition(_)
+        | NodeKind::ScriptCondition(_)
+        | NodeKind::Precondition { .. }
+        | NodeKind::Loop { .. } => [Status::Success, Status::Failure][usize::from(v % 2)],
         NodeKind::Script(_) => Status::Success,
         _ => [Status::Success, Status::Failure, Status::Running][usize::from(v % 3)],
     }
@@ -243,6 +257,10 @@ impl BehaviorSet for Script<'_> {
         self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: true });
         let held = outcome(self.nodes, self.tick, usize::from(ctx.node)) == Status::Success;
         Ok(Value::Bool(held))
+    }
+    fn pop(&mut self, _: u16, _: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
+        self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: ctx.starting });
+        Ok(outcome(self.nodes, self.tick, usize::from(ctx.node)) == Status::Success)
     }
 }
 
@@ -983,6 +1001,34 @@ impl<'a> Reference<'a> {
                     Status::Running
                 }
             }
+            // Rule 12: takes an element while its child is not Running, then ticks it.
+            NodeKind::Loop { table, if_empty } => {
+                let fresh = self.fresh(i, parent_mirrors);
+                if fresh || !running || was.mem != 1 {
+                    let taken = if fresh { 0 } else { was.count };
+                    let popped = if table == KEY_QUEUE {
+                        self.log.push(Ev::Tick { node: i, starting: fresh });
+                        outcome(self.nodes, &self.script, i) == Status::Success
+                    } else if taken < LITERAL_ELEMENTS {
+                        self.log.push(Ev::Tick { node: i, starting: true });
+                        true
+                    } else {
+                        false
+                    };
+                    if !popped {
+                        self.st[i].count = taken;
+                        // Skipping keeps its status, whatever it was.
+                        return if if_empty == Status::Skipped { if_empty } else { self.set(i, if_empty) };
+                    }
+                    self.st[i].count = taken + 1;
+                }
+                let s = self.tick(i + 1, true);
+                self.st[i].mem = usize::from(s == Status::Running);
+                if matches!(s, Status::Success | Status::Failure) {
+                    self.halt_child(i + 1);
+                }
+                if s == Status::Failure { s } else { Status::Running }
+            }
             NodeKind::RateController(d) => {
                 let fresh = self.fresh(i, parent_mirrors);
                 if fresh {
@@ -1022,6 +1068,9 @@ impl<'a> Reference<'a> {
         };
         let _ = mirrors;
         let new = match r {
+            // A Precondition that skips keeps its status (BehaviorTree.CPP's does not
+            // mark itself Running).
+            Status::Skipped if matches!(self.nodes[i].kind(), NodeKind::Precondition { .. }) => was.status,
             // A control node or decorator that skips stays Running; a leaf is Idle.
             Status::Skipped if self.nodes[i].kind().arity() != bt_core::Arity::Leaf => NodeStatus::Running,
             r => r.into(),
@@ -1059,6 +1108,7 @@ proptest! {
         let catalog = common::catalog();
         let mut values = vec![script::op::POP];
         values.extend_from_slice(&GUARD);
+        values.extend_from_slice(&QUEUES);
         let tree = Tree::<8>::validate_with(nodes, &values, catalog.as_slice()).unwrap();
         let mut state = vec![NodeState::IDLE; nodes.len()];
         let mut exec = Executor::new(tree, &mut state).unwrap();

@@ -38,7 +38,8 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     // With its program's own PrintNumber (port `val`; the others' has `value`).
     ("t16_global_blackboard.xml", Some("MainTree"), Ok(5)),
     ("t17_blackboard_backup.xml", Some("MainTree"), Ok(10)),
-    ("t18_waypoints.xml", None, Err("<LoopDouble> is not supported")),
+    // With the LoopNode<Pose2D> its program registers (see below).
+    ("t18_waypoints.xml", None, Ok(6)),
     // With the polymorphic casts its program registers (see below).
     ("t19_polymorphic_ports.xml", None, Ok(5)),
     ("test_files/Check.xml", None, Ok(3)),
@@ -75,6 +76,8 @@ fn program(dir: &Path, file: &str) -> ImportOptions<'static> {
         }
         "t14_subtree_model_1.xml" => options.models = models(&["example_nodes.xml", "t14_subtree_model.xml"]),
         "t16_global_blackboard.xml" => options.models = models(&["t16_nodes.xml"]),
+        // registerNodeType<LoopNode<Pose2D>>("LoopPose").
+        "t18_waypoints.xml" => options.loops = vec!["LoopPose".to_string()],
         // registerPolymorphicCast<Cat, Animal>() and <Sphynx, Cat>().
         "t19_polymorphic_ports.xml" => {
             options.casts = [("Cat::Ptr", "Animal::Ptr"), ("Sphynx::Ptr", "Cat::Ptr")]

@@ -20,12 +20,13 @@
 //! | `RepeatCycles`, `RetryUntilSuccessful` | `aux`: the count | `a` count, `ok` limit, `child_was_idle` |
 //! | `RunOnce` | `aux`: 0 not yet, 1 succeeded, 2 failed; kept for ever | — |
 //! | `Precondition` | `aux`: 1 while its child is under way; kept for ever | — |
+//! | `Loop` | `aux`: elements taken from a literal queue, `ext`: 1 while its child runs | — |
 //! | `TimeLimit`, `Delay`, `RateController`, `Sleep` | `aux` + `ext`: start time (24 bits of `now`) | — |
 
 use super::{Ascent, Entered, Extra, Frame, FrameKind, NodeState, Run};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
 use crate::node::{Code, Node, NodeId, NodeKind, Span};
-use crate::script::{Hook, Value, hook, truth};
+use crate::script::{Hook, Queue, Value, element, hook, queue, truth};
 use crate::status::{NodeStatus, Status};
 
 /// Start times are kept in 24 bits.
@@ -429,6 +430,38 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     Entered::Decided(otherwise)
                 }
             }
+            NodeKind::Loop { table, if_empty } => {
+                frame.kind = FrameKind::Loop;
+                // BehaviorTree.CPP's loop starts over from Idle (or finished, under a
+                // parent that resets it) and pops only while its child is not Running.
+                let fresh = Self::fresh(st, parent_mirrors);
+                if !fresh && st.status == NodeStatus::Running && st.ext == 1 {
+                    return Ok(Entered::Child(first));
+                }
+                let taken = if fresh { 0 } else { st.aux };
+                let fault = |fault| TickError::Script { node: idx as NodeId, fault };
+                let popped = match queue(table.words(self.values)) {
+                    Some(Queue::Key { queue, value }) => {
+                        let ctx = Context { node: idx as NodeId, now, starting: fresh, values: self.values };
+                        self.behaviors.pop(queue, value, ctx).map_err(fault)?
+                    }
+                    Some(Queue::Literal(literal)) => match element(literal, taken) {
+                        Some(program) => {
+                            self.run_script(idx, program, now)?;
+                            true
+                        }
+                        None => false,
+                    },
+                    None => return Err(fault(crate::script::ScriptFault::Malformed { at: 0 })),
+                };
+                if popped {
+                    self.set_memory(idx, taken.saturating_add(1), 0);
+                    Entered::Child(first)
+                } else {
+                    self.set_memory(idx, taken, 0);
+                    Entered::Decided(if_empty)
+                }
+            }
             NodeKind::Script(code) => {
                 self.run_script(idx, code.words(self.values), now)?;
                 Entered::Decided(Status::Success)
@@ -725,6 +758,31 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     self.halt_child(first);
                 }
                 done(r)
+            }
+            FrameKind::Loop => {
+                let taken = self.state.get(node).map_or(0, |s| s.aux);
+                match r {
+                    // The next element on the next tick.
+                    Status::Success => {
+                        self.halt_child(first);
+                        self.set_memory(node, taken, 0);
+                        done(Status::Running)
+                    }
+                    Status::Failure => {
+                        self.halt_child(first);
+                        self.set_memory(node, taken, 0);
+                        done(Status::Failure)
+                    }
+                    Status::Running => {
+                        self.set_memory(node, taken, 1);
+                        done(Status::Running)
+                    }
+                    // Not finished, not Running: the next element on the next tick.
+                    Status::Skipped => {
+                        self.set_memory(node, taken, 0);
+                        done(Status::Running)
+                    }
+                }
             }
             FrameKind::Precondition => {
                 if matches!(r, Status::Success | Status::Failure) {

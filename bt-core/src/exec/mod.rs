@@ -29,8 +29,9 @@
 //!    `count_skipped`, and skips when all children skipped; `ParallelAll` likewise, without
 //!    counting it; decorators pass it on, except `KeepRunningUntilFailure` (Running) and
 //!    `Recovery` (a skipped recovery fails it). A control node or decorator that skips
-//!    stays Running and keeps its memory; a leaf that skips, and a `RunOnce` or `Gate`
-//!    that skips without ticking its child, is Idle.
+//!    stays Running (a `Precondition` keeps its status) and keeps its memory; a leaf
+//!    that skips, and a `RunOnce` or `Gate` that skips without ticking its child, is
+//!    Idle.
 //! 9. The kinds that stand for BehaviorTree.CPP's and Nav2's nodes follow their
 //!    originals step by step (the rules of each are on [`NodeKind`] and in
 //!    `docs/behaviortree-cpp.md`), and reset their children when the originals do: a
@@ -62,7 +63,14 @@
 //!     its child has not yet been let go: if the result holds it ticks its child, and
 //!     goes on ticking it without asking again until the child succeeds or fails;
 //!     otherwise it returns its `else` status (Idle for Skipped). That it let its child
-//!     go survives halts, as in BehaviorTree.CPP. A `Guard` runs BehaviorTree.CPP's
+//!     go survives halts, as in BehaviorTree.CPP. A `Loop`, when it starts afresh (as
+//!     a `RateController` does, rule 9) or its child is not Running, takes the next
+//!     element of its queue into its `value` slot (a literal queue's element program
+//!     through [`BehaviorSet::script`](crate::BehaviorSet::script), a blackboard queue
+//!     through [`BehaviorSet::pop`](crate::BehaviorSet::pop)) and ticks its child;
+//!     with no element left it returns `if_empty` (and skipping keeps its status). It
+//!     returns Running after its child succeeds or skips, Failure when the child fails.
+//!     A `Guard` runs BehaviorTree.CPP's
 //!     scripted attributes around its one child: when it starts afresh (as a
 //!     `RateController` does, rule 9), `_failureIf`, `_successIf` and `_skipIf`, the
 //!     first that holds deciding Failure, Success or Skipped without ticking the child,
@@ -166,6 +174,7 @@ enum FrameKind {
     KeepRunningUntilFailure,
     RunOnce,
     Precondition,
+    Loop,
     TimeLimit,
     Delay,
     RateController,
@@ -614,14 +623,15 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// The status of a control node or decorator `i` that returned Skipped: Running, as
     /// BehaviorTree.CPP leaves it (it marked itself Running before it ticked its
     /// children), but a Guard takes the status its child kept (BehaviorTree.CPP's node
-    /// keeps its own when it skips).
+    /// keeps its own when it skips), and a Precondition keeps its own (BehaviorTree.CPP's
+    /// does not mark itself Running).
     #[cold]
     #[inline(never)]
     fn skipped_status(&self, i: usize) -> NodeStatus {
-        if matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Guard(_))) {
-            self.status(i + 1)
-        } else {
-            NodeStatus::Running
+        match self.nodes.get(i).map(Node::kind) {
+            Some(NodeKind::Guard(_)) => self.status(i + 1),
+            Some(NodeKind::Precondition { .. }) => self.status(i),
+            _ => NodeStatus::Running,
         }
     }
 
@@ -824,7 +834,11 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                     let first = match self.cold().enter_other(kind, st, slot, x, parent_mirrors, now)? {
                         Entered::Child(first) => first,
                         Entered::Decided(v) => {
-                            self.set_status(c, v.into());
+                            // A Loop that skips keeps its status, as BehaviorTree.CPP's
+                            // node does (the only kind that may skip while Running).
+                            if !(BTCPP && v == Status::Skipped && matches!(kind, NodeKind::Loop { .. })) {
+                                self.set_status(c, v.into());
+                            }
                             break 'enter (v, end);
                         }
                     };

@@ -85,6 +85,15 @@ pub enum Kind {
     Precondition(u8),
     /// `Sleep`: its `msec`.
     Sleep(u32),
+    /// `LoopInt`, ..., or a loop the program registers: the number of elements of a
+    /// literal queue (`None`: a blackboard queue, whose pops are asked as a leaf's) and
+    /// its `if_empty` status.
+    Loop {
+        /// Elements of a literal queue.
+        elements: Option<u16>,
+        /// The status when the queue is empty.
+        if_empty: u8,
+    },
 }
 
 impl Kind {
@@ -105,6 +114,7 @@ impl Kind {
                 | Self::RateController(_)
                 | Self::SubTree
                 | Self::Precondition(_)
+                | Self::Loop { .. }
         )
     }
 }
@@ -250,13 +260,7 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         NodeKind::Script(_) => (Kind::Script, "Script", vec![]),
         NodeKind::ScriptCondition(_) => (Kind::ScriptCondition, "ScriptCondition", vec![]),
         NodeKind::Precondition { otherwise, .. } => {
-            use crate::btlog::replay::status;
-            let (s, name) = match otherwise {
-                bt_core::Status::Success => (status::SUCCESS, "SUCCESS"),
-                bt_core::Status::Failure => (status::FAILURE, "FAILURE"),
-                bt_core::Status::Running => (status::RUNNING, "RUNNING"),
-                bt_core::Status::Skipped => (status::SKIPPED, "SKIPPED"),
-            };
+            let (s, name) = status_code(otherwise);
             (Kind::Precondition(s), "Precondition", vec![("else", name.to_string())])
         }
         // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
@@ -264,6 +268,36 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         // way, which the replay does not model.
         _ => return None,
     })
+}
+
+/// A status as the replay codes it, and as BehaviorTree.CPP names it.
+fn status_code(s: bt_core::Status) -> (u8, &'static str) {
+    use crate::btlog::replay::status;
+    match s {
+        bt_core::Status::Success => (status::SUCCESS, "SUCCESS"),
+        bt_core::Status::Failure => (status::FAILURE, "FAILURE"),
+        bt_core::Status::Running => (status::RUNNING, "RUNNING"),
+        bt_core::Status::Skipped => (status::SKIPPED, "SKIPPED"),
+    }
+}
+
+/// A loop's kind and registration ID (`None` for one the program registers, whose ID
+/// the document gives), from its table in `values`.
+fn loop_kind(table: bt_core::Code, if_empty: bt_core::Status, values: &[u16]) -> Option<(Kind, Option<&'static str>)> {
+    use bt_core::script::{Element, Queue, queue, queue_element};
+    let words = table.words(values);
+    let element = match queue_element(words)?.0 {
+        Element::Int => Some("LoopInt"),
+        Element::Bool => Some("LoopBool"),
+        Element::Double => Some("LoopDouble"),
+        Element::String => Some("LoopString"),
+        Element::Registered => None,
+    };
+    let elements = match queue(words)? {
+        Queue::Literal(l) => Some(l.first().copied()?),
+        Queue::Key { .. } => None,
+    };
+    Some((Kind::Loop { elements, if_empty: status_code(if_empty).0 }, element))
 }
 
 /// Defaults of built-in ports that BehaviorTree.CPP adds when absent, in the order of
@@ -276,6 +310,7 @@ fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
         "RecoveryNode" => &[("number_of_retries", "1")],
         "RateController" => &[("hz", "10.000000")],
         "Precondition" => &[("else", "FAILURE")],
+        "LoopInt" | "LoopBool" | "LoopDouble" | "LoopString" => &[("if_empty", "SUCCESS")],
         _ => &[],
     }
 }
@@ -286,6 +321,11 @@ fn attr_order(given: Vec<(String, String)>, defaults: &[(&str, &str)]) -> Vec<(S
     // The attributes go into one map in document order, which is then walked to fill
     // the node's input map, after which absent defaults are added.
     let remap = stdmap::order(given.iter().map(|(k, _)| k.as_str()));
+    inputs_order(&remap, &given, defaults)
+}
+
+/// [`attr_order`] from the attribute map's order (`remap`, inputs only).
+fn inputs_order(remap: &[String], given: &[(String, String)], defaults: &[(&str, &str)]) -> Vec<(String, String)> {
     let mut inputs: Vec<&str> = remap.iter().map(String::as_str).collect();
     for (k, _) in defaults {
         if !inputs.contains(k) {
@@ -338,7 +378,9 @@ impl LogTree {
     ) -> Result<Self, NotExpressible> {
         let uids: Vec<u16> = (1..=nodes.len()).map(|u| u16::try_from(u).unwrap_or(u16::MAX)).collect();
         let names: Vec<Option<String>> = vec![None; nodes.len()];
-        Self::build(nodes, catalog, ports, "MainTree", &uids, &names, &[], &[], |leaf| leaf.args_in(values).to_vec())
+        Self::build(nodes, values, catalog, ports, "MainTree", &uids, &names, &[], &[], &[], |leaf| {
+            leaf.args_in(values).to_vec()
+        })
     }
 
     /// The tree of an imported document, SubTree nodes and names included.
@@ -350,8 +392,10 @@ impl LogTree {
         let names: Vec<Option<String>> = imported.meta.iter().map(|m| m.name.clone()).collect();
         let params: Vec<Option<&[(String, String)]>> =
             imported.meta.iter().map(|m| Some(m.params.as_slice())).collect();
+        let ids: Vec<&str> = imported.meta.iter().map(|m| m.id.as_str()).collect();
         Self::build(
             &imported.nodes,
+            &imported.values,
             imported,
             &crate::xml::NoPorts,
             &imported.main,
@@ -359,6 +403,7 @@ impl LogTree {
             &names,
             &params,
             &imported.subtrees,
+            &ids,
             |leaf| imported.leaf_values(leaf).to_vec(),
         )
     }
@@ -366,6 +411,7 @@ impl LogTree {
     #[allow(clippy::too_many_arguments)]
     fn build<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
         nodes: &[Node],
+        table: &[u16],
         catalog: &C,
         ports: &P,
         main: &str,
@@ -373,6 +419,7 @@ impl LogTree {
         names: &[Option<String>],
         params: &[Option<&[(String, String)]>],
         subtrees: &[crate::xml::lower::SubtreeMeta],
+        ids: &[&str],
         values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
     ) -> Result<Self, NotExpressible> {
         let mut out: Vec<LogNode> = Vec::with_capacity(nodes.len() + subtrees.len());
@@ -459,6 +506,24 @@ impl LogTree {
                     let kind = if matches!(n.kind(), NodeKind::Condition(_)) { Kind::Condition } else { Kind::Action };
                     let default_name = if element == name { None } else { Some(name) };
                     (kind, element, attr_order(given, &[]), default_name)
+                }
+                &NodeKind::Loop { table: t, if_empty } => {
+                    let Some((kind, element)) = loop_kind(t, if_empty, table) else {
+                        return Err(NotExpressible { node: i, kind: "Loop" });
+                    };
+                    // Its attributes only as the document wrote them (an image keeps
+                    // elements as programs); one the program registers has its ID there.
+                    let (Some(written), Some(element)) =
+                        (params.get(i).copied().flatten(), element.or_else(|| ids.get(i).copied()))
+                    else {
+                        return Err(NotExpressible { node: i, kind: "Loop" });
+                    };
+                    // The inputs as BehaviorTree.CPP orders them, then the output `value`.
+                    let remap = stdmap::order(written.iter().map(|(k, _)| k.as_str()));
+                    let inputs: Vec<String> = remap.into_iter().filter(|k| k != "value").collect();
+                    let mut attrs = inputs_order(&inputs, written, &[("if_empty", "SUCCESS")]);
+                    attrs.extend(written.iter().filter(|(k, _)| k == "value").cloned());
+                    (kind, element.to_string(), attrs, None)
                 }
                 other => {
                     let children = u16::try_from(i).map_or(0, |id| bt_core::children(nodes, id).count());

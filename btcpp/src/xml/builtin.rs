@@ -74,10 +74,26 @@ pub struct Builtin {
 }
 
 const SWITCH: &str = "it compares blackboard strings at run time; write the cases as a Fallback of Sequences, each a condition and its branch";
-const LOOP: &str = "it pops items from a blackboard queue, which needs a heap";
 const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
 const UPDATED: &str = "it watches blackboard sequence numbers, which a controller's slots do not keep";
 const NO_KIND: &str = "bt-core has no node kind with its semantics";
+
+/// A loop's ports (the `value` port's type is its element's, see [`loop_element`]).
+pub const LOOP_PORTS: [BuiltinPort; 3] =
+    [("queue", Any, None), ("if_empty", Any, Some("SUCCESS")), ("value", Any, None)];
+
+/// The element type of a built-in loop (`LoopInt`, ...).
+#[must_use]
+pub fn loop_element(id: &str) -> Option<bt_core::script::Element> {
+    use bt_core::script::Element;
+    Some(match id {
+        "LoopInt" => Element::Int,
+        "LoopBool" => Element::Bool,
+        "LoopDouble" => Element::Double,
+        "LoopString" => Element::String,
+        _ => return None,
+    })
+}
 
 const fn b(id: &'static str, shape: Shape, ports: &'static [BuiltinPort]) -> Builtin {
     Builtin { id, shape, ports, refused: None }
@@ -126,10 +142,10 @@ pub const BUILTINS: &[Builtin] = &[
     r("Switch4", Control, &[], SWITCH),
     r("Switch5", Control, &[], SWITCH),
     r("Switch6", Control, &[], SWITCH),
-    r("LoopInt", Decorator, &[], LOOP),
-    r("LoopBool", Decorator, &[], LOOP),
-    r("LoopDouble", Decorator, &[], LOOP),
-    r("LoopString", Decorator, &[], LOOP),
+    b("LoopInt", Decorator, &LOOP_PORTS),
+    b("LoopBool", Decorator, &LOOP_PORTS),
+    b("LoopDouble", Decorator, &LOOP_PORTS),
+    b("LoopString", Decorator, &LOOP_PORTS),
     r("WasEntryUpdated", Leaf, &[("entry", Any, None)], UPDATED),
     r("SkipUnlessUpdated", Decorator, &[("entry", Any, None)], UPDATED),
     r("WaitValueUpdate", Decorator, &[("entry", Any, None)], UPDATED),

@@ -18,7 +18,7 @@ use bt_core::port::{SlotInfo, UNSET};
 use bt_core::{BehaviorId, Catalog, Code, Leaf, LeafKind, Node, NodeKind, PortDirection, PortType, PortValue, Span};
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::{SCRIPT_ATTRIBUTES, Shape, builtin, nav2};
+use crate::xml::builtin::{LOOP_PORTS, SCRIPT_ATTRIBUTES, Shape, builtin, loop_element, nav2};
 use crate::xml::catalog::{Models, XmlCatalog};
 use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
 use crate::xml::model::{Literal, ModelKind, convert};
@@ -155,6 +155,7 @@ pub fn lower(
     target: Target<'_>,
     enums: &[(String, i64)],
     casts: &[(String, String)],
+    loops: &[String],
 ) -> Result<Imported> {
     let catalog = match target {
         Target::Models => models.catalog(),
@@ -175,6 +176,7 @@ pub fn lower(
         known,
         enums: enums.iter().cloned().collect(),
         casts,
+        loops,
         written: BTreeSet::new(),
         ported: BTreeSet::new(),
         script_slots: BTreeSet::new(),
@@ -270,6 +272,8 @@ struct Lowerer<'a> {
     enums: BTreeMap<String, i64>,
     /// Polymorphic casts, `(derived, base)`.
     casts: &'a [(String, String)],
+    /// Node types registered as loops over a type of the program's.
+    loops: &'a [String],
     /// Keys some output or in/out port, or a script, writes.
     written: BTreeSet<Key>,
     /// Keys some port names (they exist before any script runs, as in BehaviorTree.CPP).
@@ -308,6 +312,16 @@ impl Lowerer<'_> {
                 for name in script.assigned() {
                     self.written.insert(resolve(&self.flat.scopes, n.scope, name));
                 }
+            }
+            if loop_element(&n.id).is_some() || self.loops.contains(&n.id) {
+                // A loop writes its `value` and pops its `{queue}` in place.
+                for b in n.ports.iter().filter(|b| b.port == "value" || b.port == "queue") {
+                    if let Value::Key(k) = &b.value {
+                        self.ported.insert(k.clone());
+                        self.written.insert(k.clone());
+                    }
+                }
+                continue;
             }
             let Some((_, b)) = self.catalog.lookup(&n.id) else { continue };
             if n.is_subtree {
@@ -373,7 +387,7 @@ impl Lowerer<'_> {
         }
         self.out.nodes.push(Node::EMPTY);
         // A built-in's parameters as written (a leaf's or a gate's ports are its values).
-        let params = if builtin(&n.id).or_else(|| nav2(&n.id)).is_some() {
+        let params = if builtin(&n.id).or_else(|| nav2(&n.id)).is_some() || self.loops.contains(&n.id) {
             n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect()
         } else {
             Vec::new()
@@ -401,41 +415,14 @@ impl Lowerer<'_> {
             if let Some(reason) = b.refused {
                 return Err(unsupported(&n.at, &n.id, reason));
             }
-            for p in &n.ports {
-                if !b.ports.iter().any(|(name, _, _)| *name == p.port) {
-                    return Err(ImportError::new(
-                        &p.at,
-                        Fault::UnknownPort {
-                            node: n.id.clone(),
-                            port: p.port.clone(),
-                            declared: b.ports.iter().map(|(name, _, _)| (*name).to_string()).collect(),
-                        },
-                    ));
-                }
-            }
+            check_ports(n, b.ports)?;
             if b.id == "Precondition" {
                 let code = self.script_code(n, "if")?;
-                let otherwise = match n.ports.iter().find(|p| p.port == "else") {
-                    None => bt_core::Status::Failure,
-                    Some(p) => match p.raw.trim() {
-                        "SUCCESS" => bt_core::Status::Success,
-                        "FAILURE" => bt_core::Status::Failure,
-                        "RUNNING" => bt_core::Status::Running,
-                        "SKIPPED" => bt_core::Status::Skipped,
-                        other => {
-                            return Err(ImportError::new(
-                                &p.at,
-                                Fault::BadLiteral {
-                                    node: n.id.clone(),
-                                    port: "else".into(),
-                                    value: other.into(),
-                                    ty: "status (SUCCESS, FAILURE, RUNNING or SKIPPED)".into(),
-                                },
-                            ));
-                        }
-                    },
-                };
+                let otherwise = self.status_param(n, "else", bt_core::Status::Failure)?;
                 return Ok((NodeKind::Precondition { code, otherwise }, Shape::Decorator));
+            }
+            if let Some(element) = loop_element(b.id) {
+                return Ok((self.loop_kind(n, element)?, Shape::Decorator));
             }
             if matches!(b.id, "Script" | "ScriptCondition") {
                 let code = self.script_code(n, "code")?;
@@ -444,6 +431,10 @@ impl Lowerer<'_> {
             }
             let kind = self.builtin_kind(n, b.id)?;
             return Ok((kind, Shape::of(&kind)));
+        }
+        if self.loops.contains(&n.id) {
+            check_ports(n, &LOOP_PORTS)?;
+            return Ok((self.loop_kind(n, bt_core::script::Element::Registered)?, Shape::Decorator));
         }
         if let Some(m) = self.models.get(&n.id) {
             match m.kind {
@@ -787,6 +778,148 @@ impl Lowerer<'_> {
         }
     }
 
+    /// A status parameter (`else`, `if_empty`): SUCCESS, FAILURE, RUNNING or SKIPPED.
+    fn status_param(&self, n: &Inst, port: &str, default: bt_core::Status) -> Result<bt_core::Status> {
+        let Some((text, at)) = self.param_text(n, port, None)? else {
+            return Ok(default);
+        };
+        Ok(match text.trim() {
+            "SUCCESS" => bt_core::Status::Success,
+            "FAILURE" => bt_core::Status::Failure,
+            "RUNNING" => bt_core::Status::Running,
+            "SKIPPED" => bt_core::Status::Skipped,
+            _ => {
+                return Err(ImportError::new(
+                    &at,
+                    Fault::BadLiteral {
+                        node: n.id.clone(),
+                        port: port.into(),
+                        value: text,
+                        ty: "status (SUCCESS, FAILURE, RUNNING or SKIPPED)".into(),
+                    },
+                ));
+            }
+        })
+    }
+
+    /// A loop (`LoopInt`, ..., or one the program registers): its queue's table in the
+    /// value table ([`bt_core::script::queue`]). A literal queue (`"1;2;3"`, split at
+    /// `;` as BehaviorTree.CPP splits it, or a SubTree-local key that starts with one)
+    /// becomes one assignment program per element; a `{key}` the slots
+    /// [`BehaviorSet::pop`](bt_core::BehaviorSet::pop) is given.
+    fn loop_kind(&mut self, n: &Inst, element: bt_core::script::Element) -> Result<NodeKind> {
+        use bt_core::script::{Element, QUEUE_KEY, op};
+        let if_empty = self.status_param(n, "if_empty", bt_core::Status::Success)?;
+        let (ty, type_name) = match element {
+            Element::Int => (PortType::Int, Some("int")),
+            Element::Bool => (PortType::Bool, Some("bool")),
+            Element::Double => (PortType::Double, Some("double")),
+            Element::String => (PortType::String, Some("std::string")),
+            Element::Registered => (PortType::Any, None),
+        };
+        let mut flat = Vec::new();
+        // The `value` port: a key (BehaviorTree.CPP drops the elements without one).
+        let value = match n.ports.iter().find(|b| b.port == "value") {
+            None => None,
+            Some(b) => match &b.value {
+                Value::Literal(text) => {
+                    return Err(ImportError::new(
+                        &b.at,
+                        Fault::OutputLiteral { node: n.id.clone(), port: "value".into(), value: text.clone() },
+                    ));
+                }
+                Value::Key(k) => {
+                    let v = self.slot_value(k, (ty, PortDirection::Output), type_name, &b.at, n, "value")?;
+                    match PortValue::from_u16(v) {
+                        PortValue::Slot(id) => Some(id),
+                        _ => return Err(ImportError::new(&b.at, Fault::TooLarge("no slot for `value`".into()))),
+                    }
+                }
+            },
+        };
+        let Some(queue) = n.ports.iter().find(|b| b.port == "queue") else {
+            return Err(ImportError::new(&n.at, Fault::MissingAttribute { element: n.id.clone(), attribute: "queue" }));
+        };
+        let registered = |l: &mut Self, at: &Location| match element {
+            Element::Registered => l.intern(Literal::Str(n.id.clone()), at),
+            _ => Ok(u16::MAX),
+        };
+        let literal = match &queue.value {
+            Value::Literal(text) => Ok(text.clone()),
+            Value::Key(k) => self.initial_literal(k).ok_or(k),
+        };
+        let mut table;
+        match literal {
+            Ok(text) => {
+                if element == Element::Registered {
+                    return Err(unsupported_construct(
+                        &queue.at,
+                        format!("<{} queue=\"{}\">", n.id, queue.raw),
+                        "BehaviorTree.CPP reads a literal queue only for LoopInt, LoopBool, LoopDouble and LoopString",
+                    ));
+                }
+                table = vec![element as u16, registered(self, &queue.at)?, 0];
+                let mut count = 0u16;
+                // BehaviorTree.CPP's splitString: no element after a final `;`.
+                let mut parts: Vec<&str> = text.split(';').collect();
+                if parts.last() == Some(&"") {
+                    parts.pop();
+                }
+                for part in parts {
+                    let bad = || {
+                        ImportError::new(
+                            &queue.at,
+                            Fault::BadLiteral {
+                                node: n.id.clone(),
+                                port: "queue".into(),
+                                value: part.into(),
+                                ty: type_name.unwrap_or("any").into(),
+                            },
+                        )
+                    };
+                    let mut program = match convert(type_name, part).ok_or_else(bad)? {
+                        Literal::Int(v) => [op::INT].into_iter().chain(words(v as u64)).collect::<Vec<u16>>(),
+                        Literal::Double(v) => [op::DOUBLE].into_iter().chain(words(v.to_bits())).collect(),
+                        // A string the slot's type converts (`true` for a boolean slot).
+                        Literal::Bool(v) => vec![op::STR, self.intern(Literal::Str(v.to_string()), &queue.at)?],
+                        Literal::Str(v) => vec![op::STR, self.intern(Literal::Str(v), &queue.at)?],
+                    };
+                    if let Some(slot) = value {
+                        program.extend_from_slice(&[op::STORE, 0, slot, op::DECLARED]);
+                    }
+                    table.push(u16::try_from(program.len()).unwrap_or(u16::MAX));
+                    table.extend_from_slice(&program);
+                    count = count.checked_add(1).ok_or_else(|| {
+                        ImportError::new(&queue.at, Fault::TooLarge("a queue of more than 65535 elements".into()))
+                    })?;
+                }
+                table[2] = count;
+                flat.push(("queue".to_string(), text));
+            }
+            Err(k) => {
+                let v = self.slot_value(k, (PortType::Any, PortDirection::InOut), None, &queue.at, n, "queue")?;
+                let PortValue::Slot(slot) = PortValue::from_u16(v) else {
+                    return Err(ImportError::new(&queue.at, Fault::TooLarge("no slot for `queue`".into())));
+                };
+                table = vec![QUEUE_KEY | element as u16, registered(self, &queue.at)?, slot, value.unwrap_or(u16::MAX)];
+                flat.push((
+                    "queue".to_string(),
+                    format!("{{{}}}", script_name(&self.out.slots[usize::from(slot)].name)),
+                ));
+            }
+        }
+        if let Some(b) = n.ports.iter().find(|b| b.port == "if_empty") {
+            flat.push(("if_empty".to_string(), b.raw.clone()));
+        }
+        if let Some(slot) = value {
+            flat.push(("value".to_string(), format!("{{{}}}", script_name(&self.out.slots[usize::from(slot)].name))));
+        }
+        if let Some(meta) = self.out.meta.last_mut() {
+            meta.flat = Some(flat);
+        }
+        Ok(NodeKind::Loop { table: self.place(n, &table)?, if_empty })
+    }
+
     /// The literal a key starts with, when it is a SubTree-local entry no port writes.
     fn initial_literal(&self, k: &Key) -> Option<String> {
         if self.written.contains(k) {
@@ -1054,6 +1187,29 @@ fn grounded_values(k: &dyn Grounded, behavior: BehaviorId, n: &Inst) -> Result<V
         values.push(v);
     }
     Ok(values)
+}
+
+/// A 64-bit value as four words, least significant first (a script's `int` and
+/// `double` operands).
+fn words(v: u64) -> [u16; 4] {
+    [v as u16, (v >> 16) as u16, (v >> 32) as u16, (v >> 48) as u16]
+}
+
+/// Refuses a port the node type does not have.
+fn check_ports(n: &Inst, ports: &[crate::xml::builtin::BuiltinPort]) -> Result<()> {
+    for p in &n.ports {
+        if !ports.iter().any(|(name, _, _)| *name == p.port) {
+            return Err(ImportError::new(
+                &p.at,
+                Fault::UnknownPort {
+                    node: n.id.clone(),
+                    port: p.port.clone(),
+                    declared: ports.iter().map(|(name, _, _)| (*name).to_string()).collect(),
+                },
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn unsupported(at: &Location, id: &str, reason: &str) -> ImportError {

@@ -47,6 +47,10 @@ pub struct ImportOptions<'k> {
     /// through these casts upwards (`Sphynx::Ptr` to `Cat::Ptr` to `Animal::Ptr`) or is
     /// the port's direct base, as BT.CPP allows.
     pub casts: Vec<(String, String)>,
+    /// Node types the C++ program registers as BT.CPP's `LoopNode<T>` for a type of its
+    /// own (`registerNodeType<LoopNode<Pose2D>>("LoopPose")`): read as loops over a
+    /// blackboard queue, with the ports of `LoopInt` and the others.
+    pub loops: Vec<String>,
 }
 
 impl std::fmt::Debug for dyn Grounded + '_ {
@@ -82,5 +86,5 @@ pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) ->
     let main = flatten::main_tree(doc, options.main.as_deref())?;
     let flat = flatten::flatten(doc, main, &models.subtree_models())?;
     let target = options.known.map_or(Target::Models, Target::Known);
-    lower::lower(&flat, &models, target, &options.enums, &options.casts)
+    lower::lower(&flat, &models, target, &options.enums, &options.casts, &options.loops)
 }

@@ -154,6 +154,7 @@ impl Imported {
             s.name = name;
         }
         let params: Vec<&[(String, String)]> = flat.iter().map(Vec::as_slice).collect();
+        let ids: Vec<&str> = self.meta.iter().map(|m| m.id.as_str()).collect();
         let options = XmlOptions {
             values: &self.values,
             all_behaviors: true,
@@ -161,6 +162,7 @@ impl Imported {
             uids: &uids,
             params: &params,
             tree_id: &self.main,
+            ids: &ids,
         };
         to_xml_with(&renamed.nodes, &renamed, &NoPorts, &options)
     }

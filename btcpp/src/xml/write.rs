@@ -229,6 +229,9 @@ pub struct XmlOptions<'a> {
     pub params: &'a [&'a [(String, String)]],
     /// The tree's ID (`MainTree` when empty).
     pub tree_id: &'a str,
+    /// Per node, its registration ID as the document wrote it: the tag of a loop over a
+    /// type the program registers (`LoopPose`).
+    pub ids: &'a [&'a str],
 }
 
 /// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
@@ -379,6 +382,30 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 } else {
                     let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}/>");
                 }
+                continue;
+            }
+            // Written from the document's attributes, as scripts are.
+            NodeKind::Loop { table, .. } => {
+                use bt_core::script::Element;
+                let tag = match bt_core::script::queue_element(table.words(options.values)) {
+                    Some((Element::Int, _)) => "LoopInt",
+                    Some((Element::Bool, _)) => "LoopBool",
+                    Some((Element::Double, _)) => "LoopDouble",
+                    Some((Element::String, _)) => "LoopString",
+                    Some((Element::Registered, _)) => match options.ids.get(i) {
+                        Some(id) => id,
+                        None => {
+                            return Err(XmlError::NotExpressible {
+                                node: i,
+                                kind: "Loop over a type of the program's",
+                            });
+                        }
+                    },
+                    None => return Err(XmlError::Malformed { node: i }),
+                };
+                let attrs = script_attrs(options, i, n)?;
+                let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
+                open.push((end, tag.to_string()));
                 continue;
             }
             NodeKind::Sleep(span) => {

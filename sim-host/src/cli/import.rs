@@ -87,6 +87,12 @@ pub struct Args {
     /// (repeatable; casts chain upwards).
     #[arg(long = "cast", value_name = "DERIVED=BASE", value_parser = parse_cast)]
     pub casts: Vec<(String, String)>,
+    /// A node type the C++ program registers as a loop over a type of its own
+    /// (registerNodeType<LoopNode<Pose2D>>("LoopPose")): read with the ports and the
+    /// semantics of LoopInt and the others, over a {key} queue that the controller's
+    /// behavior set keeps (repeatable).
+    #[arg(long = "loop", value_name = "ID")]
+    pub loops: Vec<String>,
 }
 
 fn parse_cast(text: &str) -> Result<(String, String), String> {
@@ -129,6 +135,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         known: known.as_ref().and_then(|k| k.grounded.as_deref()),
         enums: args.enums.clone(),
         casts: args.casts.clone(),
+        loops: args.loops.clone(),
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {

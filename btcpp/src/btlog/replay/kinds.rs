@@ -52,6 +52,42 @@ impl Replay<'_> {
                 }
                 s
             }
+            Kind::Loop { elements, if_empty } => {
+                // From Idle its queue starts over (`count`: elements taken); it takes the
+                // next element only while its child is not Running (`count2`: 1 when it
+                // is), and marks itself Running before it ticks the child.
+                if self.rt[i].status == IDLE {
+                    self.rt[i].count = 0;
+                    self.rt[i].count2 = 0;
+                }
+                if self.rt[i].count2 == 0 {
+                    let popped = match elements {
+                        // The run's assignment of the element, consumed as a leaf's call.
+                        Some(k) => {
+                            let more = u16::try_from(self.rt[i].count).is_ok_and(|taken| taken < k);
+                            if let (true, Some(c)) = (more, node.core) {
+                                leaves.tick(c);
+                            }
+                            more
+                        }
+                        // A blackboard queue's pop, answered by the run as a leaf's.
+                        None => node.core.is_some_and(|c| leaves.tick(c) == SUCCESS),
+                    };
+                    if !popped {
+                        return if_empty;
+                    }
+                    self.rt[i].count += 1;
+                }
+                if self.rt[i].status == IDLE {
+                    self.set_status(i, RUNNING);
+                }
+                let s = self.execute(self.child(i, 0), leaves);
+                self.rt[i].count2 = usize::from(s == RUNNING) as _;
+                if s == SUCCESS || s == FAILURE {
+                    self.halt_child(i, 0, leaves);
+                }
+                if s == FAILURE { FAILURE } else { RUNNING }
+            }
             Kind::AlwaysSuccess => SUCCESS,
             Kind::AlwaysFailure => FAILURE,
             Kind::Sequence | Kind::SequenceWithMemory | Kind::Fallback => {
