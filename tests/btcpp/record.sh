@@ -97,7 +97,7 @@ for from in $(seq 0 $chunk $((total - 1))); do cat "$tmp/out-$from.txt"; done | 
 } | sort -u | while read -r name; do cp "$tmp/logs/$name.btlog" "$fixtures/btlog/"; done
 echo "kept $(ls "$fixtures"/btlog/*.btlog | wc -l) Groot2 logs" >&2
 
-# Random trees with Script, ScriptCondition and Precondition nodes and scripted
+# Random trees with Script, ScriptCondition, Precondition and loop nodes and scripted
 # attributes (never clocked): 300 kept, 100 per file, those BehaviorTree.CPP ran to the
 # end.
 rm -f "$fixtures"/scripted-*.txt

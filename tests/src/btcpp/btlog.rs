@@ -131,8 +131,9 @@ fn canonical(rec: &Recorded) -> bool {
         Kind::Parallel { failure, .. } => failure >= 0,
         Kind::ParallelAll { max_failures } => max_failures >= 0,
         Kind::Repeat(c) | Kind::RetryUntilSuccessful(c) => c >= -1,
-        // An image keeps a script's program, not its text (nor a guard's).
-        Kind::Script(_) | Kind::ScriptCondition(_) | Kind::Precondition(..) => false,
+        // An image keeps a script's program, not its text (nor a guard's, nor a loop's
+        // queue).
+        Kind::Script(_) | Kind::ScriptCondition(_) | Kind::Precondition(..) | Kind::Loop { .. } => false,
         _ if !n.hooks.is_empty() => false,
         _ => true,
     })
@@ -140,7 +141,8 @@ fn canonical(rec: &Recorded) -> bool {
 
 fn has_scripts(rec: &Recorded) -> bool {
     rec.case.spec.preorder().iter().any(|n| {
-        !n.hooks.is_empty() || matches!(n.kind, Kind::Script(_) | Kind::ScriptCondition(_) | Kind::Precondition(..))
+        !n.hooks.is_empty()
+            || matches!(n.kind, Kind::Script(_) | Kind::ScriptCondition(_) | Kind::Precondition(..) | Kind::Loop { .. })
     })
 }
 

@@ -146,6 +146,11 @@ fn node(rng: &mut ChaCha8Rng, depth: usize, timed: bool, scripted: bool, budget:
             let n = SCRIPTS.len() as u8;
             let script = rng.random_range(FIRST_CONDITION_SCRIPT..n);
             kinds.push(Kind::Precondition(script, pick(rng, &['S', 'F', 'R', 'K'])));
+            kinds.push(Kind::Loop {
+                double: rng.random_bool(0.5),
+                count: rng.random_range(0..=3),
+                if_empty: pick(rng, &['S', 'F', 'R', 'K']),
+            });
         }
         let kind = pick(rng, &kinds);
         let child = node(rng, depth + 1, timed, scripted, budget);

@@ -8,7 +8,7 @@ use bt_core::{
 };
 
 use super::case::{Case, Recorded, Tick};
-use super::spec::{HOOKS, Kind, SCRIPTS, Spec};
+use super::spec::{HOOKS, Kind, SCRIPTS, Spec, loop_elements};
 use bt_core::script::{ScriptFault, Value};
 use btcpp::xml::script::{ScriptError, Symbols, parse};
 
@@ -79,18 +79,55 @@ pub fn kind(spec: &Spec, id: usize) -> NodeKind {
         // The program's place in the value table is set by `build_with_values`.
         Kind::Script(_) => NodeKind::Script(bt_core::Code { start: 0, len: 1 }),
         Kind::ScriptCondition(_) => NodeKind::ScriptCondition(bt_core::Code { start: 0, len: 1 }),
-        Kind::Precondition(_, otherwise) => NodeKind::Precondition {
-            code: bt_core::Code { start: 0, len: 1 },
-            otherwise: match otherwise {
-                'S' => Status::Success,
-                'F' => Status::Failure,
-                'R' => Status::Running,
-                _ => Status::Skipped,
-            },
-        },
+        Kind::Precondition(_, otherwise) => {
+            NodeKind::Precondition { code: bt_core::Code { start: 0, len: 1 }, otherwise: status_of(otherwise) }
+        }
+        Kind::Loop { if_empty, .. } => {
+            NodeKind::Loop { table: bt_core::Code { start: 0, len: 1 }, if_empty: status_of(if_empty) }
+        }
         Kind::Condition => NodeKind::Condition(Leaf::new(id as u16)),
         Kind::Action => NodeKind::Action(Leaf::new(LEAVES + id as u16)),
     }
+}
+
+/// The status of a spec's status letter (`K`: Skipped).
+fn status_of(letter: char) -> Status {
+    match letter {
+        'S' => Status::Success,
+        'F' => Status::Failure,
+        'R' => Status::Running,
+        _ => Status::Skipped,
+    }
+}
+
+/// A spec loop's table: a literal queue whose programs assign each element to `n`
+/// (`LoopInt`) or `m` (`LoopDouble`), as the importer writes them.
+fn loop_table(double: bool, count: u8) -> Result<Vec<u16>, String> {
+    use bt_core::script::{Element, op};
+    let element = if double { Element::Double } else { Element::Int };
+    let mut table = vec![element as u16, u16::MAX, u16::from(count)];
+    for text in loop_elements(double, count) {
+        let bits = if double {
+            text.parse::<f64>().map_err(|e| e.to_string())?.to_bits()
+        } else {
+            text.parse::<i64>().map_err(|e| e.to_string())? as u64
+        };
+        let slot = if double { 1 } else { 0 };
+        let program = [
+            if double { op::DOUBLE } else { op::INT },
+            bits as u16,
+            (bits >> 16) as u16,
+            (bits >> 32) as u16,
+            (bits >> 48) as u16,
+            op::STORE,
+            0,
+            slot,
+            op::DECLARED,
+        ];
+        table.push(program.len() as u16);
+        table.extend_from_slice(&program);
+    }
+    Ok(table)
 }
 
 /// The spec as a bt-core node array.
@@ -175,6 +212,12 @@ pub fn build_full(spec: &Spec) -> Result<Built, String> {
                     }
                 }
                 NodeKind::Guard(place(&mut values, &table)?)
+            }
+            NodeKind::Loop { if_empty, .. } => {
+                let Kind::Loop { double, count, .. } = s.kind else {
+                    return Err("a loop node without a queue".into());
+                };
+                NodeKind::Loop { table: place(&mut values, &loop_table(double, count)?)?, if_empty }
             }
             NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
                 let (Kind::Script(i) | Kind::ScriptCondition(i) | Kind::Precondition(i, _)) = s.kind else {

@@ -67,6 +67,22 @@ pub enum Kind {
     /// `Precondition(if, else)`: `if` is [`SCRIPTS`]`[i]`, `else` a status letter
     /// (`S`, `F`, `R`, `K` for SKIPPED).
     Precondition(u8, char),
+    /// `LoopInt` (over `1;2;...`, into `{n}`) or `LoopDouble` (over `0.5;1.5;...`, into
+    /// `{m}`) with `count` elements and `if_empty` a status letter.
+    Loop {
+        /// `LoopDouble` rather than `LoopInt`.
+        double: bool,
+        /// Elements in its literal queue.
+        count: u8,
+        /// The `if_empty` status letter.
+        if_empty: char,
+    },
+}
+
+/// The elements of a spec loop's queue, as BehaviorTree.CPP reads them.
+#[must_use]
+pub fn loop_elements(double: bool, count: u8) -> Vec<String> {
+    (1..=count).map(|k| if double { format!("{}.5", k - 1) } else { k.to_string() }).collect()
 }
 
 /// The scripts of `Script` and `ScriptCondition` nodes, by index: 0 starts every
@@ -129,6 +145,8 @@ impl Kind {
             Self::Script(_) => "Script",
             Self::ScriptCondition(_) => "ScriptCondition",
             Self::Precondition(..) => "Precondition",
+            Self::Loop { double: false, .. } => "LoopInt",
+            Self::Loop { double: true, .. } => "LoopDouble",
             Self::Sleep(_) => "Sleep",
             Self::Condition => "C",
             Self::Action => "A",
@@ -151,6 +169,9 @@ impl Kind {
             Self::Sleep(ms) => vec![("msec", ms.to_string())],
             Self::Script(i) | Self::ScriptCondition(i) => vec![("code", i.to_string())],
             Self::Precondition(i, otherwise) => vec![("if", i.to_string()), ("else", otherwise.to_string())],
+            Self::Loop { count, if_empty, .. } => {
+                vec![("queue", count.to_string()), ("if_empty", if_empty.to_string())]
+            }
             _ => vec![],
         }
     }
@@ -185,6 +206,7 @@ impl Kind {
                 | Self::Timeout(_)
                 | Self::Delay(_)
                 | Self::Precondition(..)
+                | Self::Loop { .. }
         )
     }
 
@@ -304,9 +326,14 @@ fn write_xml(spec: &Spec, next: &mut usize, out: &mut String) {
                 SCRIPTS.get(usize::from(i)).copied().unwrap_or("").replace('&', "&amp;").replace('<', "&lt;")
             }
             (Kind::Precondition(_, otherwise), _) => status_name(otherwise).to_string(),
+            (Kind::Loop { double, count, .. }, "queue") => loop_elements(double, count).join(";"),
+            (Kind::Loop { if_empty, .. }, _) => status_name(if_empty).to_string(),
             _ => value,
         };
         out.push_str(&format!(r#" {attr}="{value}""#));
+    }
+    if let Kind::Loop { double, .. } = spec.kind {
+        out.push_str(if double { r#" value="{m}""# } else { r#" value="{n}""# });
     }
     for (h, i) in &spec.hooks {
         let attr = HOOKS.iter().find(|(c, _)| c == h).map_or("", |(_, a)| a);
@@ -417,6 +444,11 @@ impl Parser<'_> {
                 int(0)? as u8,
                 params.get(1).and_then(|p| p.chars().next()).ok_or(format!("no else status at byte {at}"))?,
             ),
+            "LoopInt" | "LoopDouble" => Kind::Loop {
+                double: name == "LoopDouble",
+                count: int(0)? as u8,
+                if_empty: params.get(1).and_then(|p| p.chars().next()).ok_or(format!("no if_empty at byte {at}"))?,
+            },
             "C" => Kind::Condition,
             "A" => Kind::Action,
             _ => return Err(format!("unknown kind `{name}` at byte {at}")),
