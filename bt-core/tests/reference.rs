@@ -428,6 +428,14 @@ impl<'a> Reference<'a> {
         }
     }
 
+    /// A Loop or Precondition starting afresh after it finished is Idle (BT.CPP's parent
+    /// reset it), which a Skipped result keeps.
+    fn forget_result(&mut self, i: usize, fresh: bool) {
+        if fresh && matches!(self.status(i), NodeStatus::Success | NodeStatus::Failure) {
+            self.st[i].status = NodeStatus::Idle;
+        }
+    }
+
     fn elapsed(&self, i: usize) -> u32 {
         self.now.wrapping_sub(self.st[i].start) & Span::MAX
     }
@@ -943,6 +951,8 @@ impl<'a> Reference<'a> {
             }
             // Rule 12: asks its script only while its child is not under way.
             NodeKind::Precondition { otherwise, .. } => {
+                let fresh = self.fresh(i, parent_mirrors);
+                self.forget_result(i, fresh);
                 let go = was.mem == 1 || {
                     self.log.push(Ev::Tick { node: i, starting: true });
                     outcome(self.nodes, &self.script, i) == Status::Success
@@ -1004,6 +1014,7 @@ impl<'a> Reference<'a> {
             // Rule 12: takes an element while its child is not Running, then ticks it.
             NodeKind::Loop { table, if_empty } => {
                 let fresh = self.fresh(i, parent_mirrors);
+                self.forget_result(i, fresh);
                 if fresh || !running || was.mem != 1 {
                     let taken = if fresh { 0 } else { was.count };
                     let popped = if table == KEY_QUEUE {
@@ -1070,7 +1081,7 @@ impl<'a> Reference<'a> {
         let new = match r {
             // A Precondition that skips keeps its status (BehaviorTree.CPP's does not
             // mark itself Running).
-            Status::Skipped if matches!(self.nodes[i].kind(), NodeKind::Precondition { .. }) => was.status,
+            Status::Skipped if matches!(self.nodes[i].kind(), NodeKind::Precondition { .. }) => self.st[i].status,
             // A control node or decorator that skips stays Running; a leaf is Idle.
             Status::Skipped if self.nodes[i].kind().arity() != bt_core::Arity::Leaf => NodeStatus::Running,
             r => r.into(),

@@ -225,6 +225,11 @@ pub enum Fault {
         "`{0}` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel> (give its model with --nodes)"
     )]
     UnknownNode(String),
+    /// An unknown node type named like a loop (`LoopPose`).
+    #[error(
+        "`{0}` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>; if the program registers it as a LoopNode<T> (registerNodeType<LoopNode<T>>(\"{0}\")), give --loop {0}"
+    )]
+    UnknownLoop(String),
     /// A construct this importer cannot put on a controller.
     #[error("{construct} is not supported: {reason}")]
     Unsupported {

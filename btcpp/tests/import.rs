@@ -269,8 +269,21 @@ fn what_cannot_run_is_refused_with_its_place() {
             "t.xml:2:27: <Switch2> is not supported: it compares blackboard strings",
         ),
         (
-            r#"<LoopInt queue="{q}" value="{v}"><BatteryOk/></LoopInt>"#,
-            "t.xml:2:27: <LoopInt> is not supported: it pops items",
+            r#"<LoopInt queue="1;x" value="{v}"><BatteryOk/></LoopInt>"#,
+            "t.xml:2:36: <LoopInt> port `queue`: \"x\" is not a valid int",
+        ),
+        (r#"<LoopInt value="{v}"><BatteryOk/></LoopInt>"#, "t.xml:2:27: <LoopInt> needs the attribute `queue`"),
+        (
+            r#"<LoopDouble queue="1" value="2"><BatteryOk/></LoopDouble>"#,
+            "t.xml:2:49: <LoopDouble> port `value` is an output port; it takes a blackboard key",
+        ),
+        (
+            r#"<LoopString queue="a" if_empty="IDLE"><BatteryOk/></LoopString>"#,
+            "t.xml:2:49: <LoopString> port `if_empty`: \"IDLE\" is not a valid status",
+        ),
+        (
+            r#"<LoopPose queue="{q}" value="{v}"><BatteryOk/></LoopPose>"#,
+            "t.xml:2:27: `LoopPose` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>; if the program registers it as a LoopNode<T> (registerNodeType<LoopNode<T>>(\"LoopPose\")), give --loop LoopPose",
         ),
         (r#"<SetBlackboard value="1" output_key="k"/>"#, "t.xml:2:27: <SetBlackboard> is not supported"),
         (
@@ -380,6 +393,106 @@ fn the_image_loads_and_its_ports_read_on_the_controller_side() {
     let mut values = [0u16; 8];
     let e = bt_core::load_with_ports::<_, 8>(&image, &other.catalog, &mut nodes, &mut values).map(|_| ()).unwrap_err();
     assert_eq!(e.code(), "foreign-behavior-set");
+}
+
+/// A controller's behavior set: slots for the scripts, and one queue of three elements,
+/// popped by index (a controller would keep a `heapless::Deque` per queue slot).
+struct Controller<'p> {
+    ports: bt_core::PortTable<'p>,
+    slots: [Option<bt_core::script::Value>; 4],
+    queue: [bt_core::script::Value; 3],
+    popped: usize,
+    /// What `Say` read from its `text` slot, each time it was ticked.
+    said: Vec<Option<bt_core::script::Value>>,
+    /// `ctx.starting` of each pop.
+    starts: Vec<bool>,
+}
+
+impl bt_core::BehaviorSet for Controller<'_> {
+    fn condition(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> bt_core::Status {
+        bt_core::Status::Failure
+    }
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
+        if let Some(bt_core::Port::Slot(s)) = self.ports.port(ctx.args(leaf), 0) {
+            self.said.push(self.slots[usize::from(s)]);
+        }
+        bt_core::Status::Success
+    }
+    fn halt(&mut self, _: &bt_core::Leaf, _: bt_core::NodeId) {}
+    fn script(
+        &mut self,
+        code: &[u16],
+        _: bt_core::Context<'_>,
+    ) -> Result<bt_core::script::Value, bt_core::script::ScriptFault> {
+        bt_core::script::run(code, &self.ports, &mut self.slots)
+    }
+    fn pop(
+        &mut self,
+        _queue: u16,
+        value: u16,
+        ctx: bt_core::Context<'_>,
+    ) -> Result<bool, bt_core::script::ScriptFault> {
+        self.starts.push(ctx.starting);
+        let Some(&v) = self.queue.get(self.popped) else { return Ok(false) };
+        self.popped += 1;
+        self.slots[usize::from(value)] = Some(v);
+        Ok(true)
+    }
+}
+
+/// Loops run on the controller with no heap: a literal queue's elements are assigned by
+/// the programs the image carries, a `{key}` queue is popped by the behavior set; one
+/// element per tick, then `if_empty`.
+#[test]
+fn loops_run_on_the_controller_side() {
+    use bt_core::script::Value;
+    use bt_core::{Executor, NodeState, Status};
+    let run = |text: &str, loops: &[&str], ticks: usize| {
+        let options =
+            ImportOptions { loops: loops.iter().map(|l| l.to_string()).collect(), ..ImportOptions::default() };
+        let i = import_text(Path::new("t.xml"), text, &options).unwrap_or_else(|e| panic!("{e}"));
+        let image = i.image().unwrap();
+        let mut nodes = [bt_core::Node::EMPTY; 8];
+        let mut values = [0u16; 64];
+        let (tree, ports): (bt_core::Tree<'_, 8>, _) =
+            bt_core::load_with_ports(&image, &i.catalog, &mut nodes, &mut values).unwrap();
+        let mut set = Controller {
+            ports,
+            slots: [None; 4],
+            queue: [Value::Double(1.0), Value::Double(2.0), Value::Double(3.0)],
+            popped: 0,
+            said: vec![],
+            starts: vec![],
+        };
+        let mut state = [NodeState::IDLE; 8];
+        let mut exec = Executor::new(tree, &mut state).unwrap();
+        let statuses: Vec<Status> = (0..ticks).map(|k| exec.tick(&mut set, k as u32).unwrap()).collect();
+        (statuses, set.said, set.starts, set.slots)
+    };
+    use Status::{Failure, Running, Success};
+    // A literal queue: 1, 2.5, then 4, for which the condition fails (and the loop).
+    let (statuses, _, starts, slots) = run(
+        &doc(r#"<BehaviorTree ID="Main"><Sequence>
+             <LoopDouble queue="1;2.5;4" value="{x}"><ScriptCondition code="x &lt; 3"/></LoopDouble>
+           </Sequence></BehaviorTree>"#),
+        &[],
+        3,
+    );
+    assert_eq!(statuses, [Running, Running, Failure]);
+    assert!(starts.is_empty(), "a literal queue never asks the behavior set to pop");
+    assert_eq!(slots[0], Some(Value::Double(4.0)));
+    // A blackboard queue of a type the program registers a loop for: the set pops it.
+    let (statuses, said, starts, _) = run(
+        &doc(r#"<BehaviorTree ID="Main"><Sequence>
+             <LoopPose queue="{waypoints}" value="{wp}"><Say text="{wp}"/></LoopPose>
+           </Sequence></BehaviorTree>"#),
+        &["LoopPose"],
+        5,
+    );
+    assert_eq!(statuses, [Running, Running, Running, Success, Success]);
+    assert_eq!(said, [1.0, 2.0, 3.0].map(|v| Some(Value::Double(v))));
+    // Asked afresh on the first pop of each activation: ticks 0 and 4.
+    assert_eq!(starts, [true, false, false, false, true]);
 }
 
 /// The XML of a flattened tree writes scripts with the keys as it names them: a key a

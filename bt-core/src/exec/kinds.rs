@@ -44,6 +44,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// A node that starts afresh after finishing is Idle, as BehaviorTree.CPP's parent
+    /// left it: for the kinds whose status a Skipped result keeps (`Loop`, `Precondition`).
+    fn forget_result(&mut self, i: usize, st: NodeState, fresh: bool) {
+        if fresh && matches!(st.status, NodeStatus::Success | NodeStatus::Failure) {
+            self.set_status(i, NodeStatus::Idle);
+        }
+    }
+
     fn start_time(st: NodeState) -> u32 {
         u32::from(st.aux) | u32::from(st.ext) << 16
     }
@@ -421,6 +429,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             }
             NodeKind::Precondition { code, otherwise } => {
                 frame.kind = FrameKind::Precondition;
+                self.forget_result(idx, st, Self::fresh(st, parent_mirrors));
                 if st.aux == 1 {
                     Entered::Child(first)
                 } else if self.holds(idx, code.words(self.values), now)? {
@@ -438,6 +447,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                 if !fresh && st.status == NodeStatus::Running && st.ext == 1 {
                     return Ok(Entered::Child(first));
                 }
+                self.forget_result(idx, st, fresh);
                 let taken = if fresh { 0 } else { st.aux };
                 let fault = |fault| TickError::Script { node: idx as NodeId, fault };
                 let popped = match queue(table.words(self.values)) {

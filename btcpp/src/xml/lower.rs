@@ -474,6 +474,9 @@ impl Lowerer<'_> {
             let kind = if condition { NodeKind::Condition(leaf) } else { NodeKind::Action(leaf) };
             return Ok((kind, Shape::Leaf));
         }
+        if n.id.starts_with("Loop") && n.ports.iter().any(|b| b.port == "queue") {
+            return Err(ImportError::new(&n.at, Fault::UnknownLoop(n.id.clone())));
+        }
         Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())))
     }
 
