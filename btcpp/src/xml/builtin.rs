@@ -77,6 +77,7 @@ const SWITCH: &str = "it compares blackboard strings at run time; write the case
 const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
 const UPDATED: &str = "it watches blackboard sequence numbers, which a controller's slots do not keep";
 const NO_KIND: &str = "bt-core has no node kind with its semantics";
+const MANUAL: &str = "it asks a person at a terminal (ncurses) which child to run or what to return, and a controller has no terminal; give the choice to the tree instead, e.g. a Fallback of Sequences, each a condition the operator's command sets and its branch";
 
 /// A loop's ports (the `value` port's type is its element's, see [`loop_element`]).
 pub const LOOP_PORTS: [BuiltinPort; 3] =
@@ -131,6 +132,8 @@ pub const BUILTINS: &[Builtin] = &[
     r("AsyncSequence", Control, &[], NO_KIND),
     r("AsyncFallback", Control, &[], NO_KIND),
     r("TryCatch", Control, &[("catch_on_halt", Bool, Some("false"))], NO_KIND),
+    // Not registered by BT.CPP's factory, but its library has it (ex03 registers it).
+    r("ManualSelector", Control, &[("repeat_last_selection", Bool, Some("false"))], MANUAL),
     b("Script", Leaf, &[("code", Str, None)]),
     b("ScriptCondition", Leaf, &[("code", Any, None)]),
     b("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))]),
