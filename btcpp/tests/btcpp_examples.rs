@@ -10,7 +10,11 @@ use btcpp::xml::{ImportOptions, import, import_text};
 const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("ex01_wrap_legacy.xml", None, Ok(1)),
     ("ex02_runtime_ports.xml", None, Ok(3)),
-    ("ex03_ncurses_manual_selector.xml", None, Err("<ManualSelector> is not supported: it asks a person at a terminal")),
+    (
+        "ex03_ncurses_manual_selector.xml",
+        None,
+        Err("<ManualSelector> is not supported: it asks a person at a terminal"),
+    ),
     ("ex03_sqlite_log.xml", Some("MainTree"), Ok(13)),
     ("t01_build_your_first_tree.xml", None, Ok(5)),
     ("t02_basic_ports.xml", None, Ok(5)),

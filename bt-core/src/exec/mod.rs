@@ -635,6 +635,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
         }
     }
 
+    /// Node `i` decided Skipped without ticking a child: Idle, but a `Loop` keeps its
+    /// status, as BehaviorTree.CPP's does.
+    #[cold]
+    #[inline(never)]
+    fn decided_skipped(&mut self, i: usize) {
+        if !matches!(self.nodes.get(i).map(Node::kind), Some(NodeKind::Loop { .. })) {
+            self.set_status(i, NodeStatus::Idle);
+        }
+    }
+
     #[inline(always)]
     fn end_of(&self, i: usize) -> Result<usize, TickError> {
         Ok(i + usize::from(self.node(i)?.size()))
@@ -836,7 +846,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
                         Entered::Decided(v) => {
                             // A Loop that skips keeps its status, as BehaviorTree.CPP's
                             // node does (the only kind that may skip while Running).
-                            if !(BTCPP && v == Status::Skipped && matches!(kind, NodeKind::Loop { .. })) {
+                            if BTCPP && v == Status::Skipped {
+                                self.cold().decided_skipped(c);
+                            } else {
                                 self.set_status(c, v.into());
                             }
                             break 'enter (v, end);
