@@ -91,7 +91,8 @@ fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btlog");
     let all = cases(&std::fs::read_to_string(dir.join("cases.txt")).unwrap());
     let mut compared = 0;
-    for case in all.iter().filter(|c| c.btlog.is_some()) {
+    // Cases with scripts: `the_run_of_a_tree_with_scripts_logs_as_behaviortree_cpps`.
+    for case in all.iter().filter(|c| c.btlog.is_some() && !c.xml.contains("Script")) {
         let theirs = Log::parse(&std::fs::read(dir.join(case.btlog.as_ref().unwrap())).unwrap()).unwrap();
         let imported = import_text(Path::new(&case.name), &with_models(case), &ImportOptions::default()).unwrap();
         let tree = LogTree::of_imported(&imported).unwrap();
@@ -116,6 +117,101 @@ fn our_logs_equal_behaviortree_cpps_but_for_timestamps() {
         compared += 1;
     }
     assert_eq!(compared, 3);
+}
+
+/// A controller's view of a case: scripted leaves (cyclic, as the harness's) and the
+/// scripts run by `bt_core::script` on a blackboard, every call recorded as the log's
+/// replay takes it (a script's run answered as a leaf's: a `Script` succeeds, the others
+/// as their result holds).
+struct Run<'p> {
+    ports: bt_core::PortTable<'p>,
+    blackboard: [Option<bt_core::script::Value>; 8],
+    /// bt-core node -> (leaf script, calls so far).
+    leaves: BTreeMap<usize, (String, usize)>,
+    /// bt-core nodes that are `Script` nodes.
+    scripts: Vec<usize>,
+    calls: Vec<(usize, u8)>,
+}
+
+impl Run<'_> {
+    fn leaf(&mut self, node: bt_core::NodeId) -> bt_core::Status {
+        let (script, calls) = self.leaves.get_mut(&usize::from(node)).unwrap();
+        let c = script.as_bytes()[*calls % script.len()];
+        *calls += 1;
+        let (s, code) = match c {
+            b'S' => (bt_core::Status::Success, status::SUCCESS),
+            b'F' => (bt_core::Status::Failure, status::FAILURE),
+            _ => (bt_core::Status::Running, status::RUNNING),
+        };
+        self.calls.push((usize::from(node), code));
+        s
+    }
+}
+
+impl bt_core::BehaviorSet for Run<'_> {
+    fn condition(&mut self, _: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
+        self.leaf(ctx.node)
+    }
+    fn action(&mut self, _: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
+        self.leaf(ctx.node)
+    }
+    fn halt(&mut self, _: &bt_core::Leaf, _: bt_core::NodeId) {}
+    fn script(
+        &mut self,
+        code: &[u16],
+        ctx: bt_core::Context<'_>,
+    ) -> Result<bt_core::script::Value, bt_core::script::ScriptFault> {
+        let v = bt_core::script::run(code, &self.ports, &mut self.blackboard)?;
+        let node = usize::from(ctx.node);
+        let held = self.scripts.contains(&node) || bt_core::script::truth(v).unwrap_or(false);
+        self.calls.push((node, if held { status::SUCCESS } else { status::FAILURE }));
+        Ok(v)
+    }
+}
+
+/// Trees with scripts (a SubTree node with scripted attributes: `_failureIf`,
+/// `_onSuccess`, `_onHalted`, `_post`), run on bt-core from their image as a controller
+/// runs them, logged through [`RunLog`](btcpp::btlog::RunLog) as `sim-host` logs a run:
+/// the XML and every transition are BT.CPP's.
+#[test]
+fn the_run_of_a_tree_with_scripts_logs_as_behaviortree_cpps() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btlog");
+    let all = cases(&std::fs::read_to_string(dir.join("cases.txt")).unwrap());
+    let mut compared = 0;
+    for case in all.iter().filter(|c| c.btlog.is_some() && c.xml.contains("Script")) {
+        let theirs = Log::parse(&std::fs::read(dir.join(case.btlog.as_ref().unwrap())).unwrap()).unwrap();
+        let imported = import_text(Path::new(&case.name), &with_models(case), &ImportOptions::default()).unwrap();
+        let tree = LogTree::of_imported(&imported).unwrap();
+        assert_eq!(tree.xml(), theirs.xml, "{}: the log's XML", case.name);
+        let image = imported.image().unwrap();
+        let mut nodes = [bt_core::Node::EMPTY; 32];
+        let mut values = [0u16; 256];
+        let (core, ports): (bt_core::Tree<'_, 16>, _) =
+            bt_core::load_with_ports(&image, &imported.catalog, &mut nodes, &mut values).unwrap();
+        let mut run = Run { ports, blackboard: [None; 8], leaves: BTreeMap::new(), scripts: vec![], calls: vec![] };
+        for (i, m) in imported.meta.iter().enumerate() {
+            if let Some(s) = case.scripts.get(&m.id) {
+                run.leaves.insert(i, (s.clone(), 0));
+            }
+            if m.id == "Script" {
+                run.scripts.push(i);
+            }
+        }
+        let mut state = [bt_core::NodeState::IDLE; 32];
+        let mut exec = bt_core::Executor::new(core, &mut state).unwrap();
+        let mut log = btcpp::btlog::RunLog::new(&tree, theirs.first_usec);
+        for tick in 0..case.ticks {
+            run.calls.clear();
+            exec.tick(&mut run, tick as u32).unwrap();
+            log.tick(tick as u32, theirs.first_usec + tick as i64 * 1000, tick as u32, &run.calls)
+                .unwrap_or_else(|e| panic!("{}: tick {tick}: {e}", case.name));
+        }
+        let ours = Log::parse(&log.into_bytes()).unwrap();
+        let strip = |l: &Log| l.transitions.iter().map(|&(_, uid, s)| (uid, s)).collect::<Vec<_>>();
+        assert_eq!(strip(&ours), strip(&theirs), "{}: transitions", case.name);
+        compared += 1;
+    }
+    assert_eq!(compared, 1);
 }
 
 /// The `_uid` attributes of a document, in order.
