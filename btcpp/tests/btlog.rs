@@ -131,6 +131,10 @@ struct Run<'p> {
     /// bt-core nodes that are `Script` nodes.
     scripts: Vec<usize>,
     calls: Vec<(usize, u8)>,
+    /// Per loop over a `{key}`: the elements of the string the key held at the loop's
+    /// first pop of its activation (BT.CPP reads a string entry such as `"1;2;3"` as a
+    /// queue), and how many it took.
+    queues: BTreeMap<usize, (Vec<i64>, usize)>,
 }
 
 impl Run<'_> {
@@ -167,10 +171,33 @@ impl bt_core::BehaviorSet for Run<'_> {
         self.calls.push((node, if held { status::SUCCESS } else { status::FAILURE }));
         Ok(v)
     }
+    fn pop(&mut self, queue: u16, value: u16, ctx: bt_core::Context<'_>) -> Result<bool, bt_core::script::ScriptFault> {
+        use bt_core::script::{ScriptFault, Value};
+        let node = usize::from(ctx.node);
+        if ctx.starting {
+            let Some(Value::Str(k)) = self.blackboard[usize::from(queue)] else {
+                return Err(ScriptFault::Unset { slot: queue });
+            };
+            let Some(bt_core::port::Constant::Str(text)) = self.ports.constant(k) else {
+                return Err(ScriptFault::NotPermitted);
+            };
+            let elements = text.split(';').filter(|e| !e.is_empty()).map(|e| e.parse().unwrap()).collect();
+            self.queues.insert(node, (elements, 0));
+        }
+        let (elements, taken) = self.queues.get_mut(&node).unwrap();
+        let next = elements.get(*taken).copied();
+        if let Some(v) = next {
+            *taken += 1;
+            self.blackboard[usize::from(value)] = Some(Value::Int(v));
+        }
+        self.calls.push((node, if next.is_some() { status::SUCCESS } else { status::FAILURE }));
+        Ok(next.is_some())
+    }
 }
 
 /// Trees with scripts (a SubTree node with scripted attributes: `_failureIf`,
-/// `_onSuccess`, `_onHalted`, `_post`), run on bt-core from their image as a controller
+/// `_onSuccess`, `_onHalted`, `_post`; a `LoopInt` over a `{key}` holding a string,
+/// popped by the behavior set), run on bt-core from their image as a controller
 /// runs them, logged through [`RunLog`](btcpp::btlog::RunLog) as `sim-host` logs a run:
 /// the XML and every transition are BT.CPP's.
 #[test]
@@ -188,7 +215,14 @@ fn the_run_of_a_tree_with_scripts_logs_as_behaviortree_cpps() {
         let mut values = [0u16; 256];
         let (core, ports): (bt_core::Tree<'_, 16>, _) =
             bt_core::load_with_ports(&image, &imported.catalog, &mut nodes, &mut values).unwrap();
-        let mut run = Run { ports, blackboard: [None; 8], leaves: BTreeMap::new(), scripts: vec![], calls: vec![] };
+        let mut run = Run {
+            ports,
+            blackboard: [None; 8],
+            leaves: BTreeMap::new(),
+            scripts: vec![],
+            calls: vec![],
+            queues: BTreeMap::new(),
+        };
         for (i, m) in imported.meta.iter().enumerate() {
             if let Some(s) = case.scripts.get(&m.id) {
                 run.leaves.insert(i, (s.clone(), 0));
@@ -211,7 +245,7 @@ fn the_run_of_a_tree_with_scripts_logs_as_behaviortree_cpps() {
         assert_eq!(strip(&ours), strip(&theirs), "{}: transitions", case.name);
         compared += 1;
     }
-    assert_eq!(compared, 1);
+    assert_eq!(compared, 2);
 }
 
 /// The `_uid` attributes of a document, in order.
