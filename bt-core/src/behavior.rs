@@ -64,14 +64,15 @@ pub trait BehaviorSet {
     /// `ctx.starting` is set on its first pop of an activation (BehaviorTree.CPP reads a
     /// string entry such as `"1;2;3"` afresh then, and pops a queue entry in place). The
     /// set owns its queues: a controller keeps them in fixed storage (a
-    /// `heapless::Deque` per queue slot). The default refuses, for sets without queues.
+    /// `heapless::Deque` per queue slot). The default refuses with
+    /// [`ScriptFault::NoQueues`], for sets without queues.
     ///
     /// # Errors
     /// The [`ScriptFault`] that stopped it (an unset entry, one that holds no queue); the
     /// tick ends with it.
     fn pop(&mut self, queue: u16, value: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
         let _ = (queue, value, ctx);
-        Err(ScriptFault::Unsupported)
+        Err(ScriptFault::NoQueues)
     }
 }
 
@@ -161,7 +162,8 @@ pub enum TickError {
         /// Its behavior id.
         behavior: u16,
     },
-    /// A `Script` or `ScriptCondition` stopped with a fault (BehaviorTree.CPP throws).
+    /// A `Script`, `ScriptCondition`, `Precondition`, guard or `Loop` stopped with a fault
+    /// (BehaviorTree.CPP throws).
     #[error("script node {node}: {fault}")]
     Script {
         /// The script's node id.

@@ -119,6 +119,10 @@ pub enum ScriptFault {
     /// The behavior set does not run scripts.
     #[error("this behavior set does not run scripts")]
     Unsupported,
+    /// The behavior set keeps no blackboard queues ([`BehaviorSet::pop`](crate::BehaviorSet::pop)
+    /// is not implemented) and a `Loop` over a `{key}` asked it for an element.
+    #[error("this behavior set keeps no blackboard queues (BehaviorSet::pop), which a loop over a {{key}} needs")]
+    NoQueues,
     /// A slot read before anything was assigned to it.
     #[error("blackboard slot {slot} is read before it is set")]
     Unset {

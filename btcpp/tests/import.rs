@@ -493,6 +493,31 @@ fn loops_run_on_the_controller_side() {
     assert_eq!(said, [1.0, 2.0, 3.0].map(|v| Some(Value::Double(v))));
     // Asked afresh on the first pop of each activation: ticks 0 and 4.
     assert_eq!(starts, [true, false, false, false, true]);
+    // A set that keeps no queues refuses the pop, and the tick ends with that fault.
+    struct NoQueues;
+    impl bt_core::BehaviorSet for NoQueues {
+        fn condition(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> Status {
+            Status::Failure
+        }
+        fn action(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> Status {
+            Status::Success
+        }
+        fn halt(&mut self, _: &bt_core::Leaf, _: bt_core::NodeId) {}
+    }
+    let text =
+        doc(r#"<BehaviorTree ID="Main"><LoopPose queue="{q}" value="{v}"><Say text="{v}"/></LoopPose></BehaviorTree>"#);
+    let options = ImportOptions { loops: vec!["LoopPose".into()], ..ImportOptions::default() };
+    let i = import_text(Path::new("t.xml"), &text, &options).unwrap();
+    let image = i.image().unwrap();
+    let (mut nodes, mut values) = ([bt_core::Node::EMPTY; 4], [0u16; 16]);
+    let (tree, _): (bt_core::Tree<'_, 4>, _) =
+        bt_core::load_with_ports(&image, &i.catalog, &mut nodes, &mut values).unwrap();
+    let mut state = [NodeState::IDLE; 4];
+    let e = Executor::new(tree, &mut state).unwrap().tick(&mut NoQueues, 0).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "script node 0: this behavior set keeps no blackboard queues (BehaviorSet::pop), which a loop over a {key} needs"
+    );
 }
 
 /// The XML of a flattened tree writes scripts with the keys as it names them: a key a
