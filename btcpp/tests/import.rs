@@ -497,10 +497,10 @@ fn loops_run_on_the_controller_side() {
     struct NoQueues;
     impl bt_core::BehaviorSet for NoQueues {
         fn condition(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> Status {
-            Status::Failure
+            Failure
         }
         fn action(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> Status {
-            Status::Success
+            Success
         }
         fn halt(&mut self, _: &bt_core::Leaf, _: bt_core::NodeId) {}
     }
