@@ -314,11 +314,15 @@ impl Lowerer<'_> {
                 }
             }
             if loop_element(&n.id).is_some() || self.loops.contains(&n.id) {
-                // A loop writes its `value` and pops its `{queue}` in place.
+                // A loop writes its `value`. Its `{queue}` it pops in place only when a
+                // node's output port put a queue there (that port writes it); a string
+                // it reads as a queue, without writing it.
                 for b in n.ports.iter().filter(|b| b.port == "value" || b.port == "queue") {
                     if let Value::Key(k) = &b.value {
                         self.ported.insert(k.clone());
-                        self.written.insert(k.clone());
+                        if b.port == "value" {
+                            self.written.insert(k.clone());
+                        }
                     }
                 }
                 continue;
