@@ -2,6 +2,7 @@
 //! without panicking either.
 #![no_main]
 
+use bt_core::script::{ScriptFault, Value};
 use bt_core::{BehaviorInfo, BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Status, Tree, fingerprint, image};
 use libfuzzer_sys::fuzz_target;
 
@@ -35,6 +36,23 @@ impl BehaviorSet for Bytes<'_> {
         [Status::Success, Status::Failure, Status::Running, Status::Running, Status::Skipped][usize::from(self.next() % 5)]
     }
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
+    // Scripts (script nodes, guards' hooks, preconditions, literal loops' elements) and
+    // pops of blackboard queues answer from the bytes too, so the paths after them are
+    // explored; now and then they fault, as a script can.
+    fn script(&mut self, code: &[u16], _: Context<'_>) -> Result<Value, ScriptFault> {
+        self.1 += code.len() & 1;
+        match self.next() % 5 {
+            0 => Err(ScriptFault::NotPermitted),
+            b => Ok(Value::Bool(b & 1 == 1)),
+        }
+    }
+    fn pop(&mut self, queue: u16, value: u16, _: Context<'_>) -> Result<bool, ScriptFault> {
+        self.1 += usize::from(queue ^ value) & 1;
+        match self.next() % 5 {
+            0 => Err(ScriptFault::Unset { slot: queue }),
+            b => Ok(b & 1 == 1),
+        }
+    }
 }
 
 fuzz_target!(|data: &[u8]| {
