@@ -43,10 +43,14 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     programs the image carries (keys become blackboard slots; --enum gives the scripting \
     enums the C++ program registers). A script that does not parse is refused with its \
     place.\n\n\
+    LoopInt, LoopBool, LoopDouble and LoopString run on the controller too: a literal queue \
+    (queue=\"1;2;3\") is compiled into the image, a {key} queue is popped by the controller's \
+    behavior set (BehaviorSet::pop); --loop ID reads a LoopNode<T> the C++ program registers \
+    for a type of its own (t18's LoopPose).\n\n\
     What a controller cannot run is refused with file:line:column and the construct named, \
-    and nothing is written: Switch, Loop, blackboard writers, building strings in scripts, \
-    node types no model declares, ports a model does not declare, literals on output \
-    ports.\n\n\
+    and nothing is written: Switch, ManualSelector, blackboard writers, building strings in \
+    scripts, node types no model declares, ports a model does not declare, literals on \
+    output ports.\n\n\
     --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
     behavior set (a brick task or PDDL domain) back into that set, giving the same image.";
 
@@ -56,7 +60,8 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     sim-host import tree.xml --format ascii\n  \
     sim-host import tower.xml --behaviors tower --out tower.bt\n  \
     sim-host import t09_scripting.xml --nodes nodes.xml --enum RED=1 --enum BLUE=2 --enum THE_ANSWER=42\n  \
-    sim-host import main.xml --nodes nodes.xml --nodes subtrees.xml --cast Cat::Ptr=Animal::Ptr")]
+    sim-host import main.xml --nodes nodes.xml --nodes subtrees.xml --cast Cat::Ptr=Animal::Ptr\n  \
+    sim-host import t18_waypoints.xml --nodes nodes.xml --loop LoopPose")]
 pub struct Args {
     /// The BehaviorTree.CPP XML file.
     pub tree: PathBuf,
