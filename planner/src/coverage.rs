@@ -331,18 +331,45 @@ const DEAD_END_SEARCH: Duration = Duration::from_secs(2);
 /// Most bytes of states that search may store.
 const DEAD_END_MEMORY: usize = 256 << 20;
 
-/// Whether search finds a plan from `s` (`Some(true)`), proves there is none
-/// (`Some(false)`), or gives up (`None`).
-fn solvable(g: &Grounding, s: &State) -> Option<bool> {
-    let options = crate::search::SearchOptions {
-        deadline: Some(Instant::now() + DEAD_END_SEARCH),
-        memory: DEAD_END_MEMORY,
-        ..crate::search::SearchOptions::default()
-    };
-    match crate::search::gbfs_from(g, s, &options) {
-        Ok(_) => Some(true),
-        Err(PlanError::NoPlan(_)) => Some(false),
-        Err(_) => None,
+/// Most time all the searches of one instance's episodes may take to tell dead ends
+/// apart: past it, failed episodes count as failed, not as dead ends, so that a hard
+/// instance's episodes end well within the process's time limit.
+const DEAD_END_TOTAL: Duration = Duration::from_secs(20);
+
+/// Whether search finds a plan from a state (`Some(true)`), proves there is none
+/// (`Some(false)`), or gives up (`None`): each state searched once, all of them within
+/// [`DEAD_END_TOTAL`].
+struct Solvable<'g> {
+    g: &'g Grounding,
+    known: std::collections::HashMap<State, Option<bool>>,
+    until: Instant,
+}
+
+impl<'g> Solvable<'g> {
+    fn new(g: &'g Grounding) -> Self {
+        Self { g, known: std::collections::HashMap::new(), until: Instant::now() + DEAD_END_TOTAL }
+    }
+
+    fn from(&mut self, s: &State) -> Option<bool> {
+        if let Some(&v) = self.known.get(s) {
+            return v;
+        }
+        let now = Instant::now();
+        if now >= self.until {
+            return None;
+        }
+        let options = crate::search::SearchOptions {
+            deadline: Some((now + DEAD_END_SEARCH).min(self.until)),
+            memory: DEAD_END_MEMORY,
+            ..crate::search::SearchOptions::default()
+        };
+        let v = match crate::search::gbfs_from(self.g, s, &options) {
+            Ok(_) => Some(true),
+            Err(PlanError::NoPlan(_)) => Some(false),
+            Err(_) => None,
+        };
+        self.known.insert(s.clone(), v);
+        v
     }
 }
 
@@ -369,6 +396,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
     let budget = episode_ticks(undisturbed_ticks);
     let mut out = Disturbed { episodes: settings.episodes, ..Disturbed::default() };
     let mut states = Vec::new();
+    let mut solvable = Solvable::new(g);
     for e in 0..settings.episodes {
         let mut rng = ChaCha8Rng::seed_from_u64(settings.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(e));
         let mut world = StripsWorld::new(g.clone());
@@ -421,7 +449,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
             out.reached += 1;
         } else if changes
             .iter()
-            .any(|(before, after)| solvable(g, after) == Some(false) && solvable(g, before) == Some(true))
+            .any(|(before, after)| solvable.from(after) == Some(false) && solvable.from(before) == Some(true))
         {
             out.dead_ends += 1;
         }
