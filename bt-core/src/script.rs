@@ -352,19 +352,40 @@ pub enum Hook {
 /// present, in bit order, its length in words and its program.
 #[must_use]
 pub fn hook(table: &[u16], hook: Hook) -> Option<&[u16]> {
-    let (&mask, mut rest) = table.split_first()?;
-    for h in 0..8u16 {
-        if mask & (1 << h) == 0 {
-            continue;
-        }
-        let (&len, tail) = rest.split_first()?;
-        let (program, after) = tail.split_at_checked(usize::from(len))?;
-        if h == hook as u16 {
-            return Some(program);
-        }
+    let (&mask, rest) = table.split_first()?;
+    let h = hook as u16;
+    if mask & (1 << h) == 0 {
+        return None;
+    }
+    // The programs of the hooks present before it come first.
+    nth_program(rest, (mask & ((1 << h) - 1)).count_ones() as usize)
+}
+
+/// The first of a run of programs each preceded by its length (a guard's hooks, a
+/// literal queue's elements), and the words after it.
+fn split_program(words: &[u16]) -> Option<(&[u16], &[u16])> {
+    let (&len, tail) = words.split_first()?;
+    tail.split_at_checked(usize::from(len))
+}
+
+/// Program `k` (0-based) of a run of length-prefixed programs.
+fn nth_program(mut words: &[u16], k: usize) -> Option<&[u16]> {
+    for _ in 0..k {
+        words = split_program(words)?.1;
+    }
+    split_program(words).map(|(program, _)| program)
+}
+
+/// Checks that `rest`, the end of `table`, is exactly `count` length-prefixed programs,
+/// each [`check`]ed.
+fn check_programs(table: &[u16], mut rest: &[u16], count: usize, ports: &PortTable<'_>) -> Result<(), ScriptFault> {
+    let bad = |rest: &[u16]| ScriptFault::Malformed { at: (table.len() - rest.len()) as u16 };
+    for _ in 0..count {
+        let (program, after) = split_program(rest).ok_or(bad(rest))?;
+        check(program, ports)?;
         rest = after;
     }
-    None
+    if rest.is_empty() { Ok(()) } else { Err(bad(rest)) }
 }
 
 /// Checks a guard's table: a mask of the eight hooks, each program present whole and
@@ -374,22 +395,12 @@ pub fn hook(table: &[u16], hook: Hook) -> Option<&[u16]> {
 /// The first fault, as [`check`] finds it ([`ScriptFault::Malformed`] at the table's
 /// word for the framing).
 pub fn check_guard(table: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
-    let bad = |at: usize| ScriptFault::Malformed { at: at as u16 };
-    let (&mask, mut rest) = table.split_first().ok_or(bad(0))?;
+    let bad = ScriptFault::Malformed { at: 0 };
+    let (&mask, rest) = table.split_first().ok_or(bad)?;
     if mask == 0 || mask > 0xFF {
-        return Err(bad(0));
+        return Err(bad);
     }
-    for h in 0..8u16 {
-        if mask & (1 << h) == 0 {
-            continue;
-        }
-        let at = table.len() - rest.len();
-        let (&len, tail) = rest.split_first().ok_or(bad(at))?;
-        let (program, after) = tail.split_at_checked(usize::from(len)).ok_or(bad(at))?;
-        check(program, ports)?;
-        rest = after;
-    }
-    if rest.is_empty() { Ok(()) } else { Err(bad(table.len() - rest.len())) }
+    check_programs(table, rest, mask.count_ones() as usize, ports)
 }
 
 /// What a [`NodeKind::Loop`](crate::NodeKind::Loop)'s elements are: the `T` of
@@ -471,19 +482,11 @@ pub fn queue(table: &[u16]) -> Option<Queue<'_>> {
 /// The program of element `k` (0-based) of a literal queue, `None` past its end.
 #[must_use]
 pub fn element(literal: &[u16], k: u16) -> Option<&[u16]> {
-    let (&count, mut rest) = literal.split_first()?;
+    let (&count, rest) = literal.split_first()?;
     if k >= count {
         return None;
     }
-    for i in 0..=k {
-        let (&len, tail) = rest.split_first()?;
-        let (program, after) = tail.split_at_checked(usize::from(len))?;
-        if i == k {
-            return Some(program);
-        }
-        rest = after;
-    }
-    None
+    nth_program(rest, usize::from(k))
 }
 
 /// Checks a loop table: a known header, the name a string constant when given (and
@@ -512,15 +515,8 @@ pub fn check_queue(table: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFau
             Ok(())
         }
         Queue::Literal(literal) => {
-            let (&count, mut rest) = literal.split_first().ok_or(bad(2))?;
-            for _ in 0..count {
-                let at = table.len() - rest.len();
-                let (&len, tail) = rest.split_first().ok_or(bad(at))?;
-                let (program, after) = tail.split_at_checked(usize::from(len)).ok_or(bad(at))?;
-                check(program, ports)?;
-                rest = after;
-            }
-            if rest.is_empty() { Ok(()) } else { Err(bad(table.len() - rest.len())) }
+            let (&count, rest) = literal.split_first().ok_or(bad(2))?;
+            check_programs(table, rest, usize::from(count), ports)
         }
     }
 }

@@ -815,7 +815,8 @@ impl Lowerer<'_> {
     /// becomes one assignment program per element; a `{key}` the slots
     /// [`BehaviorSet::pop`](bt_core::BehaviorSet::pop) is given.
     fn loop_kind(&mut self, n: &Inst, element: bt_core::script::Element) -> Result<NodeKind> {
-        use bt_core::script::{Element, QUEUE_KEY, op};
+        use bt_core::script::{Element, QUEUE_KEY};
+        use script::Push;
         let if_empty = self.status_param(n, "if_empty", bt_core::Status::Success)?;
         let (ty, type_name) = match element {
             Element::Int => (PortType::Int, Some("int")),
@@ -855,7 +856,7 @@ impl Lowerer<'_> {
             Value::Literal(text) => Ok(text.clone()),
             Value::Key(k) => self.initial_literal(k).ok_or(k),
         };
-        let mut table;
+        let table;
         match literal {
             Ok(text) => {
                 if element == Element::Registered {
@@ -865,13 +866,13 @@ impl Lowerer<'_> {
                         "BehaviorTree.CPP reads a literal queue only for LoopInt, LoopBool, LoopDouble and LoopString",
                     ));
                 }
-                table = vec![element as u16, registered(self, &queue.at)?, 0];
-                let mut count = 0u16;
+                let name = registered(self, &queue.at)?;
                 // BehaviorTree.CPP's splitString: no element after a final `;`.
                 let mut parts: Vec<&str> = text.split(';').collect();
                 if parts.last() == Some(&"") {
                     parts.pop();
                 }
+                let mut programs = Vec::with_capacity(parts.len());
                 for part in parts {
                     let bad = || {
                         ImportError::new(
@@ -884,23 +885,18 @@ impl Lowerer<'_> {
                             },
                         )
                     };
-                    let mut program = match convert(type_name, part).ok_or_else(bad)? {
-                        Literal::Int(v) => [op::INT].into_iter().chain(words(v as u64)).collect::<Vec<u16>>(),
-                        Literal::Double(v) => [op::DOUBLE].into_iter().chain(words(v.to_bits())).collect(),
+                    let push = match convert(type_name, part).ok_or_else(bad)? {
+                        Literal::Int(v) => Push::Int(v),
+                        Literal::Double(v) => Push::Double(v),
                         // A string the slot's type converts (`true` for a boolean slot).
-                        Literal::Bool(v) => vec![op::STR, self.intern(Literal::Str(v.to_string()), &queue.at)?],
-                        Literal::Str(v) => vec![op::STR, self.intern(Literal::Str(v), &queue.at)?],
+                        Literal::Bool(v) => Push::Str(self.intern(Literal::Str(v.to_string()), &queue.at)?),
+                        Literal::Str(v) => Push::Str(self.intern(Literal::Str(v), &queue.at)?),
                     };
-                    if let Some(slot) = value {
-                        program.extend_from_slice(&[op::STORE, 0, slot, op::DECLARED]);
-                    }
-                    table.push(u16::try_from(program.len()).unwrap_or(u16::MAX));
-                    table.extend_from_slice(&program);
-                    count = count.checked_add(1).ok_or_else(|| {
-                        ImportError::new(&queue.at, Fault::TooLarge("a queue of more than 65535 elements".into()))
-                    })?;
+                    programs.push(script::element_program(push, value));
                 }
-                table[2] = count;
+                table = script::literal_queue(element, name, &programs).ok_or_else(|| {
+                    ImportError::new(&queue.at, Fault::TooLarge("a queue of more than 65535 elements".into()))
+                })?;
                 flat.push(("queue".to_string(), text));
             }
             Err(k) => {
@@ -1194,12 +1190,6 @@ fn grounded_values(k: &dyn Grounded, behavior: BehaviorId, n: &Inst) -> Result<V
         values.push(v);
     }
     Ok(values)
-}
-
-/// A 64-bit value as four words, least significant first (a script's `int` and
-/// `double` operands).
-fn words(v: u64) -> [u16; 4] {
-    [v as u16, (v >> 16) as u16, (v >> 32) as u16, (v >> 48) as u16]
 }
 
 /// Refuses a port the node type does not have.

@@ -387,6 +387,46 @@ fn words(bits: u64) -> [u16; 4] {
     [bits as u16, (bits >> 16) as u16, (bits >> 32) as u16, (bits >> 48) as u16]
 }
 
+/// A value a loop element's program pushes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Push {
+    /// An integer.
+    Int(i64),
+    /// A double.
+    Double(f64),
+    /// A string constant of the ports section.
+    Str(u16),
+}
+
+/// The program of one element of a literal loop queue: it pushes `value` and, given the
+/// loop's `value` slot, assigns it there (`:=`, the slot declared by that port).
+#[must_use]
+pub fn element_program(value: Push, slot: Option<u16>) -> Vec<u16> {
+    let mut program = match value {
+        Push::Int(v) => [op::INT].into_iter().chain(words(v as u64)).collect(),
+        Push::Double(v) => [op::DOUBLE].into_iter().chain(words(v.to_bits())).collect(),
+        Push::Str(k) => vec![op::STR, k],
+    };
+    if let Some(slot) = slot {
+        program.extend_from_slice(&[op::STORE, 0, slot, op::DECLARED]);
+    }
+    program
+}
+
+/// A literal loop queue's table, as [`bt_core::script::queue`] reads it: the element
+/// type, the string constant naming the node (`0xFFFF` for the built-in loops), the
+/// count, then each element's program with its length. `None` past 65,535 elements or
+/// words in one program.
+#[must_use]
+pub fn literal_queue(element: bt_core::script::Element, name: u16, programs: &[Vec<u16>]) -> Option<Vec<u16>> {
+    let mut table = vec![element as u16, name, u16::try_from(programs.len()).ok()?];
+    for p in programs {
+        table.push(u16::try_from(p.len()).ok()?);
+        table.extend_from_slice(p);
+    }
+    Some(table)
+}
+
 impl Compiler<'_> {
     fn emit(&mut self, w: &[u16], effect: isize) {
         self.code.extend_from_slice(w);

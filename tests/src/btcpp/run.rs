@@ -103,31 +103,19 @@ fn status_of(letter: char) -> Status {
 /// A spec loop's table: a literal queue whose programs assign each element to `n`
 /// (`LoopInt`) or `m` (`LoopDouble`), as the importer writes them.
 fn loop_table(double: bool, count: u8) -> Result<Vec<u16>, String> {
-    use bt_core::script::{Element, op};
-    let element = if double { Element::Double } else { Element::Int };
-    let mut table = vec![element as u16, u16::MAX, u16::from(count)];
+    use bt_core::script::Element;
+    use btcpp::xml::script::{Push, element_program, literal_queue};
+    let (element, slot) = if double { (Element::Double, 1) } else { (Element::Int, 0) };
+    let mut programs = Vec::new();
     for text in loop_elements(double, count) {
-        let bits = if double {
-            text.parse::<f64>().map_err(|e| e.to_string())?.to_bits()
+        let push = if double {
+            Push::Double(text.parse().map_err(|e: std::num::ParseFloatError| e.to_string())?)
         } else {
-            text.parse::<i64>().map_err(|e| e.to_string())? as u64
+            Push::Int(text.parse().map_err(|e: std::num::ParseIntError| e.to_string())?)
         };
-        let slot = if double { 1 } else { 0 };
-        let program = [
-            if double { op::DOUBLE } else { op::INT },
-            bits as u16,
-            (bits >> 16) as u16,
-            (bits >> 32) as u16,
-            (bits >> 48) as u16,
-            op::STORE,
-            0,
-            slot,
-            op::DECLARED,
-        ];
-        table.push(program.len() as u16);
-        table.extend_from_slice(&program);
+        programs.push(element_program(push, Some(slot)));
     }
-    Ok(table)
+    literal_queue(element, u16::MAX, &programs).ok_or_else(|| "a queue too long".to_string())
 }
 
 /// The spec as a bt-core node array.
