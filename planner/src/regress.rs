@@ -37,12 +37,21 @@
 //! handled; one that does one of the tree's actions for it can move the world off the
 //! plan, where no rule may hold and the tree fails. [`close`] finds those states: from
 //! every state the tree passes through, it applies each of the tree's actions that is
-//! applicable, and where the tree would fail it plans from that state (greedy
-//! best-first search) and adds the new plan's rules, up to [`MAX_DISTURBANCES`]
-//! disturbances deep, within a budget of plans, nodes and time (the tree is correct at
-//! every point, so running out of budget leaves a tree that is only less robust).
-//! [`close_with`] does the same for rules in front of another tree ([`Closable`]):
-//! where that tree fails from a state a disturbance leads to, the rules take over.
+//! applicable, and where the tree would fail it finds a way back to its rules and adds
+//! that path's rules (regressed from the rule it leads to), up to [`MAX_DISTURBANCES`]
+//! disturbances deep. The way back is a path of at most two actions to a state where
+//! a rule holds; else a longer one found by search on the unmet conditions of the
+//! rules ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of
+//! turn, the plan's later steps lead back to its rules long before the goal), taken
+//! when it leaves the world no farther from the goal than before the disturbance;
+//! else the shorter of that way and a new plan to the goal (greedy best-first search
+//! with h_FF), the plan on a tie, since rules regressed from the goal hold in more
+//! states. The ways back try the tree's own actions before any others: a tree with
+//! fewer distinct actions gives an external agent fewer to do. All within a budget of
+//! plans, nodes and time (the tree is correct at every point, so running out of
+//! budget leaves a tree that is only less robust). [`close_with`] does the same for
+//! rules in front of another tree ([`Closable`]): where that tree fails from a state a
+//! disturbance leads to, the rules take over.
 
 use std::collections::HashSet;
 use std::time::Instant;
@@ -413,12 +422,66 @@ impl Policy {
         t
     }
 
+    /// A path from `t` to a state where a rule (or the goal) holds, and the first rule
+    /// that holds there: best-first search on the conditions of the nearest rule that
+    /// do not hold plus the actions taken (ties: the rule nearer the goal), with the
+    /// actions `own` first, then with any;
+    /// `None` when neither finds one within [`REJOIN_STATES`] states or by `deadline`. Where a disturbance did a step of a long plan out of turn, the
+    /// plan's own later steps lead back to its rules long before the goal: a new plan to
+    /// the goal would add a rule for every one of its steps.
+    #[must_use]
+    pub fn rejoin(
+        &self,
+        g: &Grounding,
+        t: &State,
+        own: &[ActionId],
+        deadline: Option<Instant>,
+    ) -> Option<(Vec<ActionId>, Rule)> {
+        let goal = Rule::goal(g);
+        let unmet = |s: &State| -> u64 {
+            let mut best = u64::MAX;
+            for r in std::iter::once(&goal).chain(self.rules.iter()) {
+                let mut n: u64 = 0;
+                for l in &r.when {
+                    if !l.holds(s) {
+                        n += 1;
+                        if n << 32 >= best {
+                            break;
+                        }
+                    }
+                }
+                let v = n << 32 | u64::from(r.distance);
+                best = best.min(v);
+                if n == 0 {
+                    break;
+                }
+            }
+            if best >> 32 == 0 { 0 } else { best }
+        };
+        // The tree's own actions first, as in `repair`.
+        let mut allowed = vec![false; g.actions().len()];
+        for &a in own {
+            if let Some(x) = allowed.get_mut(a as usize) {
+                *x = true;
+            }
+        }
+        // One action costs as much as one unmet condition.
+        let plan = search::best_first_to(g, t, Some(&allowed), 1 << 32, REJOIN_STATES, deadline, unmet)
+            .or_else(|| search::best_first_to(g, t, None, 1 << 32, REJOIN_STATES, deadline, unmet))?;
+        let end = Trace::from_state(g, t, &plan)?.state(plan.len())?.clone();
+        let rule = if g.goal_holds(&end) { goal } else { self.first(&end)?.clone() };
+        Some((plan, rule))
+    }
+
     /// An empty policy (no rules).
     #[must_use]
     pub fn empty() -> Self {
         Self { rules: Vec::new() }
     }
 }
+
+/// Most states [`Policy::rejoin`] stores.
+const REJOIN_STATES: usize = 5_000;
 
 /// A tree a closure grows: the policy's rules first, then whatever the tree does where
 /// none of them holds. For a regression tree that is nothing (the tree fails there);
@@ -533,31 +596,51 @@ fn pass(
                 }
                 let (mut path, reached) = tree.run(g, policy, &t)?;
                 if !reached {
-                    if let Some((steps, rule)) = repair(g, policy, &t) {
-                        if let Some(trace) = Trace::from_state(g, &t, &steps) {
-                            policy.add_path(g, &trace, &rule);
-                            done.plans += 1;
+                    let own = tree.actions(policy);
+                    let deadline = search_deadline(budget);
+                    // A short way back to the rules; else a longer way back that is no
+                    // farther from the goal than the tree was before the disturbance;
+                    // else the shorter way to the goal of that way back and a new plan
+                    // (on a tie the plan: rules regressed from the goal hold in more
+                    // states than those from another rule).
+                    let back = repair(g, policy, &t, &own).or_else(|| {
+                        let rejoined = policy.rejoin(g, &t, &own, deadline);
+                        // No nearer the goal than before the disturbance: as good as
+                        // the plan the tree was on, and no search needed.
+                        let before = policy.first(s).map(|r| r.distance as usize);
+                        if let Some((p, r)) = &rejoined
+                            && before.is_some_and(|d| p.len() + r.distance as usize <= d)
+                        {
+                            return rejoined;
                         }
-                    } else {
-                        let options = SearchOptions { deadline: search_deadline(budget), ..SearchOptions::default() };
+                        let options = SearchOptions { deadline, ..SearchOptions::default() };
                         match search::gbfs_from(g, &t, &options) {
-                            Ok(found) => {
-                                let Some(trace) = Trace::from_state(g, &t, &found.plan) else { continue };
-                                policy.add_trace(g, &trace);
-                                done.plans += 1;
+                            Ok(found)
+                                if rejoined
+                                    .as_ref()
+                                    .is_none_or(|(p, r)| found.plan.len() <= p.len() + r.distance as usize) =>
+                            {
+                                Some((found.plan, Rule::goal(g)))
                             }
-                            Err(PlanError::NoPlan(_)) => {
+                            Ok(_) => rejoined,
+                            Err(PlanError::NoPlan(_)) if rejoined.is_none() => {
                                 done.dead_ends += 1;
-                                continue;
+                                None
                             }
-                            // One hard state does not end the closure: the others
-                            // may be easy.
+                            // One hard state does not end the closure: the others may
+                            // be easy.
                             Err(_) => {
-                                done.given_up += 1;
-                                continue;
+                                if rejoined.is_none() {
+                                    done.given_up += 1;
+                                }
+                                rejoined
                             }
                         }
-                    }
+                    });
+                    let Some((steps, rule)) = back else { continue };
+                    let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
+                    policy.add_path(g, &trace, &rule);
+                    done.plans += 1;
                     size = tree.nodes(g, policy);
                     path = tree.run(g, policy, &t)?.0;
                 }
@@ -595,11 +678,10 @@ const REPAIR_STATES: usize = 4_000;
 /// The shortest path (at most [`REPAIR_DEPTH`] actions) from `t` to a state where a
 /// rule holds, and that rule (for the goal, its conditions at distance 0): with the
 /// tree's own actions if they can (a tree with fewer distinct actions gives an external
-/// agent fewer to do), else with any. Breadth first, actions in a fixed order, so the
+/// agent fewer to do), else with any; breadth first, actions in a fixed order, so the
 /// result is deterministic.
-fn repair(g: &Grounding, policy: &Policy, t: &State) -> Option<(Vec<ActionId>, Rule)> {
-    let own = policy.actions();
-    repair_with(g, policy, t, &own).or_else(|| {
+fn repair(g: &Grounding, policy: &Policy, t: &State, own: &[ActionId]) -> Option<(Vec<ActionId>, Rule)> {
+    repair_with(g, policy, t, own).or_else(|| {
         let all: Vec<ActionId> = (0..g.actions().len() as ActionId).collect();
         repair_with(g, policy, t, &all)
     })

@@ -55,6 +55,7 @@ fn the_closed_tree_has_a_rule_wherever_one_disturbance_leads() {
     assert!(before.iter().any(|(_, covered)| !covered), "the plain tree already covers every state");
     let closed = regress::close(&g, &mut policy, &Budget::default()).unwrap();
     assert!(closed.plans > 0, "{closed}");
+    eprintln!("DBG {closed} nodes {}", policy.nodes(&g));
     for (t, covered) in one_disturbance_away(&g, &policy) {
         if !covered {
             // Only where no plan exists.
@@ -219,4 +220,33 @@ fn a_disturbance_that_leaves_no_plan_is_counted_as_a_dead_end() {
     assert_eq!(d.reached + d.dead_ends, d.episodes, "{d}");
     assert_eq!(d.recoverable(), d.reached);
     assert!(d.to_string().ends_with(&format!("({} dead end{})", d.dead_ends, if d.dead_ends == 1 { "" } else { "s" })));
+}
+
+#[test]
+fn a_disturbed_state_is_led_back_to_the_rules_it_left() {
+    // Where a disturbance leaves the plain regression tree without a rule, a short
+    // search on the unmet conditions of its rules leads back to one of them, usually
+    // long before the goal (a new plan to the goal would add a rule per step).
+    let (g, _) = grounding("openstacks-sat08-adl/domain.pddl", "openstacks-sat08-adl/p01.pddl");
+    let policy = plain_policy(&g);
+    let own = policy.actions();
+    let (mut uncovered, mut midway, mut beyond_two) = (0, 0, 0);
+    for (t, covered) in one_disturbance_away(&g, &policy) {
+        if covered {
+            continue;
+        }
+        uncovered += 1;
+        let (path, rule) = policy.rejoin(&g, &t, &own, None).expect("no way back to the rules");
+        let trace = Trace::from_state(&g, &t, &path).expect("the path is not applicable");
+        let end = trace.state(path.len()).unwrap();
+        assert!(rule.when.iter().all(|l| l.holds(end)), "the rule does not hold where the path ends");
+        if rule.distance > 0 {
+            assert_eq!(policy.first(end), Some(&rule), "not the first rule that holds there");
+            midway += 1;
+            beyond_two += usize::from(path.len() > 2);
+        }
+    }
+    eprintln!("{uncovered} uncovered, {midway} led back to a rule, {beyond_two} of them more than two steps away");
+    assert!(uncovered > 0, "the plain tree covers every state: the test shows nothing");
+    assert!(midway > 0 && beyond_two > 0);
 }

@@ -198,6 +198,68 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
     }
 }
 
+/// Best-first search from `start` for a state whose `score` is 0, lowest `score` plus
+/// `step` per action from `start` first (ties: generated first; `step` 0 is greedy
+/// search), with the actions `allowed` marks (all when `None`), storing at most
+/// `max_states` states: the plan, or `None` when none was found within those bounds.
+/// [`crate::regress`] uses it to lead a disturbed state back to one of a tree's rules,
+/// scored by the conditions of the nearest rule that do not hold.
+#[must_use]
+pub fn best_first_to(
+    g: &Grounding,
+    start: &State,
+    allowed: Option<&[bool]>,
+    step: u64,
+    max_states: usize,
+    deadline: Option<Instant>,
+    mut score: impl FnMut(&State) -> u64,
+) -> Option<Vec<ActionId>> {
+    if score(start) == 0 {
+        return Some(Vec::new());
+    }
+    let succ = Successors::new(g);
+    let mut reg = Registry::new(g, start);
+    let (root, _) = reg.insert(start);
+    let mut nodes = vec![Node { parent: u32::MAX, action: 0 }];
+    let mut depth: Vec<u64> = vec![0];
+    let mut open: BinaryHeap<Reverse<(u64, u32)>> = BinaryHeap::new();
+    open.push(Reverse((score(start), root)));
+    let mut state = State::new(g.atom_count());
+    let mut next = State::new(g.atom_count());
+    let mut applicable = Vec::new();
+    while let Some(Reverse((_, id))) = open.pop() {
+        if deadline.is_some_and(|d| Instant::now() >= d) {
+            return None;
+        }
+        reg.load(id, &mut state);
+        succ.applicable(g, &state, &mut applicable);
+        for &a in &applicable {
+            if allowed.is_some_and(|ok| !ok.get(a as usize).copied().unwrap_or(false)) {
+                continue;
+            }
+            let Some(action) = g.action(a) else { continue };
+            next.clone_from(&state);
+            action.apply(&mut next);
+            let (sid, new) = reg.insert(&next);
+            if !new {
+                continue;
+            }
+            nodes.push(Node { parent: id, action: a });
+            let d = depth.get(id as usize).map_or(0, |d| d + 1);
+            depth.push(d);
+            let v = score(&next);
+            if v == 0 {
+                return Some(path(&nodes, sid));
+            }
+            if reg.len() >= max_states {
+                return None;
+            }
+            open.push(Reverse((v.saturating_add(d.saturating_mul(step)), sid)));
+        }
+    }
+    None
+}
+
 /// The actions from the root to state `id`.
 fn path(nodes: &[Node], mut id: u32) -> Vec<ActionId> {
     let mut plan = Vec::new();
