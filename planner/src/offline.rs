@@ -172,7 +172,7 @@ fn close_budget(options: Options) -> crate::regress::Budget {
 /// the tree does not reach the goal, rules go in front of it
 /// (`Fallback(goal?, rules..., tree)`: the rules of the tree's own plan, and those of
 /// the plans from such states), with [`Options::close_backchained`]. A tree that
-/// reaches the goal from every state looked at stays exactly as it was.
+/// reaches the goal alone from every state looked at stays exactly as it was.
 fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {
     if !options.close_backchained || options.close_nodes == 0 {
         return Ok(p);
@@ -185,9 +185,16 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     // undisturbed plan never gets longer.
     let mut policy = Trace::new(g, &p.executed)
         .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
-    let closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
+    let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
     if closed.plans == 0 {
-        return Ok(Plan { closed: Some(closed), ..p });
+        // Nothing added, but the closure looked with the plan's rules in front: the
+        // tree stays as it was only if it does as well alone.
+        let mut none = crate::regress::Policy::empty();
+        let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options))?;
+        if alone.plans == 0 && alone.given_up == 0 {
+            return Ok(Plan { closed: Some(closed), ..p });
+        }
+        closed.own_rules = true;
     }
     let planner = Planner::from_tree(g.clone(), policy.tree_before(g, &base), options)?;
     let catalog = p.catalog.clone();

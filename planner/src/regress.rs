@@ -160,6 +160,9 @@ pub struct Closed {
     /// Whether every state within [`MAX_DISTURBANCES`] was looked at (false: a budget
     /// ran out first).
     pub complete: bool,
+    /// Whether rules of a backchained tree's own plan went in front of it with no plan
+    /// added ([`close_with`] looks with them there; the tree alone did worse).
+    pub own_rules: bool,
 }
 
 impl std::fmt::Display for Closed {
@@ -178,6 +181,9 @@ impl std::fmt::Display for Closed {
         }
         if self.given_up > 0 {
             write!(f, " ({} where no plan was found in time)", count(self.given_up, "state"))?;
+        }
+        if self.own_rules {
+            write!(f, ", the rules of the tree's own plan put in front of it")?;
         }
         if !self.complete {
             write!(f, ", budget reached")?;
