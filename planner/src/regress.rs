@@ -163,6 +163,9 @@ pub struct Closed {
     /// Whether rules of a backchained tree's own plan went in front of it with no plan
     /// added ([`close_with`] looks with them there; the tree alone did worse).
     pub own_rules: bool,
+    /// Whether the closure of a backchained tree ran out of budget and the tree was
+    /// kept as it was, without the rules.
+    pub kept: bool,
 }
 
 impl std::fmt::Display for Closed {
@@ -187,6 +190,9 @@ impl std::fmt::Display for Closed {
         }
         if !self.complete {
             write!(f, ", budget reached")?;
+        }
+        if self.kept {
+            write!(f, ": the tree is kept as it was")?;
         }
         Ok(())
     }
@@ -444,9 +450,23 @@ impl Policy {
         deadline: Option<Instant>,
     ) -> Option<(Vec<ActionId>, Rule)> {
         let goal = Rule::goal(g);
+        // A rule with a condition that is false in `t` and that no action makes true
+        // (a product made, a day gone) is out of reach: left out of the score.
+        let mut makes = vec![false; g.atom_count() * 2];
+        for x in g.actions() {
+            let adds = x.add.iter().chain(x.cond.iter().flat_map(|k| k.add.iter()));
+            let dels = x.del.iter().chain(x.cond.iter().flat_map(|k| k.del.iter()));
+            for (&atom, positive) in adds.map(|a| (a, true)).chain(dels.map(|d| (d, false))) {
+                if let Some(m) = makes.get_mut(Lit { atom, positive }.index()) {
+                    *m = true;
+                }
+            }
+        }
+        let within = |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || makes.get(l.index()).copied().unwrap_or(false));
+        let near: Vec<&Rule> = std::iter::once(&goal).chain(self.rules.iter()).filter(within).collect();
         let unmet = |s: &State| -> u64 {
             let mut best = u64::MAX;
-            for r in std::iter::once(&goal).chain(self.rules.iter()) {
+            for &r in &near {
                 let mut n: u64 = 0;
                 for l in &r.when {
                     if !l.holds(s) {

@@ -318,3 +318,19 @@ fn a_closed_backchained_tree_reaches_the_goal_wherever_one_disturbance_leads() {
     }
     assert!(looked > 50, "too few states looked at: {looked}");
 }
+
+#[test]
+fn a_backchained_tree_whose_closure_runs_out_of_budget_is_kept_as_it_was() {
+    let (g, c) = grounding("transport-sat08-strips/domain.pddl", "transport-sat08-strips/p01.pddl");
+    let plain = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
+    // Room for the tree and a few rules, not for the rules of every disturbed state.
+    let options = Options { close_backchained: true, close_nodes: plain.nodes.len() + 20, ..Options::default() };
+    let p = planner::plan(g.clone(), c.clone(), options).unwrap();
+    let report = p.closed.unwrap();
+    assert!(!report.complete && report.kept, "{report}");
+    assert!(report.to_string().ends_with("budget reached: the tree is kept as it was"), "{report}");
+    assert_eq!(p.nodes, plain.nodes);
+    // With room enough, the rules go in front.
+    let roomy = planner::plan(g.clone(), c.clone(), Options { close_backchained: true, ..Options::default() }).unwrap();
+    assert!(roomy.closed.unwrap().complete && roomy.nodes.len() > plain.nodes.len());
+}

@@ -129,8 +129,11 @@ pub struct Args {
     /// Close the trees of Algorithm 1 and guided backchaining over disturbances too
     /// (PDDL only): where an external agent doing one of the tree's actions out of turn
     /// leaves the world in a state the tree fails from, rules for those states go in
-    /// front of it, within --close-nodes. Off by default, so that those methods' trees
-    /// stay as the method makes them (the paper's figures among them).
+    /// front of it, within --close-nodes (a tree whose closure runs out of that budget
+    /// before it has looked at every such state stays as it was: it copes with many of
+    /// them alone, and rules for only some would give the agent new actions). Off by
+    /// default, so that those methods' trees stay as the method makes them (the
+    /// paper's figures among them).
     #[arg(long, conflicts_with = "task")]
     pub close_backchained: bool,
 }
