@@ -54,7 +54,7 @@ pub struct Options {
     pub max_ticks: u32,
     /// Most expansions.
     pub max_expansions: usize,
-    /// Offline: keep a copy of the tree after every expansion ([`Plan::steps`]).
+    /// Offline: keep a copy of the tree after every expansion ([`crate::Plan::steps`]).
     pub record_steps: bool,
     /// Offline: how the tree is made.
     pub method: Method,

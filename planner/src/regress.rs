@@ -346,8 +346,8 @@ impl Policy {
     }
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
-    /// with the conditions that neighbouring rules share checked once (see
-    /// [`Policy::factor`]).
+    /// with the conditions that neighbouring rules share checked once (in a
+    /// `Sequence(shared?, Fallback(rules...))` around them).
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
         let mut t = PlanTree::with_root(Kind::Fallback);
@@ -436,11 +436,13 @@ impl Policy {
 
     /// A path from `t` to a state where a rule (or the goal) holds, and the first rule
     /// that holds there: best-first search on the conditions of the nearest rule that
-    /// do not hold plus the actions taken (ties: the rule nearer the goal), with the
-    /// actions `own` first, then with any;
-    /// `None` when neither finds one within [`REJOIN_STATES`] states or by `deadline`. Where a disturbance did a step of a long plan out of turn, the
-    /// plan's own later steps lead back to its rules long before the goal: a new plan to
-    /// the goal would add a rule for every one of its steps.
+    /// do not hold plus the actions taken (one action weighs as one condition; ties: the
+    /// rule nearer the goal), leaving out the rules that need a fact false in `t` that no
+    /// action makes true; with the actions `own` first, then with any. `None` when
+    /// neither finds one within 5,000 stored states or by `deadline`. Where a
+    /// disturbance did a step of a long plan out of turn, the plan's own later steps
+    /// lead back to its rules long before the goal: a new plan to the goal would add a
+    /// rule for every one of its steps.
     #[must_use]
     pub fn rejoin(
         &self,
@@ -511,7 +513,7 @@ const REJOIN_STATES: usize = 5_000;
 
 /// A tree a closure grows: the policy's rules first, then whatever the tree does where
 /// none of them holds. For a regression tree that is nothing (the tree fails there);
-/// [`crate::offline`] puts a backchained tree behind the rules.
+/// the offline planner's `--close-backchained` puts a backchained tree behind them.
 pub trait Closable {
     /// The states the tree passes through from `s` (`s` first, each one after an
     /// action completed), and whether it reaches the goal.

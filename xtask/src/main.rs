@@ -145,6 +145,8 @@ fn ci(install_missing: bool) -> Result {
     }
     step("doc tests");
     run(cargo().args(["test", "--workspace", "--doc"]))?;
+    step("API docs (broken or private links are errors)");
+    run(cargo().args(["doc", "--workspace", "--no-deps"]).env("RUSTDOCFLAGS", "-D warnings"))?;
     cross()?;
     firmware_checks()?;
     qemu::qemu(qemu::Options { timeout: std::time::Duration::from_secs(60) })?;

@@ -57,7 +57,7 @@
 //!     BehaviorTree.CPP's `tickExactlyOnce()`; its `tickOnce()` is a loop on `woken`.
 //! 12. **Scripts.** A `Script` or `ScriptCondition` is a leaf that finishes in the tick
 //!     it is reached, like a condition: its program runs once, through
-//!     [`BehaviorSet::script`](crate::BehaviorSet::script); a `Script` then succeeds, a
+//!     [`BehaviorSet::script`]; a `Script` then succeeds, a
 //!     `ScriptCondition` succeeds when the result holds ([`script::truth`](crate::script::truth))
 //!     and fails otherwise. A `Precondition` runs its program when it starts and while
 //!     its child has not yet been let go: if the result holds it ticks its child, and
@@ -66,8 +66,8 @@
 //!     go survives halts, as in BehaviorTree.CPP. A `Loop`, when it starts afresh (as
 //!     a `RateController` does, rule 9) or its child is not Running, takes the next
 //!     element of its queue into its `value` slot (a literal queue's element program
-//!     through [`BehaviorSet::script`](crate::BehaviorSet::script), a blackboard queue
-//!     through [`BehaviorSet::pop`](crate::BehaviorSet::pop)) and ticks its child;
+//!     through [`BehaviorSet::script`], a blackboard queue
+//!     through [`BehaviorSet::pop`]) and ticks its child;
 //!     with no element left it returns `if_empty` (and skipping keeps its status). It
 //!     returns Running after its child succeeds or skips, Failure when the child fails.
 //!     A `Guard` runs BehaviorTree.CPP's
@@ -80,7 +80,7 @@
 //!     status only); when the guard is halted while Running, `_onHalted` after its
 //!     subtree. A guard that skips keeps its child's status (Idle when it decided). A
 //!     script that stops with a fault ends the tick with
-//!     [`TickError::Script`](crate::TickError::Script), where BehaviorTree.CPP throws.
+//!     [`TickError::Script`], where BehaviorTree.CPP throws.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:

@@ -7,7 +7,7 @@
 //! decorator's behavior with its ports.
 //!
 //! A leaf's values are its ports in model order, each a packed
-//! [`PortValue`](bt_core::PortValue): constants interned in first-use order, blackboard
+//! [`PortValue`]: constants interned in first-use order, blackboard
 //! entries numbered as slots in first-use order (pre-order, then port order), unset
 //! ports marked unset. A key local to a SubTree instance that only starts with a literal
 //! and that no port writes is read as that literal.

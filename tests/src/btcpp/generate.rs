@@ -37,7 +37,7 @@ pub fn case(seed: u64, index: u32) -> Case {
 
 /// The scripted case `index` of the set made from `seed`: a `Sequence` of the script
 /// that sets the keys up and a random tree whose leaves include `Script` and
-/// `ScriptCondition` nodes ([`SCRIPTS`](super::spec::SCRIPTS)). Not clocked.
+/// `ScriptCondition` nodes ([`SCRIPTS`]). Not clocked.
 #[must_use]
 pub fn scripted_case(seed: u64, index: u32) -> Case {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (u64::from(index) << 20) ^ 0x5c21_b7ed);
