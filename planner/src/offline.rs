@@ -187,6 +187,14 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     let mut policy = Trace::new(g, &p.executed)
         .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
     let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
+    if !closed.complete {
+        // Unlike a regression tree, which fails wherever no rule holds, a backchained
+        // tree copes alone with many of the states disturbances lead to; rules for only
+        // some of the others bring new actions that an agent can do out of turn
+        // (maintenance: 12 of 20 disturbed episodes alone, 2 with 12 plans in front).
+        closed.kept = true;
+        return Ok(Plan { closed: Some(closed), ..p });
+    }
     if closed.plans == 0 {
         // Nothing added, but the closure looked with the plan's rules in front: the
         // tree stays as it was only if it does as well alone.
@@ -196,14 +204,6 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
             return Ok(Plan { closed: Some(closed), ..p });
         }
         closed.own_rules = true;
-    }
-    if !closed.complete {
-        // Unlike a regression tree, which fails wherever no rule holds, a backchained
-        // tree copes alone with many of the states disturbances lead to; rules for only
-        // some of the others bring new actions that an agent can do out of turn
-        // (maintenance: 12 of 20 disturbed episodes alone, 2 with 12 plans in front).
-        closed.kept = true;
-        return Ok(Plan { closed: Some(closed), ..p });
     }
     let planner = Planner::from_tree(g.clone(), policy.tree_before(g, &base), options)?;
     let catalog = p.catalog.clone();

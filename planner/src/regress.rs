@@ -454,17 +454,7 @@ impl Policy {
         let goal = Rule::goal(g);
         // A rule with a condition that is false in `t` and that no action makes true
         // (a product made, a day gone) is out of reach: left out of the score.
-        let mut makes = vec![false; g.atom_count() * 2];
-        for x in g.actions() {
-            let adds = x.add.iter().chain(x.cond.iter().flat_map(|k| k.add.iter()));
-            let dels = x.del.iter().chain(x.cond.iter().flat_map(|k| k.del.iter()));
-            for (&atom, positive) in adds.map(|a| (a, true)).chain(dels.map(|d| (d, false))) {
-                if let Some(m) = makes.get_mut(Lit { atom, positive }.index()) {
-                    *m = true;
-                }
-            }
-        }
-        let within = |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || makes.get(l.index()).copied().unwrap_or(false));
+        let within = |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || !g.achievers(l).is_empty());
         let near: Vec<&Rule> = std::iter::once(&goal).chain(self.rules.iter()).filter(within).collect();
         let unmet = |s: &State| -> u64 {
             let mut best = u64::MAX;

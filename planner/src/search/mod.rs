@@ -158,13 +158,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
         let helpful_here = std::mem::take(&mut helpful_of[id as usize]);
         succ.applicable(g, &state, &mut applicable);
         for &a in &applicable {
-            let Some(action) = g.action(a) else { continue };
-            next.clone_from(&state);
-            action.apply(&mut next);
-            let (sid, new) = reg.insert(&next);
-            if !new {
-                continue;
-            }
+            let Some(sid) = child(g, &mut reg, &state, a, &mut next) else { continue };
             if reg.bytes() > options.memory {
                 return Err(PlanError::SearchMemory { states: reg.len() as u64, limit: options.memory as u64 });
             }
@@ -214,7 +208,8 @@ pub fn best_first_to(
     deadline: Option<Instant>,
     mut score: impl FnMut(&State) -> u64,
 ) -> Option<Vec<ActionId>> {
-    if score(start) == 0 {
+    let first = score(start);
+    if first == 0 {
         return Some(Vec::new());
     }
     let succ = Successors::new(g);
@@ -223,7 +218,7 @@ pub fn best_first_to(
     let mut nodes = vec![Node { parent: u32::MAX, action: 0 }];
     let mut depth: Vec<u64> = vec![0];
     let mut open: BinaryHeap<Reverse<(u64, u32)>> = BinaryHeap::new();
-    open.push(Reverse((score(start), root)));
+    open.push(Reverse((first, root)));
     let mut state = State::new(g.atom_count());
     let mut next = State::new(g.atom_count());
     let mut applicable = Vec::new();
@@ -237,13 +232,7 @@ pub fn best_first_to(
             if allowed.is_some_and(|ok| !ok.get(a as usize).copied().unwrap_or(false)) {
                 continue;
             }
-            let Some(action) = g.action(a) else { continue };
-            next.clone_from(&state);
-            action.apply(&mut next);
-            let (sid, new) = reg.insert(&next);
-            if !new {
-                continue;
-            }
+            let Some(sid) = child(g, &mut reg, &state, a, &mut next) else { continue };
             nodes.push(Node { parent: id, action: a });
             let d = depth.get(id as usize).map_or(0, |d| d + 1);
             depth.push(d);
@@ -258,6 +247,17 @@ pub fn best_first_to(
         }
     }
     None
+}
+
+/// The state action `a` leads to from `state`, written to `next` and stored: its id
+/// when it was not stored before.
+#[inline]
+fn child(g: &Grounding, reg: &mut Registry, state: &State, a: ActionId, next: &mut State) -> Option<u32> {
+    let action = g.action(a)?;
+    next.clone_from(state);
+    action.apply(next);
+    let (sid, new) = reg.insert(next);
+    new.then_some(sid)
 }
 
 /// The actions from the root to state `id`.
