@@ -44,10 +44,15 @@
 //! rules ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of
 //! turn, the plan's later steps lead back to its rules long before the goal), taken
 //! when it leaves the world no farther from the goal than before the disturbance;
-//! else the shorter of that way and a new plan to the goal (greedy best-first search
-//! with h_FF), the plan on a tie, since rules regressed from the goal hold in more
-//! states. The ways back try the tree's own actions before any others: a tree with
-//! fewer distinct actions gives an external agent fewer to do. All within a budget of
+//! else the rest of a plan already added without the steps that can no longer be done
+//! ([`Policy::resume`]: the disturbance did one of them for good), taken on the same
+//! condition, with no search; else the cheapest of these ways and a new plan to the
+//! goal (greedy best-first search with h_FF), where a way costs its steps to the goal
+//! plus one for every action the tree does not have yet, the new plan on a tie, since
+//! rules regressed from the goal hold in more states. The ways back try the tree's own
+//! actions before any others, and the cost counts new ones, because a tree with fewer
+//! distinct actions gives an external agent fewer to do, and its closure fewer states
+//! to look at. All within a budget of
 //! plans, nodes and time (the tree is correct at every point, so running out of
 //! budget leaves a tree that is only less robust). [`close_with`] does the same for
 //! rules in front of another tree ([`Closable`]): where that tree fails from a state a
@@ -235,6 +240,8 @@ fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Policy {
     rules: Vec<Rule>,
+    /// The plans to the goal whose rules were added, first to last.
+    plans: Vec<Vec<ActionId>>,
 }
 
 fn subset(a: &[Lit], b: &[Lit]) -> bool {
@@ -259,6 +266,42 @@ impl Policy {
     /// Adds the rules of a plan to the goal; returns how many were kept.
     pub fn add_trace(&mut self, g: &Grounding, trace: &Trace) -> usize {
         self.add_path(g, trace, &Rule::goal(g))
+    }
+
+    /// A way to the goal from `t` that follows the end of one of the plans added,
+    /// leaving out the steps that cannot be done in turn: where a disturbance
+    /// did a step out of turn (a product made, an order started) that no action undoes,
+    /// the plan's rest without that step often still reaches the goal, found with no
+    /// search. The first plan and the [`RESUME_PLANS`] latest are tried, each from the
+    /// latest step from which its rest reaches the goal; the shortest way is kept.
+    #[must_use]
+    pub fn resume(&self, g: &Grounding, t: &State) -> Option<Vec<ActionId>> {
+        let n = self.plans.len();
+        let recent = n.saturating_sub(RESUME_PLANS).max(1);
+        let mut best: Option<Vec<ActionId>> = None;
+        for plan in self.plans.iter().take(1).chain(self.plans.iter().skip(recent)) {
+            // The latest start from which the plan's rest reaches the goal.
+            for start in (0..plan.len()).rev() {
+                let mut s = t.clone();
+                let mut done = Vec::new();
+                for &a in &plan[start..] {
+                    if g.goal_holds(&s) {
+                        break;
+                    }
+                    if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
+                        x.apply(&mut s);
+                        done.push(a);
+                    }
+                }
+                if g.goal_holds(&s) {
+                    if best.as_ref().is_none_or(|b| done.len() < b.len()) {
+                        best = Some(done);
+                    }
+                    break;
+                }
+            }
+        }
+        best
     }
 
     /// Inserts `rule` after every rule at most as far from the goal, unless one of those
@@ -322,6 +365,9 @@ impl Policy {
     /// Adds the rules of `trace`, a path to a state where `rule` holds (its conditions
     /// regressed through the path); returns how many were kept.
     fn add_path(&mut self, g: &Grounding, trace: &Trace, rule: &Rule) -> usize {
+        if rule.distance == 0 {
+            self.plans.push(trace.plan().to_vec());
+        }
         let cs = conditions_to(g, trace, &rule.when);
         let n = trace.plan().len();
         let mut kept = 0;
@@ -494,7 +540,7 @@ impl Policy {
     /// An empty policy (no rules).
     #[must_use]
     pub fn empty() -> Self {
-        Self { rules: Vec::new() }
+        Self { rules: Vec::new(), plans: Vec::new() }
     }
 }
 
@@ -616,11 +662,10 @@ fn pass(
                 if !reached {
                     let own = tree.actions(policy);
                     let deadline = search_deadline(budget);
-                    // A short way back to the rules; else a longer way back that is no
-                    // farther from the goal than the tree was before the disturbance;
-                    // else the shorter way to the goal of that way back and a new plan
-                    // (on a tie the plan: rules regressed from the goal hold in more
-                    // states than those from another rule).
+                    // A short way back to the rules; else a longer way back, or the
+                    // rest of a plan, that is no farther from the goal than the tree
+                    // was before the disturbance; else the cheapest of those and a new
+                    // plan (see the module docs).
                     let back = repair(g, policy, &t, &own).or_else(|| {
                         let rejoined = policy.rejoin(g, &t, &own, deadline);
                         // No nearer the goal than before the disturbance: as good as
@@ -631,27 +676,38 @@ fn pass(
                         {
                             return rejoined;
                         }
+                        // A way's length to the goal, plus one for every action it
+                        // brings that the tree does not have yet.
+                        let cost =
+                            |(steps, r): &(Vec<ActionId>, Rule)| steps.len() + r.distance as usize + novel(steps, &own);
+                        let cheaper = |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b)
+                        {
+                            (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
+                            (a, b) => a.or(b),
+                        };
+                        let resumed = policy.resume(g, &t).map(|p| (p, Rule::goal(g)));
+                        if let Some((p, _)) = &resumed
+                            && before.is_some_and(|d| p.len() <= d)
+                        {
+                            return cheaper(resumed, rejoined);
+                        }
+                        let known = cheaper(resumed, rejoined);
                         let options = SearchOptions { deadline, ..SearchOptions::default() };
                         match search::gbfs_from(g, &t, &options) {
-                            Ok(found)
-                                if rejoined
-                                    .as_ref()
-                                    .is_none_or(|(p, r)| found.plan.len() <= p.len() + r.distance as usize) =>
-                            {
-                                Some((found.plan, Rule::goal(g)))
-                            }
-                            Ok(_) => rejoined,
-                            Err(PlanError::NoPlan(_)) if rejoined.is_none() => {
+                            // On a tie the plan: rules regressed from the goal hold in
+                            // more states than those from another rule.
+                            Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
+                            Err(PlanError::NoPlan(_)) if known.is_none() => {
                                 done.dead_ends += 1;
                                 None
                             }
                             // One hard state does not end the closure: the others may
                             // be easy.
                             Err(_) => {
-                                if rejoined.is_none() {
+                                if known.is_none() {
                                     done.given_up += 1;
                                 }
-                                rejoined
+                                known
                             }
                         }
                     });
@@ -675,6 +731,14 @@ fn pass(
     Ok(true)
 }
 
+/// How many distinct actions of `steps` are not in `own`.
+fn novel(steps: &[ActionId], own: &[ActionId]) -> usize {
+    let mut new: Vec<ActionId> = steps.iter().copied().filter(|a| !own.contains(a)).collect();
+    new.sort_unstable();
+    new.dedup();
+    new.len()
+}
+
 /// The deadline of one search of [`close`]: an eighth of the closure's time left (at
 /// least [`MIN_SEARCH`]), so that a state from which a plan is hard to find, or to
 /// prove absent, does not use up the time of all the others.
@@ -687,6 +751,9 @@ fn search_deadline(budget: &Budget) -> Option<Instant> {
 
 /// The least time one search of [`close`] gets (within the closure's deadline).
 const MIN_SEARCH: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// How many of the latest plans [`Policy::resume`] tries besides the first.
+const RESUME_PLANS: usize = 8;
 
 /// Deepest path [`repair`] looks for.
 const REPAIR_DEPTH: usize = 2;

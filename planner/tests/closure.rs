@@ -334,3 +334,39 @@ fn a_backchained_tree_whose_closure_runs_out_of_budget_is_kept_as_it_was() {
     let roomy = planner::plan(g.clone(), c.clone(), Options { close_backchained: true, ..Options::default() }).unwrap();
     assert!(roomy.closed.unwrap().complete && roomy.nodes.len() > plain.nodes.len());
 }
+
+/// A line of three places and a stamp that, once used, is used for good.
+const STAMP_DOMAIN: &str = "(define (domain stamp) (:requirements :strips)
+  (:predicates (at0) (at1) (at2) (blank) (stamped) (done))
+  (:action go01 :precondition (at0) :effect (and (at1) (not (at0))))
+  (:action go12 :precondition (at1) :effect (and (at2) (not (at1))))
+  (:action stamp :precondition (blank) :effect (and (stamped) (not (blank))))
+  (:action finish :precondition (and (at2) (stamped)) :effect (done)))";
+const STAMP_PROBLEM: &str = "(define (problem p) (:domain stamp) (:init (at0) (blank)) (:goal (done)))";
+
+#[test]
+fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
+    let p = parse_domain("stamp.pddl", STAMP_DOMAIN).and_then(|d| parse_problem("p.pddl", STAMP_PROBLEM, &d)).unwrap();
+    let g = Grounding::new(&p).unwrap();
+    let id = |name: &str| (0..g.actions().len() as u32).find(|&a| g.action_name(a) == name).unwrap();
+    let plan = [id("go01"), id("go12"), id("stamp"), id("finish")];
+    let policy = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
+    // The agent stamps at the start: every rule but the last needs a blank stamp.
+    let mut t = g.init().clone();
+    g.action(id("stamp")).unwrap().apply(&mut t);
+    assert_eq!(policy.first(&t), None);
+    let resumed = policy.resume(&g, &t).expect("the plan's rest reaches the goal");
+    let names: Vec<String> = resumed.iter().map(|&a| g.action_name(a)).collect();
+    assert_eq!(names, ["go01", "go12", "finish"]);
+    // Halfway, only the rest of the plan is done.
+    let mut u = g.init().clone();
+    for a in [id("go01"), id("go12"), id("stamp")] {
+        g.action(a).unwrap().apply(&mut u);
+    }
+    let names: Vec<String> = policy.resume(&g, &u).unwrap().iter().map(|&a| g.action_name(a)).collect();
+    assert_eq!(names, ["finish"]);
+    // Nowhere (no place, no stamp), no rest of the plan reaches the goal.
+    let mut w = g.init().clone();
+    w.clear();
+    assert_eq!(policy.resume(&g, &w), None);
+}
