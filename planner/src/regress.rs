@@ -268,14 +268,16 @@ impl Policy {
         self.add_path(g, trace, &Rule::goal(g))
     }
 
-    /// A way to the goal from `t` that follows the end of one of the plans added,
-    /// leaving out the steps that cannot be done in turn: where a disturbance
-    /// did a step out of turn (a product made, an order started) that no action undoes,
-    /// the plan's rest without that step often still reaches the goal, found with no
-    /// search. The first plan and the [`RESUME_PLANS`] latest are tried, each from the
-    /// latest step from which its rest reaches the goal; the shortest way is kept.
+    /// A way back to the rules from `t` that follows the end of one of the plans
+    /// added, leaving out the steps that cannot be done in turn, and the rule it leads
+    /// to: where a disturbance did a step out of turn (a product made, an order
+    /// started) that no action undoes, the plan's rest without that step often still
+    /// reaches the goal, found with no search, and soon meets the plan's own states.
+    /// The first plan and the [`RESUME_PLANS`] latest are tried, each from the latest
+    /// step from which its rest reaches the goal; the way is cut at the first state
+    /// where a rule holds (or the goal), and the shortest way to the goal kept.
     #[must_use]
-    pub fn resume(&self, g: &Grounding, t: &State) -> Option<Vec<ActionId>> {
+    pub fn resume(&self, g: &Grounding, t: &State) -> Option<(Vec<ActionId>, Rule)> {
         let n = self.plans.len();
         let recent = n.saturating_sub(RESUME_PLANS).max(1);
         let mut best: Option<Vec<ActionId>> = None;
@@ -301,7 +303,14 @@ impl Policy {
                 }
             }
         }
-        best
+        let steps = best?;
+        let trace = Trace::from_state(g, t, &steps)?;
+        for i in 1..steps.len() {
+            if let Some(r) = trace.state(i).and_then(|s| self.first(s)) {
+                return Some((steps[..i].to_vec(), r.clone()));
+            }
+        }
+        Some((steps, Rule::goal(g)))
     }
 
     /// Inserts `rule` after every rule at most as far from the goal, unless one of those
@@ -685,9 +694,9 @@ fn pass(
                             (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
                             (a, b) => a.or(b),
                         };
-                        let resumed = policy.resume(g, &t).map(|p| (p, Rule::goal(g)));
-                        if let Some((p, _)) = &resumed
-                            && before.is_some_and(|d| p.len() <= d)
+                        let resumed = policy.resume(g, &t);
+                        if let Some((p, r)) = &resumed
+                            && before.is_some_and(|d| p.len() + r.distance as usize <= d)
                         {
                             return cheaper(resumed, rejoined);
                         }

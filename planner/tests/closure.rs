@@ -355,16 +355,20 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
     let mut t = g.init().clone();
     g.action(id("stamp")).unwrap().apply(&mut t);
     assert_eq!(policy.first(&t), None);
-    let resumed = policy.resume(&g, &t).expect("the plan's rest reaches the goal");
+    // The plan's rest without the stamp, up to where the rule that finishes holds.
+    let (resumed, rule) = policy.resume(&g, &t).expect("the plan's rest reaches the goal");
     let names: Vec<String> = resumed.iter().map(|&a| g.action_name(a)).collect();
-    assert_eq!(names, ["go01", "go12", "finish"]);
-    // Halfway, only the rest of the plan is done.
+    assert_eq!(names, ["go01", "go12"]);
+    assert_eq!((g.action_name(rule.action), rule.distance), ("finish".to_string(), 1));
+    // Stamped a step later, the same rule is one step away.
     let mut u = g.init().clone();
-    for a in [id("go01"), id("go12"), id("stamp")] {
+    for a in [id("go01"), id("stamp")] {
         g.action(a).unwrap().apply(&mut u);
     }
-    let names: Vec<String> = policy.resume(&g, &u).unwrap().iter().map(|&a| g.action_name(a)).collect();
-    assert_eq!(names, ["finish"]);
+    assert_eq!(policy.first(&u), None);
+    let (resumed, rule) = policy.resume(&g, &u).unwrap();
+    assert_eq!(resumed.iter().map(|&a| g.action_name(a)).collect::<Vec<_>>(), ["go12"]);
+    assert_eq!(rule.distance, 1);
     // Nowhere (no place, no stamp), no rest of the plan reaches the goal.
     let mut w = g.init().clone();
     w.clear();
