@@ -17,6 +17,8 @@ pub enum Shape {
     Two,
     /// Two or three (`IfThenElse`, `WhileDoElse`).
     TwoOrThree,
+    /// Any number, none included (`ManualSelector`).
+    AnyNumber,
 }
 
 impl Shape {
@@ -29,6 +31,7 @@ impl Shape {
             Self::Control => "takes one or more children",
             Self::Two => "takes exactly two children",
             Self::TwoOrThree => "takes two or three children",
+            Self::AnyNumber => "takes any number of children",
         }
     }
 
@@ -41,6 +44,7 @@ impl Shape {
             Self::Control => n >= 1,
             Self::Two => n == 2,
             Self::TwoOrThree => n == 2 || n == 3,
+            Self::AnyNumber => true,
         }
     }
 
@@ -53,6 +57,7 @@ impl Shape {
             bt_core::Arity::AtLeastOne => Self::Control,
             bt_core::Arity::Two => Self::Two,
             bt_core::Arity::TwoOrThree => Self::TwoOrThree,
+            bt_core::Arity::Any => Self::AnyNumber,
         }
     }
 }
