@@ -572,6 +572,9 @@ fn manual_selectors_take_the_operators_choice_from_the_behavior_set() {
     assert_eq!(i.nodes[4], bt_core::Node::new(NodeKind::ManualSelector { repeat_last: false }, 1));
     let again = import_text(Path::new("t.xml"), &i.to_xml().unwrap(), &ImportOptions::default()).unwrap();
     assert_eq!(again.image().unwrap(), i.image().unwrap());
+    // A Groot2 log of it is refused, naming the node: the replay does not model selections.
+    let e = btcpp::btlog::LogTree::of_imported(&i).unwrap_err();
+    assert_eq!((e.node, e.kind), (1, "ManualSelector"));
     let image = i.image().unwrap();
     let mut nodes = [bt_core::Node::EMPTY; 8];
     let mut values = [0u16; 8];
