@@ -176,15 +176,19 @@ fn without_children_it_asks_for_a_status_on_every_tick() {
     assert_eq!(exec.tick(&mut w, 2), Err(TickError::NoSuchChild { node: 0, child: 0, children: 0 }));
 }
 
-#[test]
-fn a_child_it_does_not_have_ends_the_tick_with_its_place() {
-    // Sequence[C0, ManualSelector[A0, A1]]
-    let nodes = build(|b| {
-        b.sequence()?.condition(cond(0), &[])?;
+/// `parent`[C0, ManualSelector(repeat last)[A0, A1]]: the selector is node 2.
+fn after_a_condition(parent: NodeKind) -> &'static [Node] {
+    build(|b| {
+        b.open(parent)?.condition(cond(0), &[])?;
         b.open(NodeKind::ManualSelector { repeat_last: true })?.action(act(0), &[])?.action(act(1), &[])?.end()?;
         b.end()?;
         Ok(())
-    });
+    })
+}
+
+#[test]
+fn a_child_it_does_not_have_ends_the_tick_with_its_place() {
+    let nodes = after_a_condition(NodeKind::Sequence);
     executor!(exec, nodes);
     let mut w = Scripted::new();
     w.set(cond(0), S).set(act(0), R).choose(Selection::Child(0));
@@ -215,14 +219,7 @@ fn a_child_it_does_not_have_ends_the_tick_with_its_place() {
 
 #[test]
 fn halting_it_halts_its_running_child_and_keeps_the_last_selection() {
-    // ReactiveFallback[C0, ManualSelector(repeat last)[A0, A1]]
-    let nodes = build(|b| {
-        b.fallback()?.condition(cond(0), &[])?;
-        b.open(NodeKind::ManualSelector { repeat_last: true })?.action(act(0), &[])?.action(act(1), &[])?.end()?;
-        b.end()?;
-        Ok(())
-    });
-    executor!(exec, nodes);
+    executor!(exec, after_a_condition(NodeKind::Fallback));
     let mut w = Scripted::new();
     w.set(cond(0), F).set(act(1), R).choose(Selection::Child(1));
     assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
