@@ -32,6 +32,22 @@ impl<'t> Context<'t> {
     }
 }
 
+/// What a [`NodeKind::ManualSelector`](crate::NodeKind::ManualSelector) does on this
+/// tick, as the behavior set chooses it ([`BehaviorSet::select`]): the operator's
+/// choice of BehaviorTree.CPP's `ManualSelector`, given on the controller by a command
+/// or a button instead of a terminal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Selection {
+    /// Tick child `k` (0-based, in the tree's order) and return what it returns.
+    Child(u8),
+    /// Return Success without ticking a child.
+    Success,
+    /// Return Failure without ticking a child.
+    Failure,
+    /// Return Running without ticking a child (a child still Running stays so).
+    Running,
+}
+
 /// The conditions and actions a tree's leaves run, implemented by the caller over its
 /// world. Behavior ids and arities are declared by a [`Catalog`](crate::Catalog).
 pub trait BehaviorSet {
@@ -74,6 +90,23 @@ pub trait BehaviorSet {
         let _ = (queue, value, ctx);
         Err(ScriptFault::NoQueues)
     }
+
+    /// Chooses what the `ManualSelector` at `ctx.node`, which has `children` children,
+    /// does on this tick: tick one of them, or return a status without ticking any (with
+    /// no children, only a status will do). Asked on every tick, also while a child runs,
+    /// as BehaviorTree.CPP asks its operator; with `repeat_last_selection` only once for
+    /// the life of the executor. `ctx.starting` is set when the node starts afresh (it
+    /// was not Running). The answer comes from the controller's inputs: a teleoperation
+    /// command, a button, a mode switch. The default refuses with
+    /// [`ScriptFault::NoSelections`], for sets that give none.
+    ///
+    /// # Errors
+    /// The [`ScriptFault`] that stopped it; the tick ends with it. A child that does not
+    /// exist ends the tick with [`TickError::NoSuchChild`].
+    fn select(&mut self, children: u8, ctx: Context<'_>) -> Result<Selection, ScriptFault> {
+        let _ = (children, ctx);
+        Err(ScriptFault::NoSelections)
+    }
 }
 
 impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
@@ -100,6 +133,11 @@ impl<B: BehaviorSet + ?Sized> BehaviorSet for &mut B {
     #[inline(always)]
     fn pop(&mut self, queue: u16, value: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
         (**self).pop(queue, value, ctx)
+    }
+
+    #[inline(always)]
+    fn select(&mut self, children: u8, ctx: Context<'_>) -> Result<Selection, ScriptFault> {
+        (**self).select(children, ctx)
     }
 }
 
@@ -163,13 +201,29 @@ pub enum TickError {
         behavior: u16,
     },
     /// A `Script`, `ScriptCondition`, `Precondition`, guard or `Loop` stopped with a fault
-    /// (BehaviorTree.CPP throws).
+    /// (BehaviorTree.CPP throws), or the behavior set refused a `ManualSelector` its
+    /// choice ([`BehaviorSet::select`]).
     #[error("script node {node}: {fault}")]
     Script {
         /// The script's node id.
         node: NodeId,
         /// Why it stopped.
         fault: ScriptFault,
+    },
+    /// The behavior set chose for a `ManualSelector` a child it does not have
+    /// ([`BehaviorSet::select`]; BehaviorTree.CPP would index past its children).
+    #[cfg(feature = "btcpp")]
+    #[error(
+        "manual selector node {node} has {}; the behavior set chose child {child} (counted from 0)",
+        crate::error::Count(usize::from(*.children), "child", "children")
+    )]
+    NoSuchChild {
+        /// The `ManualSelector`'s node id.
+        node: NodeId,
+        /// The child chosen (0-based).
+        child: u8,
+        /// How many children it has.
+        children: u8,
     },
 }
 
@@ -182,6 +236,8 @@ impl TickError {
             Self::OutOfRange { .. } => "out-of-range",
             Self::LeafSkipped { .. } => "leaf-skipped",
             Self::Script { .. } => "script",
+            #[cfg(feature = "btcpp")]
+            Self::NoSuchChild { .. } => "no-such-child",
         }
     }
 }

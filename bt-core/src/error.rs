@@ -121,6 +121,7 @@ pub enum LoadError {
         Arity::AtLeastOne => "a control node needs at least one",
         Arity::Two => "this kind has exactly two",
         Arity::TwoOrThree => "this kind has two or three",
+        Arity::Any => "this kind takes any number",
     })]
     WrongArity {
         /// Index of the node.

@@ -60,6 +60,7 @@
 //! | 37 | `Sleep` (version 3) | span as `TimeLimit` |
 //! | 38 | `Guard` (version 3) | its table of scripts: start `u16`, length `u16` in the value table |
 //! | 39 | `Loop` (version 3) | its queue's table as tag 38, then the `if_empty` status as tag 36's `else` |
+//! | 40 | `ManualSelector` (version 3) | repeat the last selection, one byte 0 or 1 |
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -88,8 +89,9 @@
 //! takes the next version; a loader reads exactly the versions it knows and refuses
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
-//! build reads versions 1 to 3. It writes version 3 for a tree with script, `Sleep` or
-//! `Guard` nodes (tags 34 to 38, the only difference) and version 2 otherwise, so that controllers built
+//! build reads versions 1 to 3. It writes version 3 for a tree with script, `Sleep`,
+//! `Guard`, `Loop` or `ManualSelector` nodes (tags 34 to 40, the only difference) and
+//! version 2 otherwise, so that controllers built
 //! before scripts existed keep loading every image they can run. A version-1 image has
 //! neither extended leaves nor sections.
 //!
@@ -335,6 +337,10 @@ enum WireKind {
     Guard(WireCode),
     #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
     Loop(WireCode, u8),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    ManualSelector {
+        repeat_last: bool,
+    },
 }
 
 #[derive(Serialize, Deserialize)]
@@ -345,7 +351,7 @@ struct WireCode {
 
 impl WireKind {
     /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
-    /// to 33, version 3 up to 39.
+    /// to 33, version 3 up to 40.
     fn in_version(&self, version: u16) -> bool {
         if matches!(
             self,
@@ -355,6 +361,7 @@ impl WireKind {
                 | Self::Sleep(_)
                 | Self::Guard(_)
                 | Self::Loop(..)
+                | Self::ManualSelector { .. }
         ) {
             return version >= 3;
         }
@@ -439,6 +446,7 @@ fn to_wire(node: &Node) -> WireNode {
         NodeKind::Loop { table, if_empty } => {
             WireKind::Loop(WireCode { start: table.start, len: table.len }, status_byte(*if_empty))
         }
+        &NodeKind::ManualSelector { repeat_last } => WireKind::ManualSelector { repeat_last },
     };
     WireNode { size: node.size(), kind }
 }
@@ -562,6 +570,7 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
             table: crate::node::Code { start: c.start, len: c.len },
             if_empty: byte_status(if_empty).ok_or(LoadError::MalformedNode { node: id, offset })?,
         },
+        WireKind::ManualSelector { repeat_last } => NodeKind::ManualSelector { repeat_last },
         // The kinds of version 1 and the extended leaves: `from_wire`.
         WireKind::Sequence
         | WireKind::Fallback

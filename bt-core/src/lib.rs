@@ -66,7 +66,7 @@ pub mod script;
 mod status;
 mod tree;
 
-pub use behavior::{BehaviorSet, Context, Observer, TickError};
+pub use behavior::{BehaviorSet, Context, Observer, Selection, TickError};
 pub use builder::Builder;
 pub use catalog::{Behavior, BehaviorInfo, Catalog, fingerprint, fingerprint_with_ports};
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};

@@ -250,7 +250,8 @@ impl Code {
 /// What a node is and does.
 ///
 /// Control nodes have one or more children (`IfThenElse` and `WhileDoElse` two or
-/// three, `Recovery` two), decorators exactly one, leaves none. The tick rules of every
+/// three, `Recovery` two, `ManualSelector` any number, none included), decorators
+/// exactly one, leaves none. The tick rules of every
 /// kind are in [`exec`](crate::exec); which BehaviorTree.CPP and Nav2 node each kind
 /// stands for is in `docs/behaviortree-cpp.md`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -413,6 +414,19 @@ pub enum NodeKind {
         /// The status when the queue is empty.
         if_empty: crate::Status,
     },
+    /// BehaviorTree.CPP's `ManualSelector`, with the choice made on the controller: on
+    /// every tick it asks the behavior set ([`BehaviorSet::select`](crate::BehaviorSet::select):
+    /// an operator's command, a button) which child to tick, or which status to return
+    /// without ticking one, and returns what that child returns. Without children it
+    /// asks for a status only. A child still Running that is not the one chosen is
+    /// halted before the chosen one is ticked (or the node returns Success or Failure).
+    /// At most 255 children.
+    ManualSelector {
+        /// After the first choice, make the same one again on every tick, without
+        /// asking (BehaviorTree.CPP's `repeat_last_selection`). The choice is kept for
+        /// the life of the executor, through halts and activations.
+        repeat_last: bool,
+    },
 }
 
 /// How many children a kind of node takes.
@@ -428,6 +442,8 @@ pub enum Arity {
     Two,
     /// Two or three children.
     TwoOrThree,
+    /// Any number of children, none included (`ManualSelector`).
+    Any,
 }
 
 impl NodeKind {
@@ -475,6 +491,7 @@ impl NodeKind {
             Self::Sleep(_) => "Sleep",
             Self::Guard(_) => "Guard",
             Self::Loop { .. } => "Loop",
+            Self::ManualSelector { .. } => "ManualSelector",
         }
     }
 
@@ -493,6 +510,7 @@ impl NodeKind {
             | Self::RoundRobin => Arity::AtLeastOne,
             Self::IfThenElse | Self::WhileDoElse => Arity::TwoOrThree,
             Self::Recovery { .. } => Arity::Two,
+            Self::ManualSelector { .. } => Arity::Any,
             Self::Inverter
             | Self::ForceSuccess
             | Self::ForceFailure

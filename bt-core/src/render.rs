@@ -143,6 +143,9 @@ pub fn write_label<C: Catalog + ?Sized>(
             }
             None => write!(f, "-^- Loop(if empty {if_empty:?})"),
         },
+        NodeKind::ManualSelector { repeat_last } => {
+            f.write_str(if repeat_last { "[?] ManualSelector(repeat last)" } else { "[?] ManualSelector" })
+        }
     }
 }
 

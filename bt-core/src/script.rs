@@ -123,6 +123,13 @@ pub enum ScriptFault {
     /// is not implemented) and a `Loop` over a `{key}` asked it for an element.
     #[error("this behavior set keeps no blackboard queues (BehaviorSet::pop), which a loop over a {{key}} needs")]
     NoQueues,
+    /// The behavior set gives no selections ([`BehaviorSet::select`](crate::BehaviorSet::select)
+    /// is not implemented) and a `ManualSelector` asked it what to do.
+    #[error(
+        "this behavior set gives no selections (BehaviorSet::select), which a ManualSelector needs: \
+         the operator's choice of a child or a status"
+    )]
+    NoSelections,
     /// A slot read before anything was assigned to it.
     #[error("blackboard slot {slot} is read before it is set")]
     Unset {

@@ -191,6 +191,11 @@ pub fn children(nodes: &[Node], id: NodeId) -> Children<'_> {
 #[cfg(feature = "btcpp")]
 pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
 
+/// Most children of a `ManualSelector`: the behavior set chooses one by a `u8`
+/// ([`BehaviorSet::select`](crate::BehaviorSet::select)).
+#[cfg(feature = "btcpp")]
+pub(crate) const MANUAL_SELECTOR_CHILDREN: u16 = u8::MAX as u16;
+
 /// Whether this build runs `kind`: all kinds with the `btcpp` feature, without it those
 /// of [`NodeKind`] up to `Action` (a `Parallel` only if it does not count skipped
 /// children).
@@ -294,6 +299,7 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
         Arity::AtLeastOne => children >= 1,
         Arity::Two => children == 2,
         Arity::TwoOrThree => children == 2 || children == 3,
+        Arity::Any => true,
     };
     if !ok {
         return Err(LoadError::WrongArity { node: open.node, kind: name(kind), children, expected });
@@ -314,6 +320,14 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
         #[cfg(feature = "btcpp")]
         NodeKind::RoundRobin if children > ROUND_ROBIN_CHILDREN => {
             return bad(ArgumentFault::TooManyChildren { kind: "RoundRobin", children, limit: ROUND_ROBIN_CHILDREN });
+        }
+        #[cfg(feature = "btcpp")]
+        NodeKind::ManualSelector { .. } if children > MANUAL_SELECTOR_CHILDREN => {
+            return bad(ArgumentFault::TooManyChildren {
+                kind: "ManualSelector",
+                children,
+                limit: MANUAL_SELECTOR_CHILDREN,
+            });
         }
         _ => {}
     }

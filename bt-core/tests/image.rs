@@ -487,3 +487,29 @@ fn counts_of_one_are_singular() {
         "state array holds 0 entries, the tree has 1 node"
     );
 }
+
+/// A `ManualSelector` is tag 40 with one byte, `repeat_last_selection`, in version 3;
+/// with no children too. A version-2 image cannot hold it.
+#[test]
+fn a_manual_selector_is_tag_40_of_version_3() {
+    for (repeat_last, byte) in [(false, 0u8), (true, 1)] {
+        let mut storage = [Node::EMPTY; 4];
+        let mut b = Builder::<4>::new(&mut storage);
+        b.open(NodeKind::ManualSelector { repeat_last }).unwrap().condition(0, &[]).unwrap().end().unwrap();
+        let nodes = b.finish().unwrap().to_vec();
+        let bytes = image_of(&nodes);
+        assert_eq!(read_header(&bytes).unwrap().version, 3);
+        // Size 2, tag 40, the flag; then the condition.
+        assert_eq!(bytes[HEADER_LEN..HEADER_LEN + 3], [2, 40, byte]);
+        assert_eq!(try_load(&bytes).unwrap(), nodes);
+        let mut v2 = bytes.clone();
+        v2[4..6].copy_from_slice(&2u16.to_le_bytes());
+        assert_eq!(try_load(&reseal(v2)), Err(LoadError::MalformedNode { node: 0, offset: HEADER_LEN }));
+        // A flag byte other than 0 or 1 is no ManualSelector.
+        let mut bad = bytes.clone();
+        bad[HEADER_LEN + 2] = 2;
+        assert_eq!(try_load(&reseal(bad)), Err(LoadError::MalformedNode { node: 0, offset: HEADER_LEN }));
+    }
+    let lone = [Node::new(NodeKind::ManualSelector { repeat_last: false }, 1)];
+    assert_eq!(try_load(&image_of(&lone)).unwrap(), lone);
+}

@@ -17,8 +17,8 @@ mod common;
 
 use bt_core::script::{self, ScriptFault, Value};
 use bt_core::{
-    BehaviorSet, Builder, Code, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Span, Status,
-    Tree,
+    BehaviorSet, Builder, Code, Context, Executor, Leaf, Node, NodeId, NodeKind, NodeState, NodeStatus, Selection,
+    Span, Status, Tree,
 };
 use proptest::prelude::*;
 
@@ -105,7 +105,9 @@ fn tree() -> impl Strategy<Value = T> {
     leaf.prop_recursive(7, 64, 4, |inner| {
         prop_oneof![
             3 => (control(), prop::collection::vec(inner.clone(), 1..5)).prop_map(|(k, c)| T::Node(k, c)),
-            2 => (decorator(), inner).prop_map(|(k, c)| T::Node(k, vec![c])),
+            2 => (decorator(), inner.clone()).prop_map(|(k, c)| T::Node(k, vec![c])),
+            1 => (any::<bool>(), prop::collection::vec(inner, 0..4))
+                .prop_map(|(repeat_last, c)| T::Node(NodeKind::ManualSelector { repeat_last }, c)),
         ]
     })
     .prop_filter("at most 64 nodes", |t| count(t) <= 64)
@@ -230,6 +232,18 @@ fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
     }
 }
 
+/// What a `ManualSelector` at `node` with `children` children is told on this tick: a
+/// child or a status, from its byte.
+fn selection(script: &[u8], node: usize, children: usize) -> Selection {
+    let pick = usize::from(script[node]) % (children + 3);
+    match pick.checked_sub(children) {
+        None => Selection::Child(pick as u8),
+        Some(0) => Selection::Success,
+        Some(1) => Selection::Failure,
+        Some(_) => Selection::Running,
+    }
+}
+
 struct Script<'a> {
     nodes: &'a [Node],
     tick: &'a [u8],
@@ -262,6 +276,10 @@ impl BehaviorSet for Script<'_> {
         self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: ctx.starting });
         Ok(outcome(self.nodes, self.tick, usize::from(ctx.node)) == Status::Success)
     }
+    fn select(&mut self, children: u8, ctx: Context<'_>) -> Result<Selection, ScriptFault> {
+        self.log.push(Ev::Tick { node: usize::from(ctx.node), starting: ctx.starting });
+        Ok(selection(self.tick, usize::from(ctx.node), usize::from(children)))
+    }
 }
 
 // ---------------------------------------------------------------- the reference
@@ -281,6 +299,8 @@ struct RState {
     start: u32,
     /// RunOnce: its result, once it has one.
     done: Option<Status>,
+    /// ManualSelector: the last selection it was told (with children).
+    choice: Option<Selection>,
 }
 
 /// Recursive, straight from the rules; no shortcuts.
@@ -395,6 +415,7 @@ impl<'a> Reference<'a> {
             NodeKind::SequenceStar => fresh.mem = was.mem,
             NodeKind::RunOnce { .. } => fresh.done = was.done,
             NodeKind::Precondition { .. } => fresh.mem = was.mem,
+            NodeKind::ManualSelector { .. } => fresh.choice = was.choice,
             NodeKind::RoundRobin | NodeKind::Recovery { .. } if was.status != NodeStatus::Running => {
                 fresh.mem = was.mem;
                 fresh.count = was.count;
@@ -1040,6 +1061,48 @@ impl<'a> Reference<'a> {
                 }
                 if s == Status::Failure { s } else { Status::Running }
             }
+            // Rule 13: asks on every tick (with repeat_last_selection once, ever) which
+            // child to tick or which status to return; a child Running that is not
+            // chosen is halted first, unless it returns Running without a child.
+            NodeKind::ManualSelector { repeat_last } => {
+                let kids = self.kids(i);
+                let fresh = self.fresh(i, parent_mirrors);
+                self.forget_result(i, fresh);
+                let (choice, asked) = match was.choice {
+                    Some(c) if repeat_last && !kids.is_empty() => (c, false),
+                    _ => {
+                        self.log.push(Ev::Tick { node: i, starting: fresh });
+                        let c = selection(&self.script, i, kids.len());
+                        if !kids.is_empty() {
+                            self.st[i].choice = Some(c);
+                        }
+                        (c, true)
+                    }
+                };
+                let chosen = match choice {
+                    Selection::Child(k) => Some(kids[usize::from(k)]),
+                    _ => None,
+                };
+                if choice != Selection::Running {
+                    for &c in &kids {
+                        if Some(c) != chosen && self.status(c) == NodeStatus::Running {
+                            self.halt(c);
+                        }
+                    }
+                }
+                match (chosen, choice) {
+                    (Some(c), _) => {
+                        // BehaviorTree.CPP marks it Running when it asks.
+                        if asked {
+                            self.st[i].status = NodeStatus::Running;
+                        }
+                        self.tick(c, true)
+                    }
+                    (None, Selection::Success) => Status::Success,
+                    (None, Selection::Failure) => Status::Failure,
+                    (None, _) => Status::Running,
+                }
+            }
             NodeKind::RateController(d) => {
                 let fresh = self.fresh(i, parent_mirrors);
                 if fresh {
@@ -1081,7 +1144,11 @@ impl<'a> Reference<'a> {
         let new = match r {
             // A Precondition that skips keeps its status (BehaviorTree.CPP's does not
             // mark itself Running).
-            Status::Skipped if matches!(self.nodes[i].kind(), NodeKind::Precondition { .. }) => self.st[i].status,
+            Status::Skipped
+                if matches!(self.nodes[i].kind(), NodeKind::Precondition { .. } | NodeKind::ManualSelector { .. }) =>
+            {
+                self.st[i].status
+            }
             // A control node or decorator that skips stays Running; a leaf is Idle.
             Status::Skipped if self.nodes[i].kind().arity() != bt_core::Arity::Leaf => NodeStatus::Running,
             r => r.into(),

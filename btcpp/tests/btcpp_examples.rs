@@ -10,11 +10,8 @@ use btcpp::xml::{ImportOptions, import, import_text};
 const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
     ("ex01_wrap_legacy.xml", None, Ok(1)),
     ("ex02_runtime_ports.xml", None, Ok(3)),
-    (
-        "ex03_ncurses_manual_selector.xml",
-        None,
-        Err("<ManualSelector> is not supported: it asks a person at a terminal"),
-    ),
+    // Its operator's choices come from the behavior set (BehaviorSet::select).
+    ("ex03_ncurses_manual_selector.xml", None, Ok(7)),
     ("ex03_sqlite_log.xml", Some("MainTree"), Ok(13)),
     ("t01_build_your_first_tree.xml", None, Ok(5)),
     ("t02_basic_ports.xml", None, Ok(5)),
@@ -96,6 +93,13 @@ fn program(dir: &Path, file: &str) -> ImportOptions<'static> {
 #[test]
 fn behaviortree_cpp_examples_import_or_are_refused_for_their_reason() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/btcpp-examples");
+    // All 36 of BehaviorTree.CPP 4.10's example and test trees import.
+    assert_eq!(EXPECTED.len(), 36);
+    let imported = EXPECTED.iter().filter(|(file, main, _)| {
+        let options = ImportOptions { main: main.map(str::to_string), ..program(&dir, file) };
+        import(&dir.join(file), &options).is_ok()
+    });
+    assert_eq!(imported.count(), 36);
     for &(file, main, expected) in EXPECTED {
         let options = ImportOptions { main: main.map(str::to_string), ..program(&dir, file) };
         match (import(&dir.join(file), &options), expected) {

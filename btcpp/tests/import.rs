@@ -318,6 +318,14 @@ fn what_cannot_run_is_refused_with_its_place() {
             r#"<Parallel success_count="3"><BatteryOk/><BatteryOk/></Parallel>"#,
             "t.xml:2:27: <Parallel success_count> of 3 with 2 children is not supported",
         ),
+        (
+            r#"<ManualSelector repeat_last_selection="{again}"><BatteryOk/></ManualSelector>"#,
+            "t.xml:2:43: <ManualSelector> `repeat_last_selection` must be a literal",
+        ),
+        (
+            r#"<ManualSelector repeat_last_selection="often"/>"#,
+            "t.xml:2:43: <ManualSelector> port `repeat_last_selection`: \"often\" is not a valid bool",
+        ),
     ];
     for (body, expected) in cases {
         let text = doc(&format!("  <BehaviorTree ID=\"Main\">{body}</BehaviorTree>"));
@@ -517,6 +525,83 @@ fn loops_run_on_the_controller_side() {
     assert_eq!(
         e.to_string(),
         "script node 0: this behavior set keeps no blackboard queues (BehaviorSet::pop), which a loop over a {key} needs"
+    );
+}
+
+/// The operator of a controller: each time a `ManualSelector` asks, the next command
+/// (a teleoperation input), and the `Say` actions ticked.
+struct Operator {
+    commands: std::collections::VecDeque<bt_core::Selection>,
+    /// How many children each asking `ManualSelector` had.
+    asked: Vec<u8>,
+    said: Vec<bt_core::NodeId>,
+}
+
+impl bt_core::BehaviorSet for Operator {
+    fn condition(&mut self, _: &bt_core::Leaf, _: bt_core::Context<'_>) -> bt_core::Status {
+        bt_core::Status::Failure
+    }
+    fn action(&mut self, _: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> bt_core::Status {
+        self.said.push(ctx.node);
+        bt_core::Status::Success
+    }
+    fn halt(&mut self, _: &bt_core::Leaf, _: bt_core::NodeId) {}
+    fn select(
+        &mut self,
+        children: u8,
+        _: bt_core::Context<'_>,
+    ) -> Result<bt_core::Selection, bt_core::script::ScriptFault> {
+        self.asked.push(children);
+        self.commands.pop_front().ok_or(bt_core::script::ScriptFault::NoSelections)
+    }
+}
+
+/// BehaviorTree.CPP's ex03 tree on the controller: its `ManualSelector`s ask the
+/// behavior set (the operator's commands), not a terminal; the one without children asks
+/// for a status. Its XML gives the same image back.
+#[test]
+fn manual_selectors_take_the_operators_choice_from_the_behavior_set() {
+    use bt_core::{Executor, NodeState, Selection, Status};
+    let text = doc(r#"<BehaviorTree ID="Main"><Repeat num_cycles="3">
+          <ManualSelector repeat_last_selection="0">
+            <Say text="one"/><Say text="two"/><ManualSelector name="YouChoose"/>
+          </ManualSelector>
+        </Repeat></BehaviorTree>"#);
+    let i = ok(&text);
+    assert_eq!(i.nodes[1].kind(), &NodeKind::ManualSelector { repeat_last: false });
+    assert_eq!(i.nodes[4], bt_core::Node::new(NodeKind::ManualSelector { repeat_last: false }, 1));
+    let again = import_text(Path::new("t.xml"), &i.to_xml().unwrap(), &ImportOptions::default()).unwrap();
+    assert_eq!(again.image().unwrap(), i.image().unwrap());
+    // A Groot2 log of it is refused, naming the node: the replay does not model selections.
+    let e = btcpp::btlog::LogTree::of_imported(&i).unwrap_err();
+    assert_eq!((e.node, e.kind), (1, "ManualSelector"));
+    let image = i.image().unwrap();
+    let mut nodes = [bt_core::Node::EMPTY; 8];
+    let mut values = [0u16; 8];
+    let (tree, _): (bt_core::Tree<'_, 8>, _) =
+        bt_core::load_with_ports(&image, &i.catalog, &mut nodes, &mut values).unwrap();
+    let mut state = [NodeState::IDLE; 8];
+    let mut exec = Executor::new(tree, &mut state).unwrap();
+    let commands = [Selection::Child(1), Selection::Child(0), Selection::Child(2), Selection::Failure];
+    let mut operator = Operator { commands: commands.into(), asked: vec![], said: vec![] };
+    // "two", then "one" (each a cycle of the Repeat, which asks to be ticked again),
+    // then the selector without children, told to fail.
+    let statuses: Vec<Status> = (0..3).map(|k| exec.tick(&mut operator, k).unwrap()).collect();
+    assert_eq!(statuses, [Status::Running, Status::Running, Status::Failure]);
+    assert_eq!(operator.said, [3, 2]);
+    assert_eq!(operator.asked, [3, 3, 3, 0]);
+    // A set that gives no selections refuses, and the tick ends with that fault.
+    let e = exec.tick(&mut operator, 3).unwrap_err();
+    assert_eq!(e, bt_core::TickError::Script { node: 1, fault: bt_core::script::ScriptFault::NoSelections });
+    // The set chooses by a u8: 256 children are refused at import, with the place.
+    let many = doc(&format!(
+        "<BehaviorTree ID=\"Main\"><ManualSelector>{}</ManualSelector></BehaviorTree>",
+        "<BatteryOk/>".repeat(256)
+    ));
+    assert_eq!(
+        err(&many),
+        "t.xml:2:25: <ManualSelector> with 256 children is not supported: the behavior set chooses a child by a \
+         number from 0 to 254: at most 255 children"
     );
 }
 

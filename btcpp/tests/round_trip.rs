@@ -1,6 +1,7 @@
 //! Exported XML imported again gives the same tree and the same image: random trees of
 //! every kind that has a BehaviorTree.CPP or Nav2 equivalent (all but our own `Repeat`,
-//! `Retry` and `Timeout`, which count ticks), plugin decorators (gates) included.
+//! `Retry` and `Timeout`, which count ticks), plugin decorators (gates) and
+//! `ManualSelector`s without children included.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::fmt;
@@ -69,10 +70,11 @@ fn tree(seed: u64) -> Vec<Node> {
         let at = out.len();
         out.push(Node::EMPTY);
         // 0..=8 controls, 9..=10 two or three children, 11 two, 12..=21 decorators,
-        // 22.. leaves.
-        let pick = if depth >= 5 { 22 + next(4) } else { next(26) };
+        // 22..=25 leaves, 26 a ManualSelector (any number of children, none included).
+        let pick = if depth >= 5 { 22 + next(4) } else { next(27) };
         let children = match pick {
             0..=8 => 1 + next(4) as usize,
+            26 => next(4) as usize,
             9..=10 => 2 + next(2) as usize,
             11 => 2,
             12..=21 => 1,
@@ -117,6 +119,7 @@ fn tree(seed: u64) -> Vec<Node> {
             21 => NodeKind::RateController(span(1 + next(7))),
             22 => NodeKind::AlwaysSuccess,
             23 => NodeKind::AlwaysFailure,
+            26 => NodeKind::ManualSelector { repeat_last: next(2) == 0 },
             _ => {
                 let b = next(BEHAVIORS.len() as u64) as u16;
                 let (_, kind, arity) = BEHAVIORS[usize::from(b)];
@@ -223,6 +226,11 @@ fn document(seed: u64) -> String {
             NodeKind::RetryUntilSuccessful(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{}\"", count(k))),
             NodeKind::KeepRunningUntilFailure => ("KeepRunningUntilFailure", String::new()),
             NodeKind::RunOnce { then_skip } => ("RunOnce", format!(" then_skip=\"{then_skip}\"")),
+            // The parameter left out half the time when it is the default.
+            NodeKind::ManualSelector { repeat_last: false } if next(2) == 0 => ("ManualSelector", String::new()),
+            NodeKind::ManualSelector { repeat_last } => {
+                ("ManualSelector", format!(" repeat_last_selection=\"{repeat_last}\""))
+            }
             NodeKind::TimeLimit(t) => ("Timeout", format!(" msec=\"{}\"", t.get())),
             NodeKind::Delay(t) => ("Delay", format!(" delay_msec=\"{}\"", t.get())),
             // Rates as people write them; the period is what is compared.

@@ -3,7 +3,10 @@
 #![no_main]
 
 use bt_core::script::{ScriptFault, Value};
-use bt_core::{BehaviorInfo, BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Status, Tree, fingerprint, image};
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Selection, Status, Tree, fingerprint,
+    image,
+};
 use libfuzzer_sys::fuzz_target;
 
 const SET: [BehaviorInfo<'static>; 5] = [
@@ -52,6 +55,17 @@ impl BehaviorSet for Bytes<'_> {
             0 => Err(ScriptFault::Unset { slot: queue }),
             b => Ok(b & 1 == 1),
         }
+    }
+    // ManualSelectors are told a child or a status from the bytes too: mostly a child
+    // they have, now and then one past the last (a fault), now and then a refusal.
+    fn select(&mut self, children: u8, _: Context<'_>) -> Result<Selection, ScriptFault> {
+        Ok(match self.next() % 8 {
+            0 => return Err(ScriptFault::NoSelections),
+            1 => Selection::Success,
+            2 => Selection::Failure,
+            3 => Selection::Running,
+            _ => Selection::Child(self.next() % children.saturating_add(1)),
+        })
     }
 }
 

@@ -29,7 +29,8 @@
 //!    `count_skipped`, and skips when all children skipped; `ParallelAll` likewise, without
 //!    counting it; decorators pass it on, except `KeepRunningUntilFailure` (Running) and
 //!    `Recovery` (a skipped recovery fails it). A control node or decorator that skips
-//!    stays Running (a `Precondition` keeps its status) and keeps its memory; a leaf
+//!    stays Running (a `Precondition`, and a `ManualSelector` that did not ask, keeps its
+//!    status) and keeps its memory; a leaf
 //!    that skips, and a `RunOnce` or `Gate` that skips without ticking its child, is
 //!    Idle.
 //! 9. The kinds that stand for BehaviorTree.CPP's and Nav2's nodes follow their
@@ -81,6 +82,18 @@
 //!     subtree. A guard that skips keeps its child's status (Idle when it decided). A
 //!     script that stops with a fault ends the tick with
 //!     [`TickError::Script`], where BehaviorTree.CPP throws.
+//! 13. **Manual selection.** A `ManualSelector` asks the behavior set on every tick
+//!     ([`BehaviorSet::select`], with `starting` set when it starts afresh) which child
+//!     to tick, or which status to return without ticking one, and returns what the
+//!     chosen child returns; with `repeat_last_selection` it asks once and from then on
+//!     makes the same choice without asking, for the life of the executor (halts and
+//!     activations keep it). Before it ticks the chosen child, or returns Success or
+//!     Failure, a child still Running that was not chosen is halted (halt before start;
+//!     BehaviorTree.CPP leaves it Running); returning Running leaves it Running,
+//!     unticked. Its children keep their statuses when they finish, as
+//!     BehaviorTree.CPP's do. Without children it asks for a status only. A child it
+//!     does not have ends the tick with [`TickError::NoSuchChild`], a set that refuses
+//!     with [`TickError::Script`].
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:
@@ -175,6 +188,7 @@ enum FrameKind {
     RunOnce,
     Precondition,
     Loop,
+    ManualSelector,
     TimeLimit,
     Delay,
     RateController,
@@ -576,8 +590,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     }
 
     /// Control node or decorator `i` is reset: Idle, and its memory cleared, except
-    /// what BehaviorTree.CPP keeps through a reset: a `SequenceStar`'s place and a
-    /// `RunOnce`'s result always, a `RoundRobin`'s and a `Recovery`'s counters unless it
+    /// what BehaviorTree.CPP keeps through a reset: a `SequenceStar`'s place, a
+    /// `RunOnce`'s result and a `ManualSelector`'s last selection always, a `RoundRobin`'s and a `Recovery`'s counters unless it
     /// is halted while Running.
     fn set_idle_halted(&mut self, i: usize) {
         if !BTCPP {
@@ -588,7 +602,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
             self.cold().guard_halted(i, table);
         }
         let keep = match self.nodes.get(i).map(Node::kind) {
-            Some(NodeKind::SequenceStar | NodeKind::RunOnce { .. } | NodeKind::Precondition { .. }) => true,
+            Some(
+                NodeKind::SequenceStar
+                | NodeKind::RunOnce { .. }
+                | NodeKind::Precondition { .. }
+                | NodeKind::ManualSelector { .. },
+            ) => true,
             Some(NodeKind::RoundRobin | NodeKind::Recovery { .. }) => self.status(i) != NodeStatus::Running,
             _ => false,
         };
@@ -624,13 +643,14 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH> {
     /// BehaviorTree.CPP leaves it (it marked itself Running before it ticked its
     /// children), but a Guard takes the status its child kept (BehaviorTree.CPP's node
     /// keeps its own when it skips), and a Precondition keeps its own (BehaviorTree.CPP's
-    /// does not mark itself Running).
+    /// does not mark itself Running), as does a ManualSelector that repeated its last
+    /// selection (one that asked has marked itself Running on the way up).
     #[cold]
     #[inline(never)]
     fn skipped_status(&self, i: usize) -> NodeStatus {
         match self.nodes.get(i).map(Node::kind) {
             Some(NodeKind::Guard(_)) => self.status(i + 1),
-            Some(NodeKind::Precondition { .. }) => self.status(i),
+            Some(NodeKind::Precondition { .. } | NodeKind::ManualSelector { .. }) => self.status(i),
             _ => NodeStatus::Running,
         }
     }

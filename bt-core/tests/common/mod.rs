@@ -2,7 +2,10 @@
 //! ticks and halts per behavior and logs every call in order.
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use bt_core::{BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeStatus, Observer, Status};
+use bt_core::script::ScriptFault;
+use bt_core::{
+    BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeStatus, Observer, Selection, Status,
+};
 
 /// Behaviors `0..16` are conditions `C0?`..`C15?`, `16..32` actions `A0!`..`A15!`.
 pub const N: u16 = 16;
@@ -33,12 +36,17 @@ pub enum Call {
     Tick { behavior: u16, starting: bool },
     /// An action was halted.
     Halt { behavior: u16 },
+    /// A `ManualSelector` asked which child (it has `children`) or status.
+    Select { node: NodeId, children: u8, starting: bool },
 }
 
-/// Every behavior returns what `results[id]` says; counts and logs every call.
+/// Every behavior returns what `results[id]` says, and every `ManualSelector` what
+/// `selection` says (none: the set refuses, as one without selections does); counts
+/// and logs every call.
 #[derive(Debug)]
 pub struct Scripted {
     pub results: Vec<Status>,
+    pub selection: Option<Selection>,
     pub ticks: Vec<u32>,
     pub halts: Vec<u32>,
     pub log: Vec<Call>,
@@ -51,12 +59,23 @@ impl Scripted {
         for r in results.iter_mut().skip(usize::from(N)) {
             *r = Status::Running;
         }
-        Self { results, ticks: vec![0; n], halts: vec![0; n], log: Vec::new() }
+        Self { results, selection: None, ticks: vec![0; n], halts: vec![0; n], log: Vec::new() }
     }
 
     pub fn set(&mut self, behavior: u16, s: Status) -> &mut Self {
         self.results[usize::from(behavior)] = s;
         self
+    }
+
+    /// What every `ManualSelector` is told from now on.
+    pub fn choose(&mut self, s: Selection) -> &mut Self {
+        self.selection = Some(s);
+        self
+    }
+
+    /// How many times a `ManualSelector` asked.
+    pub fn selects(&self) -> usize {
+        self.log.iter().filter(|c| matches!(c, Call::Select { .. })).count()
     }
 
     pub fn ticks(&self, behavior: u16) -> u32 {
@@ -95,6 +114,11 @@ impl BehaviorSet for Scripted {
         let b = leaf.behavior();
         self.halts[usize::from(b)] += 1;
         self.log.push(Call::Halt { behavior: b });
+    }
+
+    fn select(&mut self, children: u8, ctx: Context<'_>) -> Result<Selection, ScriptFault> {
+        self.log.push(Call::Select { node: ctx.node, children, starting: ctx.starting });
+        self.selection.ok_or(ScriptFault::NoSelections)
     }
 }
 

@@ -265,7 +265,8 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         }
         // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
         // equivalent; Nav2's plugin decorators (gates) each change status in their own
-        // way, which the replay does not model.
+        // way, and a ManualSelector follows its behavior set's selections, neither of
+        // which the replay models.
         _ => return None,
     })
 }

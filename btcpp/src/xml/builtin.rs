@@ -17,6 +17,8 @@ pub enum Shape {
     Two,
     /// Two or three (`IfThenElse`, `WhileDoElse`).
     TwoOrThree,
+    /// Any number, none included (`ManualSelector`).
+    AnyNumber,
 }
 
 impl Shape {
@@ -29,6 +31,7 @@ impl Shape {
             Self::Control => "takes one or more children",
             Self::Two => "takes exactly two children",
             Self::TwoOrThree => "takes two or three children",
+            Self::AnyNumber => "takes any number of children",
         }
     }
 
@@ -41,6 +44,7 @@ impl Shape {
             Self::Control => n >= 1,
             Self::Two => n == 2,
             Self::TwoOrThree => n == 2 || n == 3,
+            Self::AnyNumber => true,
         }
     }
 
@@ -53,6 +57,7 @@ impl Shape {
             bt_core::Arity::AtLeastOne => Self::Control,
             bt_core::Arity::Two => Self::Two,
             bt_core::Arity::TwoOrThree => Self::TwoOrThree,
+            bt_core::Arity::Any => Self::AnyNumber,
         }
     }
 }
@@ -77,7 +82,6 @@ const SWITCH: &str = "it compares blackboard strings at run time; write the case
 const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
 const UPDATED: &str = "it watches blackboard sequence numbers, which a controller's slots do not keep";
 const NO_KIND: &str = "bt-core has no node kind with its semantics";
-const MANUAL: &str = "it asks a person at a terminal (ncurses) which child to run or what to return, and a controller has no terminal; give the choice to the tree instead, e.g. a Fallback of Sequences, each a condition the operator's command sets and its branch";
 
 /// A loop's ports (the `value` port's type is its element's, see [`loop_element`]).
 pub const LOOP_PORTS: [BuiltinPort; 3] =
@@ -105,7 +109,7 @@ const fn r(id: &'static str, shape: Shape, ports: &'static [BuiltinPort], why: &
 }
 
 use PortType::{Any, Bool, Int, String as Str};
-use Shape::{Control, Decorator, Leaf, Two, TwoOrThree};
+use Shape::{AnyNumber, Control, Decorator, Leaf, Two, TwoOrThree};
 
 /// Every built-in node type of BehaviorTree.CPP 4.10.
 pub const BUILTINS: &[Builtin] = &[
@@ -132,8 +136,11 @@ pub const BUILTINS: &[Builtin] = &[
     r("AsyncSequence", Control, &[], NO_KIND),
     r("AsyncFallback", Control, &[], NO_KIND),
     r("TryCatch", Control, &[("catch_on_halt", Bool, Some("false"))], NO_KIND),
-    // Not registered by BT.CPP's factory, but its library has it (ex03 registers it).
-    r("ManualSelector", Control, &[("repeat_last_selection", Bool, Some("false"))], MANUAL),
+    // In BT.CPP 4.10's sources, though neither built into its library nor registered by
+    // its factory; its ex03 example's tree uses it. The choice comes from the behavior
+    // set here (bt_core::BehaviorSet::select), not from a terminal. Any number of
+    // children: BT.CPP's node asks for a status when it has none.
+    b("ManualSelector", AnyNumber, &[("repeat_last_selection", Bool, Some("false"))]),
     b("Script", Leaf, &[("code", Str, None)]),
     b("ScriptCondition", Leaf, &[("code", Any, None)]),
     b("Precondition", Decorator, &[("if", Str, None), ("else", Any, Some("FAILURE"))]),

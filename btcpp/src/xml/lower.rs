@@ -657,6 +657,16 @@ impl Lowerer<'_> {
             "Repeat" => NodeKind::RepeatCycles(self.cycles_param(n, "num_cycles")?),
             "RetryUntilSuccessful" => NodeKind::RetryUntilSuccessful(self.cycles_param(n, "num_attempts")?),
             "RunOnce" => NodeKind::RunOnce { then_skip: self.bool_param(n, "then_skip", true)? },
+            "ManualSelector" => {
+                if children > usize::from(u8::MAX) {
+                    return Err(unsupported_construct(
+                        &n.at,
+                        format!("<ManualSelector> with {children} children"),
+                        "the behavior set chooses a child by a number from 0 to 254: at most 255 children",
+                    ));
+                }
+                NodeKind::ManualSelector { repeat_last: self.bool_param(n, "repeat_last_selection", false)? }
+            }
             "Timeout" => NodeKind::TimeLimit(self.span_param(n, "msec")?),
             "Delay" => NodeKind::Delay(self.span_param(n, "delay_msec")?),
             "RecoveryNode" => {

@@ -364,6 +364,9 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
             NodeKind::PipelineSequence => ("PipelineSequence", String::new()),
             NodeKind::Recovery { retries } => ("RecoveryNode", format!(" number_of_retries=\"{retries}\"")),
             NodeKind::RoundRobin => ("RoundRobin", String::new()),
+            NodeKind::ManualSelector { repeat_last } => {
+                ("ManualSelector", format!(" repeat_last_selection=\"{repeat_last}\""))
+            }
             // The period is whole milliseconds; the rate that gives it back.
             NodeKind::RateController(span) => ("RateController", format!(" hz=\"{}\"", 1000.0 / f64::from(span.get()))),
             // Our tick-counting kinds count ticks, not cycles or milliseconds: no

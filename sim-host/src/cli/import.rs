@@ -47,8 +47,11 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     (queue=\"1;2;3\") is compiled into the image, a {key} queue is popped by the controller's \
     behavior set (BehaviorSet::pop); --loop ID reads a LoopNode<T> the C++ program registers \
     for a type of its own (t18's LoopPose).\n\n\
+    ManualSelector runs on the controller: instead of asking a person at a terminal, it asks \
+    the controller's behavior set (BehaviorSet::select: a teleoperation command, a button) on \
+    every tick which child to tick or which status to return.\n\n\
     What a controller cannot run is refused with file:line:column and the construct named, \
-    and nothing is written: Switch, ManualSelector, blackboard writers, building strings in \
+    and nothing is written: Switch, blackboard writers, building strings in \
     scripts, node types no model declares, ports a model does not declare, literals on \
     output ports.\n\n\
     --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
