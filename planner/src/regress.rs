@@ -273,17 +273,19 @@ impl Policy {
     /// to: where a disturbance did a step out of turn (a product made, an order
     /// started) that no action undoes, the plan's rest without that step often still
     /// reaches the goal, found with no search, and soon meets the plan's own states.
-    /// The first plan and the [`RESUME_PLANS`] latest are tried, each from the latest
-    /// step from which its rest reaches the goal; the way is cut at the first state
-    /// where a rule holds (or the goal), and the shortest way to the goal kept.
+    /// `distance` is how far from the goal the tree was before the disturbance: the
+    /// first plan and the [`RESUME_PLANS`] latest are tried from that far before their
+    /// end (and up to [`RESUME_BACK`] steps earlier, the latest start whose rest reaches
+    /// the goal); the way is cut at the first state where a rule holds (or the goal),
+    /// and the shortest way to the goal kept. A few runs along each plan: no search.
     #[must_use]
-    pub fn resume(&self, g: &Grounding, t: &State) -> Option<(Vec<ActionId>, Rule)> {
+    pub fn resume(&self, g: &Grounding, t: &State, distance: u32) -> Option<(Vec<ActionId>, Rule)> {
         let n = self.plans.len();
         let recent = n.saturating_sub(RESUME_PLANS).max(1);
         let mut best: Option<Vec<ActionId>> = None;
         for plan in self.plans.iter().take(1).chain(self.plans.iter().skip(recent)) {
-            // The latest start from which the plan's rest reaches the goal.
-            for start in (0..plan.len()).rev() {
+            let Some(at) = plan.len().checked_sub(distance as usize) else { continue };
+            for start in (at.saturating_sub(RESUME_BACK)..=at).rev() {
                 let mut s = t.clone();
                 let mut done = Vec::new();
                 for &a in &plan[start..] {
@@ -694,7 +696,7 @@ fn pass(
                             (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
                             (a, b) => a.or(b),
                         };
-                        let resumed = policy.resume(g, &t);
+                        let resumed = before.and_then(|d| policy.resume(g, &t, d as u32));
                         if let Some((p, r)) = &resumed
                             && before.is_some_and(|d| p.len() + r.distance as usize <= d)
                         {
@@ -763,6 +765,8 @@ const MIN_SEARCH: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// How many of the latest plans [`Policy::resume`] tries besides the first.
 const RESUME_PLANS: usize = 8;
+/// How many steps before the tree's place in a plan [`Policy::resume`] also starts.
+const RESUME_BACK: usize = 2;
 
 /// Deepest path [`repair`] looks for.
 const REPAIR_DEPTH: usize = 2;

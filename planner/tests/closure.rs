@@ -356,7 +356,8 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
     g.action(id("stamp")).unwrap().apply(&mut t);
     assert_eq!(policy.first(&t), None);
     // The plan's rest without the stamp, up to where the rule that finishes holds.
-    let (resumed, rule) = policy.resume(&g, &t).expect("the plan's rest reaches the goal");
+    // The tree was 4 steps from the goal before the agent stamped.
+    let (resumed, rule) = policy.resume(&g, &t, 4).expect("the plan's rest reaches the goal");
     let names: Vec<String> = resumed.iter().map(|&a| g.action_name(a)).collect();
     assert_eq!(names, ["go01", "go12"]);
     assert_eq!((g.action_name(rule.action), rule.distance), ("finish".to_string(), 1));
@@ -366,11 +367,11 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
         g.action(a).unwrap().apply(&mut u);
     }
     assert_eq!(policy.first(&u), None);
-    let (resumed, rule) = policy.resume(&g, &u).unwrap();
+    let (resumed, rule) = policy.resume(&g, &u, 3).unwrap();
     assert_eq!(resumed.iter().map(|&a| g.action_name(a)).collect::<Vec<_>>(), ["go12"]);
     assert_eq!(rule.distance, 1);
     // Nowhere (no place, no stamp), no rest of the plan reaches the goal.
     let mut w = g.init().clone();
     w.clear();
-    assert_eq!(policy.resume(&g, &w), None);
+    assert_eq!(policy.resume(&g, &w, 4), None);
 }
