@@ -274,9 +274,8 @@ impl Policy {
     /// started) that no action undoes, the plan's rest without that step often still
     /// reaches the goal, found with no search, and soon meets the plan's own states.
     /// `distance` is how far from the goal the tree was before the disturbance: the
-    /// first plan and the [`RESUME_PLANS`] latest are tried from that far before their
-    /// end (and up to [`RESUME_BACK`] steps earlier, the latest start whose rest reaches
-    /// the goal); the way is cut at the first state where a rule holds (or the goal),
+    /// first plan and the eight latest are tried from that far before their end (and
+    /// up to two steps earlier, the latest start whose rest reaches the goal); the way is cut at the first state where a rule holds (or the goal),
     /// and the shortest way to the goal kept. A few runs along each plan: no search.
     #[must_use]
     pub fn resume(&self, g: &Grounding, t: &State, distance: u32) -> Option<(Vec<ActionId>, Rule)> {
