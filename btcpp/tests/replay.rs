@@ -60,10 +60,13 @@ impl BehaviorSet for Scripted<'_> {
     }
 }
 
+/// Per tick: the root's status and the log's transitions (uid, status).
+type Ticks = Vec<(Status, Vec<(u16, u8)>)>;
+
 /// Imports `xml` (its leaves declared in `models`), runs it on bt-core for one tick per
 /// entry of `now`, ticked as `ticking` says, and logs the run: per tick, the root's
 /// status and the log's transitions (uid, status).
-fn run(xml: &str, scripts: &[(&str, &str)], now: &[u32], ticking: Ticking) -> Vec<(Status, Vec<(u16, u8)>)> {
+fn run(xml: &str, scripts: &[(&str, &str)], now: &[u32], ticking: Ticking) -> Ticks {
     selecting(xml, scripts, &[], now, ticking).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -74,7 +77,7 @@ fn selecting(
     commands: &[Selection],
     now: &[u32],
     ticking: Ticking,
-) -> Result<Vec<(Status, Vec<(u16, u8)>)>, Mismatch> {
+) -> Result<Ticks, Mismatch> {
     let imported = import_text(Path::new("t.xml"), xml, &ImportOptions::default()).unwrap();
     let tree: Tree<'_, 16> = Tree::validate_with(&imported.nodes, &imported.values, &imported).unwrap();
     let mut state = vec![NodeState::IDLE; imported.nodes.len()];
