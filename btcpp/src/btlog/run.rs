@@ -175,7 +175,14 @@ impl<'t> RunLog<'t> {
         calls: &[(usize, u8)],
         selections: &[(usize, Selection)],
     ) -> Result<u8, Mismatch> {
-        self.checked(tick, usec, now, calls, selections).map_err(|mut e| {
+        let q = Queue {
+            calls: calls.iter().copied().collect(),
+            selections: selections.iter().copied().collect(),
+            wrong: None,
+            tree: self.tree,
+            early: Vec::new(),
+        };
+        self.checked(tick, usec, now, q).map_err(|mut e| {
             if let Some((at, m, c)) = self.left_running {
                 let name = |i: usize| format!("`{}` (uid {})", self.tree.nodes[i].name, self.tree.nodes[i].uid);
                 e.what = format!(
@@ -190,21 +197,9 @@ impl<'t> RunLog<'t> {
         })
     }
 
-    fn checked(
-        &mut self,
-        tick: u32,
-        usec: i64,
-        now: u32,
-        calls: &[(usize, u8)],
-        selections: &[(usize, Selection)],
-    ) -> Result<u8, Mismatch> {
-        let mut q = Queue {
-            calls: calls.iter().copied().collect(),
-            selections: selections.iter().copied().collect(),
-            wrong: None,
-            tree: self.tree,
-            early: Vec::new(),
-        };
+    /// Replays tick `tick` with the run's calls and selections in `q`, and writes its
+    /// transitions when the replay and the run agree.
+    fn checked(&mut self, tick: u32, usec: i64, now: u32, mut q: Queue<'t>) -> Result<u8, Mismatch> {
         let (root, transitions) = self.replay.tick(&mut q, now, self.ticking);
         let refusal = self.replay.refusal();
         if let Some((m, c)) = self.replay.take_left_running() {
