@@ -355,6 +355,14 @@ fn runs_behaviortree_cpp_cannot_make_are_refused_naming_the_node_and_the_tick() 
          `ManualSelector` (uid 1) left `Sequence` (uid 2) Running at tick 1, where our executor halts it \
          before starting another child (halt before start)"
     );
+    // Child 253 of 254: BT.CPP's menu answers 253 for Success.
+    let xml = doc(&format!("<ManualSelector>{}</ManualSelector>", "<A/>".repeat(254)), TWO);
+    let e = selecting(&xml, &[("A", "S")], &[Child(253)], &[0], Ticking::ExactlyOnce).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "tick 0: ManualSelector `ManualSelector` (uid 1) is told to tick child 253, which BehaviorTree.CPP's \
+         selection takes for a status"
+    );
     // A run that made no selection (a trace without them).
     let xml = doc("<ManualSelector><A/></ManualSelector>", TWO);
     let imported = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
