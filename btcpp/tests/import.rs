@@ -572,9 +572,12 @@ fn manual_selectors_take_the_operators_choice_from_the_behavior_set() {
     assert_eq!(i.nodes[4], bt_core::Node::new(NodeKind::ManualSelector { repeat_last: false }, 1));
     let again = import_text(Path::new("t.xml"), &i.to_xml().unwrap(), &ImportOptions::default()).unwrap();
     assert_eq!(again.image().unwrap(), i.image().unwrap());
-    // A Groot2 log of it is refused, naming the node: the replay does not model selections.
-    let e = btcpp::btlog::LogTree::of_imported(&i).unwrap_err();
-    assert_eq!((e.node, e.kind), (1, "ManualSelector"));
+    // A Groot2 log of it names them as BehaviorTree.CPP does, with the port as written
+    // (the default added where absent), and the model a program registering the node has.
+    let xml = btcpp::btlog::LogTree::of_imported(&i).unwrap().xml();
+    assert!(xml.contains(r#"<ManualSelector name="ManualSelector" _uid="2" repeat_last_selection="0">"#), "{xml}");
+    assert!(xml.contains(r#"<ManualSelector name="YouChoose" _uid="5" repeat_last_selection="false"/>"#), "{xml}");
+    assert!(xml.contains(r#"<Control ID="ManualSelector">"#), "{xml}");
     let image = i.image().unwrap();
     let mut nodes = [bt_core::Node::EMPTY; 8];
     let mut values = [0u16; 8];

@@ -4,11 +4,12 @@
 //! makes for them written out by hand.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::path::Path;
 
-use bt_core::{BehaviorSet, Catalog, Context, Executor, Leaf, NodeId, NodeState, Status, Tree};
-use btcpp::btlog::{Log, LogTree, RunLog, Ticking, status_of};
+use bt_core::script::ScriptFault;
+use bt_core::{BehaviorSet, Catalog, Context, Executor, Leaf, NodeId, NodeState, Selection, Status, Tree};
+use btcpp::btlog::{Log, LogTree, Mismatch, RunLog, Ticking, status_of};
 use btcpp::xml::{ImportOptions, Imported, import_text};
 
 const I: u8 = 0;
@@ -16,12 +17,14 @@ const R: u8 = 1;
 const S: u8 = 2;
 const F: u8 = 3;
 
-/// Leaves answering from scripts by type ID (`S`, `F`, `R`, cyclically); every call
-/// recorded.
+/// Leaves answering from scripts by type ID (`S`, `F`, `R`, cyclically), and
+/// `ManualSelector`s from a list of commands; every call and selection recorded.
 struct Scripted<'a> {
     imported: &'a Imported,
     scripts: BTreeMap<&'a str, (&'a str, usize)>,
     calls: Vec<(usize, u8)>,
+    commands: VecDeque<Selection>,
+    selections: Vec<(usize, Selection)>,
 }
 
 impl Scripted<'_> {
@@ -49,18 +52,43 @@ impl BehaviorSet for Scripted<'_> {
     }
 
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
+
+    fn select(&mut self, _: u8, ctx: Context<'_>) -> Result<Selection, ScriptFault> {
+        let s = self.commands.pop_front().ok_or(ScriptFault::NoSelections)?;
+        self.selections.push((usize::from(ctx.node), s));
+        Ok(s)
+    }
 }
+
+/// Per tick: the root's status and the log's transitions (uid, status).
+type Ticks = Vec<(Status, Vec<(u16, u8)>)>;
 
 /// Imports `xml` (its leaves declared in `models`), runs it on bt-core for one tick per
 /// entry of `now`, ticked as `ticking` says, and logs the run: per tick, the root's
 /// status and the log's transitions (uid, status).
-fn run(xml: &str, scripts: &[(&str, &str)], now: &[u32], ticking: Ticking) -> Vec<(Status, Vec<(u16, u8)>)> {
+fn run(xml: &str, scripts: &[(&str, &str)], now: &[u32], ticking: Ticking) -> Ticks {
+    selecting(xml, scripts, &[], now, ticking).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`run`] with `ManualSelector`s told `commands` in turn; the log's refusal as it is.
+fn selecting(
+    xml: &str,
+    scripts: &[(&str, &str)],
+    commands: &[Selection],
+    now: &[u32],
+    ticking: Ticking,
+) -> Result<Ticks, Mismatch> {
     let imported = import_text(Path::new("t.xml"), xml, &ImportOptions::default()).unwrap();
     let tree: Tree<'_, 16> = Tree::validate_with(&imported.nodes, &imported.values, &imported).unwrap();
     let mut state = vec![NodeState::IDLE; imported.nodes.len()];
     let mut exec = Executor::new(tree, &mut state).unwrap();
-    let mut leaves =
-        Scripted { imported: &imported, scripts: scripts.iter().map(|&(n, s)| (n, (s, 0))).collect(), calls: vec![] };
+    let mut leaves = Scripted {
+        imported: &imported,
+        scripts: scripts.iter().map(|&(n, s)| (n, (s, 0))).collect(),
+        calls: vec![],
+        commands: commands.iter().copied().collect(),
+        selections: vec![],
+    };
     let log_tree = LogTree::of_imported(&imported).unwrap();
     let mut log = RunLog::new(&log_tree, 0).ticked(ticking);
     let mut roots = vec![];
@@ -72,19 +100,20 @@ fn run(xml: &str, scripts: &[(&str, &str)], now: &[u32], ticking: Ticking) -> Ve
             }
         }
         let calls = std::mem::take(&mut leaves.calls);
+        let selections = std::mem::take(&mut leaves.selections);
         let k = u32::try_from(k).unwrap();
-        log.tick(k, i64::from(k) * 1000, t, &calls).unwrap_or_else(|e| panic!("{e}"));
+        log.tick_selecting(k, i64::from(k) * 1000, t, &calls, &selections)?;
         roots.push(root);
     }
     let log = Log::parse(&log.into_bytes()).unwrap();
-    roots
+    Ok(roots
         .into_iter()
         .enumerate()
         .map(|(k, root)| {
             let t = log.transitions.iter().filter(|x| x.0 / 1000 == k as u64).map(|&(_, uid, s)| (uid, s)).collect();
             (root, t)
         })
-        .collect()
+        .collect())
 }
 
 fn doc(tree: &str, models: &str) -> String {
@@ -214,4 +243,134 @@ fn nav2_control_nodes_change_status_as_nav2_s_code_does() {
     assert_eq!(ticks[1], (Status::Success, vec![(3, S), (2, I), (3, I), (1, S), (1, I)]));
     // Next activation starts after B, with A.
     assert_eq!(ticks[2].1[..2], [(1, R), (2, F)]);
+}
+
+const ABC: &str = r#"<Action ID="A"/><Action ID="B"/><Condition ID="C"/>"#;
+
+#[test]
+fn a_manual_selector_marks_itself_running_asks_and_leaves_other_children_as_they_are() {
+    use Selection::{Child, Failure, Running};
+    // ManualSelector (1) over A (2) and B (3), the root.
+    let xml = doc("<ManualSelector><A/><B/></ManualSelector>", TWO);
+    let commands = [Child(0), Child(1), Child(1), Running, Child(0), Failure];
+    let ticks = selecting(&xml, &[("A", "RS"), ("B", "RS")], &commands, &[0, 1, 2, 3, 4, 5], Ticking::ExactlyOnce)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let want: [(Status, Vec<(u16, u8)>); 6] = [
+        // Running before it asks, then A.
+        (Status::Running, vec![(1, R), (2, R)]),
+        // B chosen while A runs: A is left Running (bt-core halts it; BT.CPP does not).
+        (Status::Running, vec![(3, R)]),
+        // B succeeds, so does the root, which alone is reset: A stays Running, B Success.
+        (Status::Success, vec![(3, S), (1, S), (1, I)]),
+        // Told Running: it returns it, ticking no child.
+        (Status::Running, vec![(1, R)]),
+        // A again: still Running in BT.CPP, it goes on and succeeds.
+        (Status::Success, vec![(2, S), (1, S), (1, I)]),
+        // Told Failure: Running first, then the status; the children keep theirs.
+        (Status::Failure, vec![(1, R), (1, F), (1, I)]),
+    ];
+    assert_eq!(ticks, want);
+}
+
+#[test]
+fn a_manual_selector_halted_halts_its_remembered_child_first_then_the_others() {
+    use Selection::Child;
+    // ReactiveSequence (1) over C (2) and ManualSelector (3) over A (4) and B (5).
+    let xml = doc("<ReactiveSequence><C/><ManualSelector><A/><B/></ManualSelector></ReactiveSequence>", ABC);
+    let ticks = selecting(
+        &xml,
+        &[("C", "SSF"), ("A", "R"), ("B", "R")],
+        &[Child(0), Child(1)],
+        &[0, 1, 2],
+        Ticking::ExactlyOnce,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(ticks[0], (Status::Running, vec![(1, R), (2, S), (3, R), (4, R), (2, I)]));
+    // B chosen: A left Running.
+    assert_eq!(ticks[1], (Status::Running, vec![(2, S), (5, R), (2, I)]));
+    // C fails: the ManualSelector is halted, B (the running child it remembers) first,
+    // then its children in order (A, still Running), then itself.
+    assert_eq!(ticks[2], (Status::Failure, vec![(2, F), (2, I), (5, I), (4, I), (3, I), (1, F), (1, I)]));
+}
+
+#[test]
+fn repeat_last_selection_ticks_the_same_child_without_asking_or_marking_itself_running() {
+    use Selection::Child;
+    // ReactiveSequence (1) over C (2) and ManualSelector (3, repeating) over A (4), B (5).
+    let xml = doc(
+        r#"<ReactiveSequence><C/><ManualSelector repeat_last_selection="true"><A/><B/></ManualSelector></ReactiveSequence>"#,
+        ABC,
+    );
+    // One command for the whole run.
+    let ticks = selecting(
+        &xml,
+        &[("C", "SSFS"), ("A", "R"), ("B", "RRSR")],
+        &[Child(1)],
+        &[0, 1, 2, 3, 4],
+        Ticking::ExactlyOnce,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(ticks[0], (Status::Running, vec![(1, R), (2, S), (3, R), (5, R), (2, I)]));
+    assert_eq!(ticks[1], (Status::Running, vec![(2, S), (2, I)]));
+    assert_eq!(ticks[2], (Status::Failure, vec![(2, F), (2, I), (5, I), (3, I), (1, F), (1, I)]));
+    // Reset by the halt, it repeats child 1 from Idle: no Running of its own first.
+    // Finished, it is reset by its parent, not halted: B keeps Success.
+    assert_eq!(ticks[3], (Status::Success, vec![(1, R), (2, S), (5, S), (3, S), (2, I), (3, I), (1, S), (1, I)]));
+    // B, Success since the last tick, goes straight to Running.
+    assert_eq!(ticks[4], (Status::Running, vec![(1, R), (2, S), (5, R), (3, R), (2, I)]));
+}
+
+#[test]
+fn a_manual_selector_without_children_returns_the_status_it_is_told() {
+    use Selection::{Failure, Running, Success};
+    let xml = doc("<ManualSelector/>", "");
+    let ticks = selecting(&xml, &[], &[Success, Running, Failure], &[0, 1, 2], Ticking::ExactlyOnce)
+        .unwrap_or_else(|e| panic!("{e}"));
+    // It does not mark itself Running before it asks.
+    assert_eq!(ticks[0], (Status::Success, vec![(1, S), (1, I)]));
+    assert_eq!(ticks[1], (Status::Running, vec![(1, R)]));
+    assert_eq!(ticks[2], (Status::Failure, vec![(1, F), (1, I)]));
+}
+
+#[test]
+fn runs_behaviortree_cpp_cannot_make_are_refused_naming_the_node_and_the_tick() {
+    use Selection::{Child, Success};
+    // A remembered status repeated: BT.CPP would tick a child past its children.
+    let xml = doc(r#"<ManualSelector repeat_last_selection="true"><A/></ManualSelector>"#, TWO);
+    let e = selecting(&xml, &[("A", "S")], &[Success], &[0, 1], Ticking::ExactlyOnce).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "tick 1: ManualSelector `ManualSelector` (uid 1) repeats its last selection, Success, which \
+         BehaviorTree.CPP would take as a child index past its children"
+    );
+    // A Sequence (2) left Running at its second child, where bt-core halts it: chosen
+    // again, BT.CPP goes on with B where the run started over with A.
+    let xml = doc("<ManualSelector><Sequence><A/><B/></Sequence><A/></ManualSelector>", TWO);
+    let e =
+        selecting(&xml, &[("A", "S"), ("B", "R")], &[Child(0), Child(1), Child(0)], &[0, 1, 2], Ticking::ExactlyOnce)
+            .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "tick 2: BehaviorTree.CPP ticks node 3 (B) where the run ticked node 2 (A); ManualSelector \
+         `ManualSelector` (uid 1) left `Sequence` (uid 2) Running at tick 1, where our executor halts it \
+         before starting another child (halt before start)"
+    );
+    // Child 253 of 254: BT.CPP's menu answers 253 for Success.
+    let xml = doc(&format!("<ManualSelector>{}</ManualSelector>", "<A/>".repeat(254)), TWO);
+    let e = selecting(&xml, &[("A", "S")], &[Child(253)], &[0], Ticking::ExactlyOnce).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "tick 0: ManualSelector `ManualSelector` (uid 1) is told to tick child 253, which BehaviorTree.CPP's \
+         selection takes for a status"
+    );
+    // A run that made no selection (a trace without them).
+    let xml = doc("<ManualSelector><A/></ManualSelector>", TWO);
+    let imported = import_text(Path::new("t.xml"), &xml, &ImportOptions::default()).unwrap();
+    let tree = LogTree::of_imported(&imported).unwrap();
+    let e = RunLog::new(&tree, 0).tick(0, 0, 0, &[(1, S)]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "tick 0: BehaviorTree.CPP's ManualSelector node 0 (ManualSelector) asks for a selection, and the run \
+         made no more in the tick"
+    );
 }

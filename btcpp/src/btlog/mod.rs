@@ -50,6 +50,16 @@ const NAV2_MODELS: [(&str, &str); 4] = [
     ("RoundRobin", "        <Control ID=\"RoundRobin\"/>\n"),
 ];
 
+/// `ManualSelector`'s model as BehaviorTree.CPP 4.10.0 writes it. Its factory does not
+/// register the node (nor build it), so it is not among [`BUILTIN_MODELS`]; a program
+/// that loads a tree with one registers `ManualSelectorNode` under that ID, and the
+/// log then lists it with the other models (written from the node's `providedPorts()`:
+/// a bool input, default false).
+const MANUAL_SELECTOR_MODEL: (&str, &str) = (
+    "ManualSelector",
+    "        <Control ID=\"ManualSelector\">\n            <input_port name=\"repeat_last_selection\" type=\"bool\" default=\"false\">If true, execute again the same child that was selected the last time</input_port>\n        </Control>\n",
+);
+
 fn escape_attr(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
@@ -110,8 +120,9 @@ impl LogTree {
         o.push_str("    <TreeNodesModel>\n");
         let mut entries = builtin_models();
         // Nav2's nodes, when the tree has them (a Nav2 factory registers every plugin;
-        // the log of one without Nav2 lists the nodes it has).
-        for (id, text) in NAV2_MODELS {
+        // the log of one without Nav2 lists the nodes it has), and ManualSelector, which
+        // a program registers to load a tree with one.
+        for (id, text) in NAV2_MODELS.into_iter().chain([MANUAL_SELECTOR_MODEL]) {
             if self.nodes.iter().any(|n| n.element == id && n.subtree.is_none()) {
                 entries.push((id.to_string(), text.to_string()));
             }

@@ -3,6 +3,7 @@
 
 use std::collections::VecDeque;
 
+use bt_core::Selection;
 use bt_core::script::Hook;
 
 use crate::btlog::LogWriter;
@@ -27,10 +28,15 @@ pub struct RunLog<'t> {
     replay: Replay<'t>,
     writer: LogWriter,
     ticking: Ticking,
+    /// The last tick where a `ManualSelector` left a child Running that bt-core halted:
+    /// (tick, the `ManualSelector`, the child), indices into [`LogTree::nodes`].
+    left_running: Option<(u32, usize, usize)>,
 }
 
 struct Queue<'a> {
     calls: VecDeque<(usize, u8)>,
+    /// The run's `ManualSelector` selections: (bt-core node, selection).
+    selections: VecDeque<(usize, Selection)>,
     wrong: Option<String>,
     tree: &'a LogTree,
     /// Guards whose `_onHalted` the run ran before BehaviorTree.CPP would in the tick
@@ -39,6 +45,15 @@ struct Queue<'a> {
 }
 
 impl Queue<'_> {
+    /// Node `core` with its name, for messages.
+    fn name(&self, core: usize) -> String {
+        self.tree
+            .nodes
+            .iter()
+            .find(|n| n.core == Some(core))
+            .map_or_else(|| format!("node {core}"), |n| format!("node {core} ({})", n.name))
+    }
+
     /// Whether `core` is the guard of a node with `_onHalted`.
     fn has_on_halted(&self, core: usize) -> bool {
         self.tree.nodes.iter().any(|n| n.hooks.is_some_and(|h| h.core == core && h.has(Hook::OnHalted)))
@@ -59,13 +74,7 @@ impl Leaves for Queue<'_> {
             Some((c, s)) if c == core => s,
             other => {
                 if self.wrong.is_none() {
-                    let name = |c: usize| {
-                        self.tree
-                            .nodes
-                            .iter()
-                            .find(|n| n.core == Some(c))
-                            .map_or_else(|| format!("node {c}"), |n| format!("node {c} ({})", n.name))
-                    };
+                    let name = |c: usize| self.name(c);
                     self.wrong = Some(match other {
                         Some((c, _)) => {
                             format!("BehaviorTree.CPP ticks {} where the run ticked {}", name(core), name(c))
@@ -79,6 +88,22 @@ impl Leaves for Queue<'_> {
     }
 
     fn halt(&mut self, _: usize) {}
+
+    fn select(&mut self, core: usize) -> Option<Selection> {
+        match self.selections.pop_front() {
+            Some((c, s)) if c == core => Some(s),
+            other => {
+                if self.wrong.is_none() {
+                    let asks = format!("BehaviorTree.CPP's ManualSelector {} asks for a selection", self.name(core));
+                    self.wrong = Some(match other {
+                        Some((c, _)) => format!("{asks} where the run's next one was {}'s", self.name(c)),
+                        None => format!("{asks}, and the run made no more in the tick"),
+                    });
+                }
+                None
+            }
+        }
+    }
 
     /// Where our executor ran it in the tick does not matter (halt before start may
     /// halt earlier in the tick than BehaviorTree.CPP does), only that it did.
@@ -107,7 +132,13 @@ impl<'t> RunLog<'t> {
     /// `Tree::tickExactlyOnce()` (bt-core's `Executor::tick`, once per tick).
     #[must_use]
     pub fn new(tree: &'t LogTree, first_usec: i64) -> Self {
-        Self { tree, replay: Replay::new(tree), writer: LogWriter::new(tree, first_usec), ticking: Ticking::default() }
+        Self {
+            tree,
+            replay: Replay::new(tree),
+            writer: LogWriter::new(tree, first_usec),
+            ticking: Ticking::default(),
+            left_running: None,
+        }
     }
 
     /// The same, for a run ticked as `ticking` says (with [`Ticking::Once`], each tick's
@@ -125,9 +156,56 @@ impl<'t> RunLog<'t> {
     /// # Errors
     /// [`Mismatch`] when BehaviorTree.CPP's model ticks other leaves.
     pub fn tick(&mut self, tick: u32, usec: i64, now: u32, calls: &[(usize, u8)]) -> Result<u8, Mismatch> {
-        let mut q = Queue { calls: calls.iter().copied().collect(), wrong: None, tree: self.tree, early: Vec::new() };
+        self.tick_selecting(tick, usec, now, calls, &[])
+    }
+
+    /// [`RunLog::tick`] for a run whose `ManualSelector`s made `selections` in the tick,
+    /// in order: (bt-core node, what [`bt_core::BehaviorSet::select`] answered).
+    ///
+    /// # Errors
+    /// [`Mismatch`] when BehaviorTree.CPP's model ticks other leaves or asks for other
+    /// selections, or cannot do what the run did (naming the node); when a
+    /// `ManualSelector` had left a child Running that bt-core halted (halt before start),
+    /// the message says where.
+    pub fn tick_selecting(
+        &mut self,
+        tick: u32,
+        usec: i64,
+        now: u32,
+        calls: &[(usize, u8)],
+        selections: &[(usize, Selection)],
+    ) -> Result<u8, Mismatch> {
+        let q = Queue {
+            calls: calls.iter().copied().collect(),
+            selections: selections.iter().copied().collect(),
+            wrong: None,
+            tree: self.tree,
+            early: Vec::new(),
+        };
+        self.checked(tick, usec, now, q).map_err(|mut e| {
+            if let Some((at, m, c)) = self.left_running {
+                let name = |i: usize| format!("`{}` (uid {})", self.tree.nodes[i].name, self.tree.nodes[i].uid);
+                e.what = format!(
+                    "{}; ManualSelector {} left {} Running at tick {at}, where our executor halts it before \
+                     starting another child (halt before start)",
+                    e.what,
+                    name(m),
+                    name(c)
+                );
+            }
+            e
+        })
+    }
+
+    /// Replays tick `tick` with the run's calls and selections in `q`, and writes its
+    /// transitions when the replay and the run agree.
+    fn checked(&mut self, tick: u32, usec: i64, now: u32, mut q: Queue<'t>) -> Result<u8, Mismatch> {
         let (root, transitions) = self.replay.tick(&mut q, now, self.ticking);
-        if let Some(what) = q.wrong {
+        let refusal = self.replay.refusal();
+        if let Some((m, c)) = self.replay.take_left_running() {
+            self.left_running = Some((tick, m, c));
+        }
+        if let Some(what) = q.wrong.take().or(refusal) {
             return Err(Mismatch { tick, what });
         }
         if let Some(&c) = q.early.first() {
@@ -140,6 +218,15 @@ impl<'t> RunLog<'t> {
             return Err(Mismatch {
                 tick,
                 what: format!("the run ticked node {c}, which BehaviorTree.CPP does not tick"),
+            });
+        }
+        if let Some(&(c, _)) = q.selections.front() {
+            return Err(Mismatch {
+                tick,
+                what: format!(
+                    "the run's ManualSelector {} made a selection BehaviorTree.CPP does not ask for",
+                    q.name(c)
+                ),
             });
         }
         for (uid, s) in transitions {

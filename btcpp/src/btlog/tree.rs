@@ -85,6 +85,11 @@ pub enum Kind {
     Precondition(u8),
     /// `Sleep`: its `msec`.
     Sleep(u32),
+    /// `ManualSelector`: its `repeat_last_selection`.
+    ManualSelector {
+        /// `repeat_last_selection`.
+        repeat_last: bool,
+    },
     /// `LoopInt`, ..., or a loop the program registers: the number of elements of a
     /// literal queue (`None`: a blackboard queue, whose pops are asked as a leaf's) and
     /// its `if_empty` status.
@@ -252,6 +257,11 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
             (Kind::Recovery(i32::from(retries)), "RecoveryNode", vec![("number_of_retries", retries.to_string())])
         }
         NodeKind::RoundRobin => (Kind::RoundRobin, "RoundRobin", vec![]),
+        NodeKind::ManualSelector { repeat_last } => (
+            Kind::ManualSelector { repeat_last },
+            "ManualSelector",
+            vec![("repeat_last_selection", repeat_last.to_string())],
+        ),
         NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
         NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
         NodeKind::Sleep(span) => (Kind::Sleep(span.get()), "Sleep", vec![("msec", span.get().to_string())]),
@@ -265,8 +275,7 @@ fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
         }
         // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
         // equivalent; Nav2's plugin decorators (gates) each change status in their own
-        // way, and a ManualSelector follows its behavior set's selections, neither of
-        // which the replay models.
+        // way, which the replay does not model.
         _ => return None,
     })
 }
@@ -310,6 +319,7 @@ fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
         "RunOnce" => &[("then_skip", "true")],
         "RecoveryNode" => &[("number_of_retries", "1")],
         "RateController" => &[("hz", "10.000000")],
+        "ManualSelector" => &[("repeat_last_selection", "false")],
         "Precondition" => &[("else", "FAILURE")],
         "LoopInt" | "LoopBool" | "LoopDouble" | "LoopString" => &[("if_empty", "SUCCESS")],
         _ => &[],

@@ -4,6 +4,7 @@
 use super::status::{FAILURE, IDLE, RUNNING, SKIPPED, SUCCESS};
 use super::{Leaves, Replay};
 use crate::btlog::tree::Kind;
+use bt_core::Selection;
 
 impl Replay<'_> {
     pub(super) fn tick_node(&mut self, i: usize, leaves: &mut dyn Leaves) -> u8 {
@@ -436,6 +437,7 @@ impl Replay<'_> {
                 if skipped == n { SKIPPED } else { SUCCESS }
             }
             Kind::Recovery(retries) => self.recovery(i, retries, leaves),
+            Kind::ManualSelector { repeat_last } => self.manual_selector(i, repeat_last, leaves),
             Kind::RoundRobin => {
                 // Nav2: one child per turn (`idx`), failures counted (`count`) until
                 // every child has failed in turn.
@@ -520,6 +522,83 @@ impl Replay<'_> {
         }
         self.halt(i, leaves);
         FAILURE
+    }
+
+    /// BehaviorTree.CPP 4.10's `ManualSelectorNode::tick()`, told the run's selections.
+    /// Without children it asks for a status and returns it (it does not mark itself
+    /// Running first). With children: unless `repeat_last_selection` and it has made a
+    /// selection before, it marks itself Running, asks, remembers the answer and returns
+    /// a status answered; then it ticks the child (remembered or answered) and returns
+    /// what it returns, remembering it as its running child when Running. It halts no
+    /// other child, and resets none when it finishes.
+    fn manual_selector(&mut self, i: usize, repeat_last: bool, leaves: &mut dyn Leaves) -> u8 {
+        let n = self.tree.nodes[i].children.len();
+        let code = |s: Selection| match s {
+            Selection::Success => Some(SUCCESS),
+            Selection::Failure => Some(FAILURE),
+            Selection::Running => Some(RUNNING),
+            Selection::Child(_) => None,
+        };
+        let remembered = self.rt[i].selected.filter(|_| repeat_last && n > 0);
+        let selection = match remembered {
+            Some(s) => s,
+            None => {
+                if n > 0 {
+                    self.set_status(i, RUNNING);
+                }
+                let Some(s) = self.tree.nodes[i].core.and_then(|c| leaves.select(c)) else {
+                    self.refuse(i, "asks for a selection, and the run made none there");
+                    return FAILURE;
+                };
+                if n > 0 {
+                    self.rt[i].selected = Some(s);
+                }
+                s
+            }
+        };
+        let k = match (selection, remembered.is_some()) {
+            (Selection::Child(k), _) => usize::from(k),
+            // BehaviorTree.CPP keeps a status answered as the child index 253 to 255 and,
+            // repeating it, ticks that child: past its children (ours returns it again).
+            (s, true) => {
+                self.refuse(i, &format!("repeats its last selection, {s:?}, which BehaviorTree.CPP would take as a child index past its children"));
+                return FAILURE;
+            }
+            (s, false) => {
+                let s = code(s).unwrap_or(FAILURE);
+                if s != RUNNING {
+                    self.note_left_running(i, None);
+                }
+                return s;
+            }
+        };
+        if k >= n {
+            self.refuse(i, &format!("is told to tick child {k} of its {n}"));
+            return FAILURE;
+        }
+        // Its operator's menu answers in a byte, 253 to 255 meaning statuses.
+        if k >= 253 {
+            self.refuse(
+                i,
+                &format!("is told to tick child {k}, which BehaviorTree.CPP's selection takes for a status"),
+            );
+            return FAILURE;
+        }
+        self.note_left_running(i, Some(k));
+        let s = self.execute(self.child(i, k), leaves);
+        if s == RUNNING {
+            self.rt[i].running_child = Some(k);
+        }
+        s
+    }
+
+    /// Notes a child of `ManualSelector` `i` other than `chosen` that is Running: bt-core
+    /// halts it here, BehaviorTree.CPP leaves it Running.
+    fn note_left_running(&mut self, i: usize, chosen: Option<usize>) {
+        let children = &self.tree.nodes[i].children;
+        if let Some(k) = (0..children.len()).find(|&k| Some(k) != chosen && self.rt[children[k]].status == RUNNING) {
+            self.left_running = Some((i, children[k]));
+        }
     }
 
     fn clear_parallel(&mut self, i: usize) {

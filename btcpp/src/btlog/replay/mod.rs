@@ -28,6 +28,15 @@
 //! Nav2's `PipelineSequence`, `RecoveryNode`, `RoundRobin` and `RateController` follow
 //! Nav2's (jazzy) code on BehaviorTree.CPP; its plugin decorators are not modelled.
 //!
+//! A `ManualSelector` is told what to do by the run: the replay asks [`Leaves::select`]
+//! for the selection the run made, where BehaviorTree.CPP asks its operator. It follows
+//! BehaviorTree.CPP 4.10's node, not bt-core's halt before start: a child left Running
+//! when another is chosen, or when the node returns Success or Failure, stays Running
+//! in the log (it is halted when the node is). Where BehaviorTree.CPP cannot do what the
+//! run did (a remembered status repeated, which it would take as a child index past its
+//! children; child 253 or later, which it takes as a status) the replay refuses
+//! ([`Replay::refusal`]).
+//!
 //! Where bt-core's decisions differ from BehaviorTree.CPP's in documented corner cases
 //! (a `Timeout` found expired with a child that is not Running fails; timers are read
 //! at ticks), the replay takes bt-core's, so that it asks for the leaves the run ticked;
@@ -35,6 +44,7 @@
 
 mod kinds;
 
+use bt_core::Selection;
 use bt_core::script::Hook;
 
 use crate::btlog::tree::{Hooks, Kind, LogTree};
@@ -66,6 +76,13 @@ pub trait Leaves {
     fn halted_hook(&mut self, core: usize) {
         self.tick(core);
     }
+    /// `ManualSelector` `core` asks what to do on this tick: the selection the run's
+    /// behavior set made for it ([`bt_core::BehaviorSet::select`]). `None` when the run
+    /// made none there (the default: the replay then refuses, [`Replay::refusal`]).
+    fn select(&mut self, core: usize) -> Option<Selection> {
+        let _ = core;
+        None
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -86,6 +103,11 @@ struct Rt {
     /// Sequence, SequenceWithMemory, Fallback: children that skipped in this
     /// activation.
     skipped: usize,
+    /// ManualSelector: its last selection (`previously_executed_idx_`, kept through
+    /// halts) and the last child that returned Running (`running_child_idx_`, cleared
+    /// only by a halt).
+    selected: Option<Selection>,
+    running_child: Option<usize>,
 }
 
 /// How the root is ticked.
@@ -113,6 +135,11 @@ pub struct Replay<'t> {
     woken: bool,
     /// The `now` of the tick being replayed.
     now: u32,
+    /// Why the replay cannot give BehaviorTree.CPP's transitions for this run (the
+    /// first reason since [`Replay::refusal`] last took it).
+    refused: Option<String>,
+    /// The last `ManualSelector` (node, child) left Running where bt-core halts it.
+    left_running: Option<(usize, usize)>,
 }
 
 impl<'t> Replay<'t> {
@@ -120,7 +147,7 @@ impl<'t> Replay<'t> {
     #[must_use]
     pub fn new(tree: &'t LogTree) -> Self {
         let rt = tree.nodes.iter().map(|n| Rt { done: vec![false; n.children.len()], ..Rt::default() }).collect();
-        Self { tree, rt, transitions: Vec::new(), woken: false, now: 0 }
+        Self { tree, rt, transitions: Vec::new(), woken: false, now: 0, refused: None, left_running: None }
     }
 
     /// One tick of the root at `now`, ticked as `ticking` says: the root's status, and
@@ -137,6 +164,29 @@ impl<'t> Replay<'t> {
             self.reset_status(0);
         }
         (root, std::mem::take(&mut self.transitions))
+    }
+
+    /// Why the ticks replayed since the last call do not give BehaviorTree.CPP's
+    /// transitions for the run (the first reason, naming the node), taken; `None` when
+    /// they do.
+    pub fn refusal(&mut self) -> Option<String> {
+        self.refused.take()
+    }
+
+    /// The last `ManualSelector` that left a child Running, in BehaviorTree.CPP's way,
+    /// where bt-core's halt before start halted it: (the `ManualSelector`, the child),
+    /// both as indices into [`LogTree::nodes`], taken. Later ticks of the replay may then
+    /// ask for other leaves than the run ticked.
+    pub fn take_left_running(&mut self) -> Option<(usize, usize)> {
+        self.left_running.take()
+    }
+
+    /// Refuses the run at node `i`, for `why`.
+    fn refuse(&mut self, i: usize, why: &str) {
+        if self.refused.is_none() {
+            let n = &self.tree.nodes[i];
+            self.refused = Some(format!("{} `{}` (uid {}) {why}", n.element, n.name, n.uid));
+        }
     }
 
     /// Whether a node asked to be ticked again at once and no pass has taken it yet.
@@ -305,6 +355,15 @@ impl<'t> Replay<'t> {
             Kind::Condition | Kind::AlwaysSuccess | Kind::AlwaysFailure | Kind::Script | Kind::ScriptCondition => {}
             // Its timer is cancelled; it is reset.
             Kind::Sleep(_) => self.reset_status(i),
+            // The child it remembers Running first, then every child as a ControlNode's
+            // halt does; its last selection is kept.
+            Kind::ManualSelector { .. } => {
+                if let Some(k) = self.rt[i].running_child.take() {
+                    self.halt_child(i, k, leaves);
+                }
+                self.reset_children(i, leaves);
+                self.reset_status(i);
+            }
             k if k.is_decorator() => {
                 let r = &mut self.rt[i];
                 r.count = 0;
