@@ -275,8 +275,9 @@ impl Policy {
     /// reaches the goal, found with no search, and soon meets the plan's own states.
     /// `distance` is how far from the goal the tree was before the disturbance: the
     /// first plan and the eight latest are tried from that far before their end (and
-    /// up to two steps earlier, the latest start whose rest reaches the goal); the way is cut at the first state where a rule holds (or the goal),
-    /// and the shortest way to the goal kept. A few runs along each plan: no search.
+    /// up to two steps earlier, the latest start whose rest reaches the goal); the way
+    /// is cut at the first state where a rule holds (or the goal), and the shortest way
+    /// to the goal kept. A few runs along each plan: no search.
     #[must_use]
     pub fn resume(&self, g: &Grounding, t: &State, distance: u32) -> Option<(Vec<ActionId>, Rule)> {
         let n = self.plans.len();
@@ -680,10 +681,13 @@ fn pass(
                         let rejoined = policy.rejoin(g, &t, &own, deadline);
                         // No nearer the goal than before the disturbance: as good as
                         // the plan the tree was on, and no search needed.
-                        let before = policy.first(s).map(|r| r.distance as usize);
-                        if let Some((p, r)) = &rejoined
-                            && before.is_some_and(|d| p.len() + r.distance as usize <= d)
-                        {
+                        let before = policy.first(s).map(|r| r.distance);
+                        let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
+                            way.as_ref()
+                                .zip(before)
+                                .is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
+                        };
+                        if no_farther(&rejoined) {
                             return rejoined;
                         }
                         // A way's length to the goal, plus one for every action it
@@ -695,10 +699,8 @@ fn pass(
                             (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
                             (a, b) => a.or(b),
                         };
-                        let resumed = before.and_then(|d| policy.resume(g, &t, d as u32));
-                        if let Some((p, r)) = &resumed
-                            && before.is_some_and(|d| p.len() + r.distance as usize <= d)
-                        {
+                        let resumed = before.and_then(|d| policy.resume(g, &t, d));
+                        if no_farther(&resumed) {
                             return cheaper(resumed, rejoined);
                         }
                         let known = cheaper(resumed, rejoined);

@@ -16,6 +16,11 @@ use planner::state::State;
 use planner::strips::{self, StripsWorld};
 use planner::{Options, PddlCatalog};
 
+/// A problem written here, not read from the fixtures.
+fn problem_of(domain: &str, problem: &str) -> planner::model::Problem {
+    parse_domain("domain.pddl", domain).and_then(|d| parse_problem("problem.pddl", problem, &d)).unwrap()
+}
+
 fn grounding(domain: &str, problem: &str) -> (Arc<Grounding>, Arc<PddlCatalog>) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ipc");
     let dtext = std::fs::read_to_string(dir.join(domain)).unwrap();
@@ -210,7 +215,7 @@ const DOOR_PROBLEM: &str = "(define (problem p) (:domain door) (:init (open)) (:
 
 #[test]
 fn a_disturbance_that_leaves_no_plan_is_counted_as_a_dead_end() {
-    let p = parse_domain("door.pddl", DOOR_DOMAIN).and_then(|d| parse_problem("p.pddl", DOOR_PROBLEM, &d)).unwrap();
+    let p = problem_of(DOOR_DOMAIN, DOOR_PROBLEM);
     let (g, c) = (Arc::new(Grounding::new(&p).unwrap()), PddlCatalog::new(&p));
     let plan = planner::plan(g.clone(), Arc::new(c.clone()), Options::default()).unwrap();
     let settings = Settings { episodes: 40, rate: 1.0, ..Settings::default() };
@@ -346,8 +351,7 @@ const STAMP_PROBLEM: &str = "(define (problem p) (:domain stamp) (:init (at0) (b
 
 #[test]
 fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
-    let p = parse_domain("stamp.pddl", STAMP_DOMAIN).and_then(|d| parse_problem("p.pddl", STAMP_PROBLEM, &d)).unwrap();
-    let g = Grounding::new(&p).unwrap();
+    let g = Grounding::new(&problem_of(STAMP_DOMAIN, STAMP_PROBLEM)).unwrap();
     let id = |name: &str| (0..g.actions().len() as u32).find(|&a| g.action_name(a) == name).unwrap();
     let plan = [id("go01"), id("go12"), id("stamp"), id("finish")];
     let policy = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());

@@ -533,12 +533,6 @@ impl Replay<'_> {
     /// other child, and resets none when it finishes.
     fn manual_selector(&mut self, i: usize, repeat_last: bool, leaves: &mut dyn Leaves) -> u8 {
         let n = self.tree.nodes[i].children.len();
-        let code = |s: Selection| match s {
-            Selection::Success => Some(SUCCESS),
-            Selection::Failure => Some(FAILURE),
-            Selection::Running => Some(RUNNING),
-            Selection::Child(_) => None,
-        };
         let remembered = self.rt[i].selected.filter(|_| repeat_last && n > 0);
         let selection = match remembered {
             Some(s) => s,
@@ -564,12 +558,10 @@ impl Replay<'_> {
                 self.refuse(i, &format!("repeats its last selection, {s:?}, which BehaviorTree.CPP would take as a child index past its children"));
                 return FAILURE;
             }
+            (Selection::Running, false) => return RUNNING,
             (s, false) => {
-                let s = code(s).unwrap_or(FAILURE);
-                if s != RUNNING {
-                    self.note_left_running(i, None);
-                }
-                return s;
+                self.note_left_running(i, None);
+                return if s == Selection::Success { SUCCESS } else { FAILURE };
             }
         };
         if k >= n {
