@@ -16,9 +16,10 @@
 //! Some domains have actions that cannot be undone (a peg jumped in peg solitaire, a
 //! tile painted in floortile, fuel burnt in nomystery): a disturbance there can leave
 //! the world where no plan reaches the goal, and no tree could recover. A failed
-//! episode is counted as such a *dead end* only when a search proves it: from the state
-//! just before some disturbance a plan exists, and from the state just after it every
-//! reachable state was expanded without reaching the goal ([`Disturbed::dead_ends`]).
+//! episode is counted as such a *dead end* only when it is proven: from the state just
+//! before some disturbance a plan exists (the tree, run undisturbed from there, reaches
+//! the goal, or search finds a plan), and from the state just after it a search
+//! expanded every reachable state without reaching the goal ([`Disturbed::dead_ends`]).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -447,11 +448,22 @@ pub fn disturbed<C: Catalog + ?Sized>(
         )?;
         if verdict.reached() {
             out.reached += 1;
-        } else if changes
-            .iter()
-            .any(|(before, after)| solvable.from(after) == Some(false) && solvable.from(before) == Some(true))
-        {
-            out.dead_ends += 1;
+            continue;
+        }
+        // A plan existed before the disturbance if the tree, run undisturbed from
+        // there, reaches the goal (where search for one may take longer than it is
+        // given here), or if search finds one.
+        let mut tree_reaches = |s: &State| -> Result<bool, PlanError> {
+            let mut w = StripsWorld::new(g.clone());
+            w.set_state(s.clone());
+            let ends = strips::Ends { on_loop: false, failures: settings.failures };
+            Ok(strips::run_to_goal((nodes, values), catalog, &mut w, budget, ends, |_, _| {}, &mut states)?.reached())
+        };
+        for (before, after) in &changes {
+            if solvable.from(after) == Some(false) && (tree_reaches(before)? || solvable.from(before) == Some(true)) {
+                out.dead_ends += 1;
+                break;
+            }
         }
     }
     Ok(out)

@@ -195,12 +195,12 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
         closed.kept = true;
         return Ok(Plan { closed: Some(closed), ..p });
     }
-    if closed.plans == 0 {
+    if closed.plans == 0 && closed.undo == 0 {
         // Nothing added, but the closure looked with the plan's rules in front: the
         // tree stays as it was only if it does as well alone.
         let mut none = crate::regress::Policy::empty();
         let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options))?;
-        if alone.plans == 0 && alone.given_up == 0 {
+        if alone.plans == 0 && alone.undo == 0 && alone.given_up == 0 {
             return Ok(Plan { closed: Some(closed), ..p });
         }
         closed.own_rules = true;
@@ -238,9 +238,12 @@ struct Behind<'a, C: ?Sized> {
     base_nodes: usize,
     max_ticks: u32,
     /// The whole tree for the rules it was built with.
-    built: Option<(Vec<crate::regress::Rule>, crate::tree::Flat)>,
+    built: Option<(RulesKey, crate::tree::Flat)>,
     states: Vec<bt_core::NodeState>,
 }
+
+/// The rules and undo rules a [`Behind`] tree was built with.
+type RulesKey = (Vec<crate::regress::Rule>, Vec<crate::regress::Rule>);
 
 impl<'a, C: Catalog + ?Sized> Behind<'a, C> {
     fn new(g: Arc<Grounding>, catalog: &'a C, base: &'a PlanTree, max_ticks: u32) -> Self {
@@ -265,8 +268,15 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
         s: &crate::state::State,
     ) -> Result<(Vec<crate::state::State>, bool), PlanError> {
         let flat = match &mut self.built {
-            Some((rules, flat)) if rules.as_slice() == policy.rules() => flat,
-            built => &built.insert((policy.rules().to_vec(), policy.tree_before(g, self.base).flatten(g)?)).1,
+            Some(((rules, undo), flat))
+                if rules.as_slice() == policy.rules() && undo.as_slice() == policy.undo_rules() =>
+            {
+                flat
+            }
+            built => {
+                let key = (policy.rules().to_vec(), policy.undo_rules().to_vec());
+                &built.insert((key, policy.tree_before(g, self.base).flatten(g)?)).1
+            }
         };
         let mut world = StripsWorld::new(self.g.clone());
         world.set_state(s.clone());
@@ -303,7 +313,11 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
     }
 
     fn nodes(&self, g: &Grounding, policy: &crate::regress::Policy) -> usize {
-        if policy.rules().is_empty() { self.base_nodes } else { policy.nodes(g) + self.base_nodes }
+        if policy.rules().is_empty() && policy.undo_rules().is_empty() {
+            self.base_nodes
+        } else {
+            policy.nodes(g) + self.base_nodes
+        }
     }
 }
 

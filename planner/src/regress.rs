@@ -39,7 +39,9 @@
 //! every state the tree passes through, it applies each of the tree's actions that is
 //! applicable, and where the tree would fail it finds a way back to its rules and adds
 //! that path's rules (regressed from the rule it leads to), up to [`MAX_DISTURBANCES`]
-//! disturbances deep. The way back is a path of at most two actions to a state where
+//! disturbances deep, the states with fewer disturbances first. A new action that a
+//! way back brings is tried at once in every state looked at before, the nearest the
+//! initial state first (an agent can do it there too). The way back is a path of at most two actions to a state where
 //! a rule holds; else a longer one found by search on the unmet conditions of the
 //! rules ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of
 //! turn, the plan's later steps lead back to its rules long before the goal), taken
@@ -52,11 +54,22 @@
 //! rules regressed from the goal hold in more states. The ways back try the tree's own
 //! actions before any others, and the cost counts new ones, because a tree with fewer
 //! distinct actions gives an external agent fewer to do, and its closure fewer states
-//! to look at. All within a budget of
+//! to look at.
+//!
+//! Before any of these, an *undo rule* ([`Policy::undo_rules`]): where the agent's
+//! action can be undone by one action (an object picked up out of turn, put back),
+//! a rule `Sequence(pre(u)?, u)` after all the others, where the tree would otherwise
+//! fail. One such rule serves the disturbance from every state of the tree's path,
+//! where the ways back above serve one state each: rules regressed through a way back
+//! carry all the conditions of the rule they lead to. Undo rules cannot take turns
+//! (see [`Policy::undo_rules`]), and the tree acts on them only where no other rule
+//! holds, so the rules' progress argument above is untouched.
+//!
+//! All within a budget of
 //! plans, nodes and time (the tree is correct at every point, so running out of
 //! budget leaves a tree that is only less robust). [`close_with`] does the same for
-//! rules in front of another tree ([`Closable`]): where that tree fails from a state a
-//! disturbance leads to, the rules take over.
+//! rules in front of another tree ([`Closable`]), the undo rules behind it: where that
+//! tree fails from a state a disturbance leads to, the rules take over.
 
 use std::collections::HashSet;
 use std::time::Instant;
@@ -158,6 +171,8 @@ pub struct Closed {
     pub states: usize,
     /// States where the tree failed, each given a plan and its rules.
     pub plans: usize,
+    /// Undo rules added ([`Policy::undo_rules`]).
+    pub undo: usize,
     /// States where the tree failed and no plan reaches the goal.
     pub dead_ends: usize,
     /// States where the tree failed and the search for a plan ran out of its time.
@@ -184,6 +199,9 @@ impl std::fmt::Display for Closed {
             count(self.plans, "plan"),
             count(self.states, "state")
         )?;
+        if self.undo > 0 {
+            write!(f, ", {}", count(self.undo, "undo rule"))?;
+        }
         if self.dead_ends > 0 {
             write!(f, " ({} with no plan)", count(self.dead_ends, "state"))?;
         }
@@ -240,6 +258,9 @@ fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Policy {
     rules: Vec<Rule>,
+    /// Rules that undo an agent's action, after all the others: each takes the world
+    /// back by one action where no rule holds (see [`Policy::undo_rules`]).
+    undo: Vec<Rule>,
     /// The plans to the goal whose rules were added, first to last.
     plans: Vec<Vec<ActionId>>,
 }
@@ -315,6 +336,20 @@ impl Policy {
         Some((steps, Rule::goal(g)))
     }
 
+    /// The rules that undo an agent's action: `when` is the action's preconditions, and
+    /// `distance` is `u32::MAX` (they are not steps of a plan). The tree checks them
+    /// after every other rule, so they act only where the tree would otherwise fail:
+    /// where an agent did one of the tree's actions out of turn, such as picking up an
+    /// object, one rule that puts it back serves every state the disturbance can come
+    /// from, where rules regressed through the way back serve one each. Each undo
+    /// rule's action makes one of its own conditions false, and no two change a fact
+    /// in opposite directions: so they never take turns, and from any state each acts
+    /// at most once before a rule holds (or the tree fails).
+    #[must_use]
+    pub fn undo_rules(&self) -> &[Rule] {
+        &self.undo
+    }
+
     /// Inserts `rule` after every rule at most as far from the goal, unless one of those
     /// always pre-empts it; drops the later rules it always pre-empts.
     fn insert(&mut self, rule: Rule) -> bool {
@@ -340,17 +375,25 @@ impl Policy {
         self.rules.iter().find(|r| r.holds(s))
     }
 
+    /// The rule the tree acts on in `s`: the first rule that holds, else the first
+    /// undo rule that holds.
+    #[must_use]
+    pub fn next(&self, s: &State) -> Option<&Rule> {
+        self.first(s).or_else(|| self.undo.iter().find(|r| r.holds(s)))
+    }
+
     /// The states the tree passes through from `s` until the goal (`s` included), or
-    /// until no rule holds.
+    /// until neither a rule nor an undo rule holds.
     #[must_use]
     pub fn path(&self, g: &Grounding, s: &State) -> Vec<State> {
         let mut out = vec![s.clone()];
         let mut cur = s.clone();
-        // Distances fall by at least one a step (see the module docs); the limit only
-        // guards against a grounding whose actions break that.
-        let limit = self.max_distance() as usize + 1;
+        // Distances fall by at least one a step (see the module docs), and each undo
+        // rule acts at most once ([`Policy::push_undo`]); the limit only guards against
+        // a grounding whose actions break that.
+        let limit = self.max_distance() as usize + 1 + self.undo.len();
         while !g.goal_holds(&cur) && out.len() <= limit {
-            let Some(next) = self.first(&cur).and_then(|r| successor(g, r.action, &cur)) else { break };
+            let Some(next) = self.next(&cur).and_then(|r| successor(g, r.action, &cur)) else { break };
             out.push(next.clone());
             cur = next;
         }
@@ -365,7 +408,7 @@ impl Policy {
     #[must_use]
     pub fn actions(&self) -> Vec<ActionId> {
         let mut out: Vec<ActionId> = Vec::new();
-        for r in &self.rules {
+        for r in self.rules.iter().chain(&self.undo) {
             if !out.contains(&r.action) {
                 out.push(r.action);
             }
@@ -404,9 +447,14 @@ impl Policy {
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
     /// with the conditions that neighbouring rules share checked once (in a
-    /// `Sequence(shared?, Fallback(rules...))` around them).
+    /// `Sequence(shared?, Fallback(rules...))` around them), then the undo rules.
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
+        self.tree_with(g, None)
+    }
+
+    /// [`Policy::tree`] with `base` between the rules and the undo rules.
+    fn tree_with(&self, g: &Grounding, base: Option<&PlanTree>) -> PlanTree {
         let mut t = PlanTree::with_root(Kind::Fallback);
         let root = t.root();
         let goal = if let [single] = g.goal() {
@@ -421,7 +469,77 @@ impl Policy {
         };
         t.push_child(root, goal);
         Self::factor(&mut t, root, &self.rules, &[]);
+        if let Some(base) = base {
+            t.graft(root, base);
+        }
+        for r in &self.undo {
+            let seq = t.add(Kind::Sequence);
+            for &l in &r.when {
+                let c = t.add(Kind::Condition(l));
+                t.push_child(seq, c);
+            }
+            let act = t.add(Kind::Action(r.action));
+            t.push_child(seq, act);
+            t.push_child(root, seq);
+        }
         t
+    }
+
+    /// Adds an undo rule for `t`, a state an agent's action led to from `s`, when one
+    /// action `u` (of `own`, the tree's, if one does) leads back to `s` exactly (the
+    /// rule's action is `u`, its conditions `u`'s preconditions); the caller checks
+    /// that the tree then reaches the goal from `t`, and takes it out again
+    /// ([`Policy::pop_undo`]) if not. Returns whether it was added.
+    ///
+    /// Undo rules never take turns: `u` must make one of its own conditions false (so
+    /// it never acts where it would change nothing), have no conditional effects, and
+    /// change no fact the other way from an undo rule already there (an agent that puts
+    /// an object down, undone by picking it up, where a rule puts it down: the two
+    /// could alternate for ever). A fact that only ever changes one way changes at most
+    /// once, so from any state each undo rule acts at most once before a rule holds
+    /// (or the tree fails).
+    fn push_undo(&mut self, g: &Grounding, s: &State, t: &State, own: &[ActionId]) -> bool {
+        // The actions that make a fact of `s` that `t` lacks true (or one `t` has
+        // false): the tree's own first.
+        let lost = s.iter().find(|&a| !t.holds(a)).map(|atom| Lit { atom, positive: true });
+        let Some(need) = lost.or_else(|| t.iter().find(|&a| !s.holds(a)).map(|atom| Lit { atom, positive: false }))
+        else {
+            return false;
+        };
+        let fits = |u: &ActionId| {
+            let Some(x) = g.action(*u) else { return false };
+            let undoes_itself =
+                x.pre.iter().any(|l| if l.positive { x.del.contains(&l.atom) } else { x.add.contains(&l.atom) });
+            let against = |r: &Rule| {
+                g.action(r.action)
+                    .is_none_or(|y| x.add.iter().any(|a| y.del.contains(a)) || x.del.iter().any(|a| y.add.contains(a)))
+            };
+            undoes_itself
+                && x.cond.is_empty()
+                && !self.undo.iter().any(against)
+                && successor(g, *u, t).as_ref() == Some(s)
+        };
+        let candidates = g.achievers(need);
+        let Some(u) = candidates
+            .iter()
+            .copied()
+            .filter(|u| own.contains(u))
+            .find(fits)
+            .or_else(|| candidates.iter().copied().find(fits))
+        else {
+            return false;
+        };
+        let Some(x) = g.action(u) else { return false };
+        let mut when = x.pre.clone();
+        when.sort_unstable();
+        when.dedup();
+        self.undo.push(Rule { when, action: u, distance: u32::MAX });
+        true
+    }
+
+    /// Takes out the undo rule added last.
+    fn pop_undo(&mut self) {
+        self.undo.pop();
     }
 
     /// Appends `rules` to the Fallback `parent`, whose ancestors have checked `known`.
@@ -478,17 +596,14 @@ impl Policy {
         }
     }
 
-    /// The rules in front of `base`: `Fallback(goal?, rules..., base)`; `base` itself
-    /// while there are no rules.
+    /// The rules in front of `base`, the undo rules behind it: `Fallback(goal?,
+    /// rules..., base, undo rules...)`; `base` itself while there are none.
     #[must_use]
     pub fn tree_before(&self, g: &Grounding, base: &PlanTree) -> PlanTree {
-        if self.rules.is_empty() {
+        if self.rules.is_empty() && self.undo.is_empty() {
             return base.clone();
         }
-        let mut t = self.tree(g);
-        let root = t.root();
-        t.graft(root, base);
-        t
+        self.tree_with(g, Some(base))
     }
 
     /// A path from `t` to a state where a rule (or the goal) holds, and the first rule
@@ -551,7 +666,7 @@ impl Policy {
     /// An empty policy (no rules).
     #[must_use]
     pub fn empty() -> Self {
-        Self { rules: Vec::new(), plans: Vec::new() }
+        Self { rules: Vec::new(), undo: Vec::new(), plans: Vec::new() }
     }
 }
 
@@ -620,11 +735,11 @@ pub fn close_with(
     // Rules added in a pass can change the tree's path (a nearer rule takes over), and
     // with it the states disturbances lead to: passes until one adds nothing.
     loop {
-        let plans = done.plans;
+        let plans = done.plans + done.undo;
         if !pass(g, policy, tree, budget, &mut done, &mut ever)? {
             return Ok(done);
         }
-        if done.plans == plans {
+        if done.plans + done.undo == plans {
             done.complete = true;
             return Ok(done);
         }
@@ -641,12 +756,17 @@ fn pass(
     ever: &mut HashSet<State>,
 ) -> Result<bool, PlanError> {
     let mut seen: HashSet<State> = HashSet::new();
-    let mut frontier: Vec<State> = Vec::new();
+    // The states to disturb, by how many disturbances led there, each with how many
+    // of `acts` were tried on it. `acts` is the tree's actions, in the order they came:
+    // a way back can bring new ones, which an agent can then do in every state looked
+    // at before, nearest the initial state first.
+    let mut levels: Vec<Vec<(State, usize)>> = vec![Vec::new(); MAX_DISTURBANCES as usize];
     for s in tree.run(g, policy, g.init())?.0 {
         if seen.insert(s.clone()) {
-            frontier.push(s);
+            levels[0].push((s, 0));
         }
     }
+    let mut acts = tree.actions(policy);
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
     let over = |d: &Closed, size: usize| {
@@ -655,92 +775,121 @@ fn pass(
             || size >= budget.nodes
             || budget.deadline.is_some_and(|t| Instant::now() >= t)
     };
-    for _ in 0..MAX_DISTURBANCES {
-        let mut next = Vec::new();
-        for s in &frontier {
-            for a in tree.actions(policy) {
-                let Some(t) = successor(g, a, s) else { continue };
-                if !seen.insert(t.clone()) {
-                    continue;
-                }
-                if over(done, size) {
-                    return Ok(false);
-                }
-                if ever.insert(t.clone()) {
-                    done.states += 1;
-                }
-                let (mut path, reached) = tree.run(g, policy, &t)?;
-                if !reached {
-                    let own = tree.actions(policy);
-                    let deadline = search_deadline(budget);
-                    // A short way back to the rules; else a longer way back, or the
-                    // rest of a plan, that is no farther from the goal than the tree
-                    // was before the disturbance; else the cheapest of those and a new
-                    // plan (see the module docs).
-                    let back = repair(g, policy, &t, &own).or_else(|| {
-                        let rejoined = policy.rejoin(g, &t, &own, deadline);
-                        // No nearer the goal than before the disturbance: as good as
-                        // the plan the tree was on, and no search needed.
-                        let before = policy.first(s).map(|r| r.distance);
-                        let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
-                            way.as_ref()
-                                .zip(before)
-                                .is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
-                        };
-                        if no_farther(&rejoined) {
-                            return rejoined;
+    'scan: loop {
+        for depth in 0..levels.len() {
+            for k in 0..levels[depth].len() {
+                while levels[depth][k].1 < acts.len() {
+                    let a = acts[levels[depth][k].1];
+                    levels[depth][k].1 += 1;
+                    let Some(t) = successor(g, a, &levels[depth][k].0) else { continue };
+                    if !seen.insert(t.clone()) {
+                        continue;
+                    }
+                    if over(done, size) {
+                        return Ok(false);
+                    }
+                    if ever.insert(t.clone()) {
+                        done.states += 1;
+                    }
+                    let (mut path, mut reached) = tree.run(g, policy, &t)?;
+                    let mut added = false;
+                    if !reached && policy.push_undo(g, &levels[depth][k].0, &t, &tree.actions(policy)) {
+                        let (undone, ok) = tree.run(g, policy, &t)?;
+                        if ok {
+                            done.undo += 1;
+                            size = tree.nodes(g, policy);
+                            (path, reached, added) = (undone, true, true);
+                        } else {
+                            policy.pop_undo();
                         }
-                        // A way's length to the goal, plus one for every action it
-                        // brings that the tree does not have yet.
-                        let cost =
-                            |(steps, r): &(Vec<ActionId>, Rule)| steps.len() + r.distance as usize + novel(steps, &own);
-                        let cheaper = |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b)
-                        {
-                            (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
-                            (a, b) => a.or(b),
-                        };
-                        let resumed = before.and_then(|d| policy.resume(g, &t, d));
-                        if no_farther(&resumed) {
-                            return cheaper(resumed, rejoined);
-                        }
-                        let known = cheaper(resumed, rejoined);
-                        let options = SearchOptions { deadline, ..SearchOptions::default() };
-                        match search::gbfs_from(g, &t, &options) {
-                            // On a tie the plan: rules regressed from the goal hold in
-                            // more states than those from another rule.
-                            Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
-                            Err(PlanError::NoPlan(_)) if known.is_none() => {
-                                done.dead_ends += 1;
-                                None
+                    }
+                    if !reached {
+                        let own = tree.actions(policy);
+                        let deadline = search_deadline(budget);
+                        // A short way back to the rules; else a longer way back, or the
+                        // rest of a plan, that is no farther from the goal than the tree
+                        // was before the disturbance; else the cheapest of those and a new
+                        // plan (see the module docs).
+                        let back = repair(g, policy, &t, &own).or_else(|| {
+                            let rejoined = policy.rejoin(g, &t, &own, deadline);
+                            // No nearer the goal than before the disturbance: as good as
+                            // the plan the tree was on, and no search needed.
+                            let before = policy.first(&levels[depth][k].0).map(|r| r.distance);
+                            let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
+                                way.as_ref()
+                                    .zip(before)
+                                    .is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
+                            };
+                            if no_farther(&rejoined) {
+                                return rejoined;
                             }
-                            // One hard state does not end the closure: the others may
-                            // be easy.
-                            Err(_) => {
-                                if known.is_none() {
-                                    done.given_up += 1;
+                            // A way's length to the goal, plus one for every action it
+                            // brings that the tree does not have yet.
+                            let cost = |(steps, r): &(Vec<ActionId>, Rule)| {
+                                steps.len() + r.distance as usize + novel(steps, &own)
+                            };
+                            let cheaper =
+                                |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b) {
+                                    (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
+                                    (a, b) => a.or(b),
+                                };
+                            let resumed = before.and_then(|d| policy.resume(g, &t, d));
+                            if no_farther(&resumed) {
+                                return cheaper(resumed, rejoined);
+                            }
+                            let known = cheaper(resumed, rejoined);
+                            let options = SearchOptions { deadline, ..SearchOptions::default() };
+                            match search::gbfs_from(g, &t, &options) {
+                                // On a tie the plan: rules regressed from the goal hold in
+                                // more states than those from another rule.
+                                Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
+                                Err(PlanError::NoPlan(_)) if known.is_none() => {
+                                    done.dead_ends += 1;
+                                    None
                                 }
-                                known
+                                // One hard state does not end the closure: the others may
+                                // be easy.
+                                Err(_) => {
+                                    if known.is_none() {
+                                        done.given_up += 1;
+                                    }
+                                    known
+                                }
+                            }
+                        });
+                        let Some((steps, rule)) = back else { continue };
+                        let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
+                        policy.add_path(g, &trace, &rule);
+                        done.plans += 1;
+                        size = tree.nodes(g, policy);
+                        path = tree.run(g, policy, &t)?.0;
+                        added = true;
+                    }
+                    if let Some(level) = levels.get_mut(depth + 1) {
+                        level.push((t, 0));
+                        for p in path {
+                            if seen.insert(p.clone()) {
+                                level.push((p, 0));
                             }
                         }
-                    });
-                    let Some((steps, rule)) = back else { continue };
-                    let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
-                    policy.add_path(g, &trace, &rule);
-                    done.plans += 1;
-                    size = tree.nodes(g, policy);
-                    path = tree.run(g, policy, &t)?.0;
-                }
-                next.push(t.clone());
-                for p in path {
-                    if seen.insert(p.clone()) {
-                        next.push(p);
+                    }
+                    let grown = acts.len();
+                    if added {
+                        for x in tree.actions(policy) {
+                            if !acts.contains(&x) {
+                                acts.push(x);
+                            }
+                        }
+                    }
+                    if acts.len() > grown {
+                        // New actions: first in the states looked at before.
+                        continue 'scan;
                     }
                 }
             }
         }
-        frontier = next;
+        return Ok(true);
     }
-    Ok(true)
 }
 
 /// How many distinct actions of `steps` are not in `own`.

@@ -39,7 +39,7 @@ fn one_disturbance_away(g: &Grounding, policy: &Policy) -> Vec<(State, bool)> {
             if x.applicable(&s) {
                 let mut t = s.clone();
                 x.apply(&mut t);
-                let covered = g.goal_holds(&t) || policy.first(&t).is_some();
+                let covered = g.goal_holds(&t) || policy.next(&t).is_some();
                 out.push((t, covered));
             }
         }
@@ -60,7 +60,6 @@ fn the_closed_tree_has_a_rule_wherever_one_disturbance_leads() {
     assert!(before.iter().any(|(_, covered)| !covered), "the plain tree already covers every state");
     let closed = regress::close(&g, &mut policy, &Budget::default()).unwrap();
     assert!(closed.plans > 0, "{closed}");
-    eprintln!("DBG {closed} nodes {}", policy.nodes(&g));
     for (t, covered) in one_disturbance_away(&g, &policy) {
         if !covered {
             // Only where no plan exists.
@@ -147,6 +146,7 @@ fn the_factored_tree_starts_the_first_rule_that_holds() {
     let flat = tree.flatten(&g).unwrap();
     let mut states = Vec::new();
     let mut started_some = 0;
+    let mut undone = 0;
     for s in near_init(&g, 3).into_iter().chain(policy.path(&g, g.init())) {
         let mut world = StripsWorld::new(g.clone());
         world.set_state(s.clone());
@@ -162,11 +162,13 @@ fn the_factored_tree_starts_the_first_rule_that_holds() {
         .unwrap();
         let started: Vec<u32> = (0..g.actions().len() as u32).filter(|&a| world.starts(a) > 0).collect();
         let expected: Vec<u32> =
-            if g.goal_holds(&s) { Vec::new() } else { policy.first(&s).map(|r| r.action).into_iter().collect() };
+            if g.goal_holds(&s) { Vec::new() } else { policy.next(&s).map(|r| r.action).into_iter().collect() };
         assert_eq!(started, expected);
         started_some += usize::from(!expected.is_empty());
+        undone += usize::from(!g.goal_holds(&s) && policy.first(&s).is_none() && !expected.is_empty());
     }
     assert!(started_some > 10, "too few states with a rule: {started_some}");
+    assert!(undone > 0, "no state where only an undo rule holds: the undo rules are not tested");
 }
 
 #[test]
@@ -180,7 +182,8 @@ fn close_backchained_puts_rules_in_front_of_a_guided_tree_that_fails_after_distu
     assert_eq!(closed.method, planner::Made::SearchGuided);
     let report = closed.closed.unwrap();
     assert!(report.plans > 0, "{report}");
-    // The guided tree is still there, whole: the last child of the new root.
+    // The guided tree is still there, whole: a child of the new root, after the rules
+    // (and before the undo rules, if any).
     assert!(closed.nodes.len() > plain.nodes.len());
     // (Leaves with more than three arguments number their values differently.)
     let resolved = |nodes: &[bt_core::Node], values: &[u16]| -> Vec<(String, u16, Vec<u16>)> {
@@ -193,8 +196,8 @@ fn close_backchained_puts_rules_in_front_of_a_guided_tree_that_fails_after_distu
             })
             .collect()
     };
-    let tail = &closed.nodes[closed.nodes.len() - plain.nodes.len()..];
-    assert_eq!(resolved(tail, &closed.values), resolved(&plain.nodes, &plain.values));
+    let (whole, guided) = (resolved(&closed.nodes, &closed.values), resolved(&plain.nodes, &plain.values));
+    assert!(whole.windows(guided.len()).any(|w| w == guided.as_slice()), "the guided tree is not in the closed one");
     let settings = Settings { episodes: 40, ..Settings::default() };
     let run = |p: &planner::Plan<PddlCatalog>| {
         coverage::disturbed(&p.nodes, &p.values, c.as_ref(), &g, p.goal_ticks.unwrap(), &settings).unwrap()
@@ -378,4 +381,30 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
     let mut w = g.init().clone();
     w.clear();
     assert_eq!(policy.resume(&g, &w, 4), None);
+}
+
+#[test]
+fn one_undo_rule_puts_back_what_an_agent_did_out_of_turn_wherever_it_did_it() {
+    // Gripper: an agent that picks up a ball the robot will carry later, or drops one
+    // it carries, leaves a state off the plan; the action that undoes it, as a rule
+    // after all the others, serves every state on the path it can happen in.
+    let (g, _) = grounding("gripper/domain.pddl", "gripper/prob01.pddl");
+    let mut policy = plain_policy(&g);
+    let closed = regress::close(&g, &mut policy, &Budget::default()).unwrap();
+    assert!(closed.complete, "{closed}");
+    let undo = policy.undo_rules();
+    assert!(!undo.is_empty(), "{closed}");
+    assert_eq!(closed.undo, undo.len());
+    let mut served = 0;
+    for (t, covered) in one_disturbance_away(&g, &policy) {
+        assert!(covered, "{closed}");
+        let path = policy.path(&g, &t);
+        assert!(g.goal_holds(path.last().unwrap()), "a path stopped short of the goal");
+        if policy.first(&t).is_none() && !g.goal_holds(&t) {
+            let r = policy.next(&t).unwrap();
+            assert!(undo.contains(r));
+            served += 1;
+        }
+    }
+    assert!(served > undo.len(), "{served} states served by {} undo rules", undo.len());
 }
