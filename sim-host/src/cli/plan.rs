@@ -122,14 +122,16 @@ pub struct Args {
     pub expand_at: Option<String>,
     /// When the tree is the regression of a search plan (the last resort after
     /// Algorithm 1 and guided backchaining), the most nodes it may grow to while rules
-    /// are added for the states external agents can move the world to (PDDL only;
-    /// 0: the plan's regression tree alone, smaller and less robust).
+    /// are added for the states external agents can move the world to: ways back to
+    /// the plan's rules, or rules after all the others that undo the agent's action
+    /// (PDDL only; 0: the plan's regression tree alone, smaller and less robust).
     #[arg(long, value_name = "NODES", default_value_t = planner::Options::default().close_nodes, conflicts_with = "task")]
     pub close_nodes: usize,
     /// Close the trees of Algorithm 1 and guided backchaining over disturbances too
     /// (PDDL only): where an external agent doing one of the tree's actions out of turn
     /// leaves the world in a state the tree fails from, rules for those states go in
-    /// front of it, within --close-nodes (a tree whose closure runs out of that budget
+    /// front of it (and rules that undo the agent's action behind it), within
+    /// --close-nodes (a tree whose closure runs out of that budget
     /// before it has looked at every such state stays as it was: it copes with many of
     /// them alone, and rules for only some would give the agent new actions). Off by
     /// default, so that those methods' trees stay as the method makes them (the
