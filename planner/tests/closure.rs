@@ -7,7 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use planner::coverage::{self, Settings};
-use planner::ground::Grounding;
+use planner::ground::{Grounding, Lit};
 use planner::guide::Trace;
 use planner::pddl::{parse_domain, parse_problem};
 use planner::regress::{self, Budget, Policy};
@@ -407,4 +407,51 @@ fn one_undo_rule_puts_back_what_an_agent_did_out_of_turn_wherever_it_did_it() {
         }
     }
     assert!(served > undo.len(), "{served} states served by {} undo rules", undo.len());
+}
+
+/// Lamps: l1 goes on while l2 is still off, then l2; switching a lamp off needs
+/// nothing (so `off` does not make one of its own conditions false, and as an undo rule
+/// it could act where it changes nothing).
+const LAMP_DOMAIN: &str = "(define (domain lamps) (:requirements :negative-preconditions)
+  (:predicates (lit ?l))
+  (:constants l1 l2)
+  (:action first :precondition (and (not (lit l1)) (not (lit l2))) :effect (lit l1))
+  (:action second :precondition (not (lit l2)) :effect (lit l2))
+  (:action off :parameters (?l) :effect (not (lit ?l))))";
+const LAMP_PROBLEM: &str = "(define (problem two) (:domain lamps)
+  (:init) (:goal (and (lit l1) (lit l2))))";
+
+#[test]
+fn undo_rules_never_take_turns() {
+    // Lamps: the agent switching l2 on first is undone by switching it off, which
+    // needs nothing: no undo rule, a way back instead.
+    let g = Grounding::new(&problem_of(LAMP_DOMAIN, LAMP_PROBLEM)).unwrap();
+    let mut policy = plain_policy(&g);
+    let closed = regress::close(&g, &mut policy, &Budget::default()).unwrap();
+    assert!(closed.complete && closed.plans > 0, "{closed}");
+    assert!(policy.undo_rules().is_empty(), "{closed}");
+    // Each undo rule's action makes one of its own conditions false, and no two change
+    // a fact in opposite directions (here, without that check, blocks would get rules
+    // that stack and unstack one block, transport and assembly similar pairs).
+    for (d, p) in [
+        ("blocks/domain.pddl", "blocks/probBLOCKS-4-0.pddl"),
+        ("transport-sat08-strips/domain.pddl", "transport-sat08-strips/p01.pddl"),
+        ("assembly/domain.pddl", "assembly/prob01.pddl"),
+    ] {
+        let (g, _) = grounding(d, p);
+        let mut policy = plain_policy(&g);
+        let closed = regress::close(&g, &mut policy, &Budget::default()).unwrap();
+        let undo = policy.undo_rules();
+        assert!(!undo.is_empty(), "{d}: {closed}");
+        for r in undo {
+            let x = g.action(r.action).unwrap();
+            let falsified = |l: &Lit| if l.positive { x.del.contains(&l.atom) } else { x.add.contains(&l.atom) };
+            assert!(r.when.iter().any(falsified), "{d}: {} can act twice", g.action_name(r.action));
+            for q in undo {
+                let y = g.action(q.action).unwrap();
+                let turns = x.add.iter().any(|a| y.del.contains(a));
+                assert!(!turns, "{d}: {} and {} undo each other", g.action_name(r.action), g.action_name(q.action));
+            }
+        }
+    }
 }
