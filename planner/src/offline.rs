@@ -169,9 +169,9 @@ fn close_budget(options: Options) -> crate::regress::Budget {
 
 /// Closes a tree of Algorithm 1 or guided backchaining over disturbances
 /// ([`crate::regress::close_with`]): where a disturbance leads to a state from which
-/// the tree does not reach the goal, rules go in front of it
-/// (`Fallback(goal?, rules..., tree)`: the rules of the tree's own plan, and those of
-/// the plans from such states), with [`Options::close_backchained`]. A tree that
+/// the tree does not reach the goal, rules go in front of it and undo rules behind it
+/// (`Fallback(goal?, rules..., tree, undo rules...)`: the rules of the tree's own plan,
+/// and those of the ways back from such states), with [`Options::close_backchained`]. A tree that
 /// reaches the goal alone from every state looked at stays exactly as it was, and so
 /// does one whose closure ran out of budget before it looked at every state.
 fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {

@@ -73,7 +73,7 @@ pub struct Options {
     pub close_nodes: usize,
     /// Offline: close the trees of Algorithm 1 and guided backchaining over
     /// disturbances too, by rules in front of them for the disturbed states they fail
-    /// from (within [`Options::close_nodes`]). Off by default: those trees stay as the
+    /// from, and undo rules behind them (within [`Options::close_nodes`]). Off by default: those trees stay as the
     /// method makes them (the paper's figures and the brick tasks' trees), and they
     /// fail where an external agent does one of their actions out of turn and leaves
     /// no branch that applies.
