@@ -41,8 +41,8 @@
 //! that path's rules (regressed from the rule it leads to), up to [`MAX_DISTURBANCES`]
 //! disturbances deep, the states with fewer disturbances first. A new action that a
 //! way back brings is tried at once in every state looked at before, the nearest the
-//! initial state first (an agent can do it there too). The way back is a path of at most two actions to a state where
-//! a rule holds; else a longer one found by search on the unmet conditions of the
+//! initial state first (an agent can do it there too). The way back is a path of at
+//! most two actions to a state where a rule holds; else a longer one found by search on the unmet conditions of the
 //! rules ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of
 //! turn, the plan's later steps lead back to its rules long before the goal), taken
 //! when it leaves the world no farther from the goal than before the disturbance;
@@ -473,16 +473,27 @@ impl Policy {
             t.graft(root, base);
         }
         for r in &self.undo {
-            let seq = t.add(Kind::Sequence);
-            for &l in &r.when {
-                let c = t.add(Kind::Condition(l));
-                t.push_child(seq, c);
-            }
-            let act = t.add(Kind::Action(r.action));
-            t.push_child(seq, act);
-            t.push_child(root, seq);
+            Self::push_rule(&mut t, root, r, &[]);
         }
         t
+    }
+
+    /// Appends `Sequence(when?, action)` for `rule` to `parent` (the action alone when
+    /// `known`, what the ancestors checked, covers every condition).
+    fn push_rule(t: &mut PlanTree, parent: PlanNode, rule: &Rule, known: &[Lit]) {
+        let act = t.add(Kind::Action(rule.action));
+        let when: Vec<Lit> = rule.when.iter().copied().filter(|l| !known.contains(l)).collect();
+        if when.is_empty() {
+            t.push_child(parent, act);
+            return;
+        }
+        let seq = t.add(Kind::Sequence);
+        for l in when {
+            let c = t.add(Kind::Condition(l));
+            t.push_child(seq, c);
+        }
+        t.push_child(seq, act);
+        t.push_child(parent, seq);
     }
 
     /// Adds an undo rule for `t`, a state an agent's action led to from `s`, when one
@@ -552,19 +563,7 @@ impl Policy {
     fn factor(t: &mut PlanTree, parent: PlanNode, rules: &[Rule], known: &[Lit]) {
         if rules.len() <= 2 {
             for r in rules {
-                let act = t.add(Kind::Action(r.action));
-                let when: Vec<Lit> = r.when.iter().copied().filter(|l| !known.contains(l)).collect();
-                if when.is_empty() {
-                    t.push_child(parent, act);
-                    continue;
-                }
-                let seq = t.add(Kind::Sequence);
-                for l in when {
-                    let c = t.add(Kind::Condition(l));
-                    t.push_child(seq, c);
-                }
-                t.push_child(seq, act);
-                t.push_child(parent, seq);
+                Self::push_rule(t, parent, r, known);
             }
             return;
         }
@@ -735,11 +734,11 @@ pub fn close_with(
     // Rules added in a pass can change the tree's path (a nearer rule takes over), and
     // with it the states disturbances lead to: passes until one adds nothing.
     loop {
-        let plans = done.plans + done.undo;
+        let added = done.plans + done.undo;
         if !pass(g, policy, tree, budget, &mut done, &mut ever)? {
             return Ok(done);
         }
-        if done.plans + done.undo == plans {
+        if done.plans + done.undo == added {
             done.complete = true;
             return Ok(done);
         }
@@ -793,76 +792,26 @@ fn pass(
                     }
                     let (mut path, mut reached) = tree.run(g, policy, &t)?;
                     let mut added = false;
-                    if !reached && policy.push_undo(g, &levels[depth][k].0, &t, &tree.actions(policy)) {
-                        let (undone, ok) = tree.run(g, policy, &t)?;
-                        if ok {
-                            done.undo += 1;
-                            size = tree.nodes(g, policy);
-                            (path, reached, added) = (undone, true, true);
-                        } else {
-                            policy.pop_undo();
-                        }
-                    }
                     if !reached {
                         let own = tree.actions(policy);
-                        let deadline = search_deadline(budget);
-                        // A short way back to the rules; else a longer way back, or the
-                        // rest of a plan, that is no farther from the goal than the tree
-                        // was before the disturbance; else the cheapest of those and a new
-                        // plan (see the module docs).
-                        let back = repair(g, policy, &t, &own).or_else(|| {
-                            let rejoined = policy.rejoin(g, &t, &own, deadline);
-                            // No nearer the goal than before the disturbance: as good as
-                            // the plan the tree was on, and no search needed.
-                            let before = policy.first(&levels[depth][k].0).map(|r| r.distance);
-                            let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
-                                way.as_ref()
-                                    .zip(before)
-                                    .is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
-                            };
-                            if no_farther(&rejoined) {
-                                return rejoined;
+                        if policy.push_undo(g, &levels[depth][k].0, &t, &own) {
+                            let (undone, ok) = tree.run(g, policy, &t)?;
+                            if ok {
+                                done.undo += 1;
+                                (path, reached) = (undone, true);
+                            } else {
+                                policy.pop_undo();
                             }
-                            // A way's length to the goal, plus one for every action it
-                            // brings that the tree does not have yet.
-                            let cost = |(steps, r): &(Vec<ActionId>, Rule)| {
-                                steps.len() + r.distance as usize + novel(steps, &own)
-                            };
-                            let cheaper =
-                                |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b) {
-                                    (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
-                                    (a, b) => a.or(b),
-                                };
-                            let resumed = before.and_then(|d| policy.resume(g, &t, d));
-                            if no_farther(&resumed) {
-                                return cheaper(resumed, rejoined);
-                            }
-                            let known = cheaper(resumed, rejoined);
-                            let options = SearchOptions { deadline, ..SearchOptions::default() };
-                            match search::gbfs_from(g, &t, &options) {
-                                // On a tie the plan: rules regressed from the goal hold in
-                                // more states than those from another rule.
-                                Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
-                                Err(PlanError::NoPlan(_)) if known.is_none() => {
-                                    done.dead_ends += 1;
-                                    None
-                                }
-                                // One hard state does not end the closure: the others may
-                                // be easy.
-                                Err(_) => {
-                                    if known.is_none() {
-                                        done.given_up += 1;
-                                    }
-                                    known
-                                }
-                            }
-                        });
-                        let Some((steps, rule)) = back else { continue };
-                        let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
-                        policy.add_path(g, &trace, &rule);
-                        done.plans += 1;
+                        }
+                        if !reached {
+                            let back = way_back(g, policy, &levels[depth][k].0, &t, &own, budget, done);
+                            let Some((steps, rule)) = back else { continue };
+                            let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
+                            policy.add_path(g, &trace, &rule);
+                            done.plans += 1;
+                            path = tree.run(g, policy, &t)?.0;
+                        }
                         size = tree.nodes(g, policy);
-                        path = tree.run(g, policy, &t)?.0;
                         added = true;
                     }
                     if let Some(level) = levels.get_mut(depth + 1) {
@@ -890,6 +839,64 @@ fn pass(
         }
         return Ok(true);
     }
+}
+
+/// A way back for `t`, the state a disturbance led to from `s`: a short way back to the
+/// rules; else a longer way back, or the rest of a plan, that is no farther from the
+/// goal than the tree was before the disturbance; else the cheapest of those and a new
+/// plan (see the module docs). `own` is the tree's actions. `None` when there is none
+/// (counted in `done` as a dead end, or as given up when the search ran out of time).
+fn way_back(
+    g: &Grounding,
+    policy: &Policy,
+    s: &State,
+    t: &State,
+    own: &[ActionId],
+    budget: &Budget,
+    done: &mut Closed,
+) -> Option<(Vec<ActionId>, Rule)> {
+    let deadline = search_deadline(budget);
+    repair(g, policy, t, own).or_else(|| {
+        let rejoined = policy.rejoin(g, t, own, deadline);
+        // No nearer the goal than before the disturbance: as good as the plan the tree
+        // was on, and no search needed.
+        let before = policy.first(s).map(|r| r.distance);
+        let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
+            way.as_ref().zip(before).is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
+        };
+        if no_farther(&rejoined) {
+            return rejoined;
+        }
+        // A way's length to the goal, plus one for every action it brings that the tree
+        // does not have yet.
+        let cost = |(steps, r): &(Vec<ActionId>, Rule)| steps.len() + r.distance as usize + novel(steps, own);
+        let cheaper = |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b) {
+            (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        let resumed = before.and_then(|d| policy.resume(g, t, d));
+        if no_farther(&resumed) {
+            return cheaper(resumed, rejoined);
+        }
+        let known = cheaper(resumed, rejoined);
+        let options = SearchOptions { deadline, ..SearchOptions::default() };
+        match search::gbfs_from(g, t, &options) {
+            // On a tie the plan: rules regressed from the goal hold in more states than
+            // those from another rule.
+            Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
+            Err(PlanError::NoPlan(_)) if known.is_none() => {
+                done.dead_ends += 1;
+                None
+            }
+            // One hard state does not end the closure: the others may be easy.
+            Err(_) => {
+                if known.is_none() {
+                    done.given_up += 1;
+                }
+                known
+            }
+        }
+    })
 }
 
 /// How many distinct actions of `steps` are not in `own`.

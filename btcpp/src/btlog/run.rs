@@ -74,12 +74,13 @@ impl Leaves for Queue<'_> {
             Some((c, s)) if c == core => s,
             other => {
                 if self.wrong.is_none() {
-                    let name = |c: usize| self.name(c);
                     self.wrong = Some(match other {
                         Some((c, _)) => {
-                            format!("BehaviorTree.CPP ticks {} where the run ticked {}", name(core), name(c))
+                            format!("BehaviorTree.CPP ticks {} where the run ticked {}", self.name(core), self.name(c))
                         }
-                        None => format!("BehaviorTree.CPP ticks {} after the run's last leaf of the tick", name(core)),
+                        None => {
+                            format!("BehaviorTree.CPP ticks {} after the run's last leaf of the tick", self.name(core))
+                        }
                     });
                 }
                 status::FAILURE
