@@ -167,6 +167,9 @@ pub struct Run {
     pub oscillation: Option<(String, Vec<String>)>,
     /// How the tree was closed over disturbances, in a line.
     pub closed: Option<String>,
+    /// Conditions the backchained tree only checked that were given the plan's step
+    /// that made them true ([`crate::Plan::covered`]).
+    pub covered: usize,
 }
 
 impl Run {
@@ -184,6 +187,7 @@ impl Run {
             gave_up: Vec::new(),
             oscillation: None,
             closed: None,
+            covered: 0,
         }
     }
 
@@ -251,6 +255,7 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
     let mut out = Run::new(Outcome::Solved, seconds);
     out.method = Some(plan.method);
     out.closed = plan.closed.map(|c| c.to_string());
+    out.covered = plan.covered;
     out.nodes = plan.nodes.len();
     out.plan = plan.executed.iter().map(|&a| g.action_pddl(a)).collect();
     out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
@@ -505,6 +510,9 @@ impl Run {
         if let Some(c) = &self.closed {
             line("closed", c);
         }
+        if self.covered > 0 {
+            line("covered", &self.covered.to_string());
+        }
         if let Some((tree, actions)) = &self.oscillation {
             for t in tree.lines() {
                 line("tree", t);
@@ -543,6 +551,7 @@ impl Run {
                 "plan" => r.plan.push(v.to_string()),
                 "gave-up" => r.gave_up.push(v.to_string()),
                 "closed" => r.closed = Some(v.to_string()),
+                "covered" => r.covered = v.parse().unwrap_or(0),
                 "tree" => {
                     tree.push_str(v);
                     tree.push('\n');

@@ -61,7 +61,7 @@ mod wording;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
-pub use offline::{GaveUp, Made, Plan, plan};
+pub use offline::{GaveUp, Made, Plan, covered_line, plan};
 pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
 pub use run_time::{AtRunTime, Change, ChangeError, expand_at, parse_changes};

@@ -8,7 +8,7 @@ use std::time::Instant;
 use bt_core::{Catalog, Node};
 
 use crate::PlanError;
-use crate::ground::{ActionId, Grounding};
+use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
 use crate::search::{self, SearchOptions};
@@ -86,6 +86,10 @@ pub struct Plan<C> {
     /// For a regression tree, how it was closed over disturbances
     /// ([`crate::regress::close`]).
     pub closed: Option<crate::regress::Closed>,
+    /// Conditions a guided tree only checked that were given the plan's step that
+    /// made them true, so that a disturbance undoing one does not fail the tree (0 for
+    /// the other methods).
+    pub covered: usize,
 }
 
 /// A method that did not make the tree, and why.
@@ -139,6 +143,7 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
         Ok(mut p) => {
             p.gave_up = gave_up;
+            let p = cover_checks(p, &g, options);
             return close_backchained(p, &g, options);
         }
         Err(e) if !recoverable(&e) => return Err(e),
@@ -154,6 +159,111 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     Ok(p)
 }
 
+/// Conditions of `tree` whose failure fails the whole tree: the root, the children
+/// of such a Sequence, and the last child of such a Fallback (pre-order).
+fn root_failing(tree: &PlanTree) -> Vec<crate::tree::PlanNode> {
+    use crate::tree::Kind;
+    let mut out = Vec::new();
+    let mut stack = vec![tree.root()];
+    while let Some(n) = stack.pop() {
+        match tree.kind(n) {
+            Kind::Condition(_) => out.push(n),
+            Kind::Action(_) => {}
+            Kind::Sequence => stack.extend(tree.children(n).iter().rev()),
+            Kind::Fallback => stack.extend(tree.children(n).last()),
+        }
+    }
+    out
+}
+
+/// The plan's step that last made condition `l` true, with the conditions it needs
+/// there (its preconditions and those of the effect that makes `l` true) in the order
+/// of their causal links; `None` where `l` held from the initial state on, or where
+/// that action needs `l` itself.
+fn cover_achiever(g: &Grounding, trace: &Trace, l: Lit) -> Option<(ActionId, Vec<Lit>)> {
+    let (j, a) = trace.achiever(l, trace.goal_step())?;
+    let action = g.action(a)?;
+    let mut pre = action.pre.clone();
+    for &w in action.achieving_condition(l)? {
+        if !pre.contains(&w) {
+            pre.push(w);
+        }
+    }
+    (!pre.contains(&l)).then(|| (a, trace.ordered(&pre, j)))
+}
+
+/// Gives each condition that a guided backchained tree only checks, and whose failure
+/// fails the whole tree, the plan's step that made it true ([`cover_achiever`]): `c?`
+/// becomes `Fallback(c?, Sequence(pre?.., a))`. Such checks are conditions the plan
+/// made true on the way to another (a plane maintained by the visit planned for
+/// another plane at the same airport), which guided backchaining never expands
+/// because they never fail there; where a disturbance undoes one, or achieves the
+/// condition the step was planned for in another way (the other plane maintained on
+/// another day), the tree failed. The new branches act only where the tree failed
+/// before, so its undisturbed run stays the same (checked). Returns the plan with the
+/// new tree and [`Plan::covered`] set, or as it was when nothing was covered.
+fn cover_checks<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Plan<C> {
+    use crate::tree::Kind;
+    let Some(trace) = Trace::new(g, &p.executed) else { return p };
+    let mut tree = p.planner.tree().clone();
+    let mut covered = 0;
+    for n in root_failing(&tree) {
+        let Kind::Condition(l) = tree.kind(n) else { continue };
+        let Some((a, pre)) = cover_achiever(g, &trace, l) else { continue };
+        let fb = tree.add(Kind::Fallback);
+        tree.replace(n, fb);
+        tree.push_child(fb, n);
+        let act = tree.add(Kind::Action(a));
+        if pre.is_empty() {
+            tree.push_child(fb, act);
+        } else {
+            let seq = tree.add(Kind::Sequence);
+            for w in pre {
+                let c = tree.add(Kind::Condition(w));
+                tree.push_child(seq, c);
+            }
+            tree.push_child(seq, act);
+            tree.push_child(fb, seq);
+        }
+        covered += 1;
+    }
+    if covered == 0 {
+        return p;
+    }
+    let Ok(planner) = Planner::from_tree(g.clone(), tree, options) else { return p };
+    match finish(
+        planner,
+        g.clone(),
+        p.catalog.clone(),
+        options,
+        p.method,
+        p.expansions.clone(),
+        p.steps.clone(),
+        p.planning_ticks,
+    ) {
+        Ok(mut q) if q.executed == p.executed => {
+            q.gave_up = p.gave_up;
+            q.closed = p.closed;
+            q.covered = covered;
+            q
+        }
+        _ => p,
+    }
+}
+
+/// [`Plan::covered`] in a line: `checks covered: 124 conditions the tree only
+/// checked redo the plan's step that made them true, where they are false`.
+#[must_use]
+pub fn covered_line(covered: usize) -> String {
+    format!(
+        "checks covered: {} the tree only checked {} the plan's step that made {} true, where {} false",
+        crate::wording::count(covered, "condition"),
+        if covered == 1 { "redoes" } else { "redo" },
+        if covered == 1 { "it" } else { "them" },
+        if covered == 1 { "it is" } else { "they are" },
+    )
+}
+
 /// The closure's budget: half the time left (the rest for the checks), and
 /// [`Options::close_nodes`].
 fn close_budget(options: Options) -> crate::regress::Budget {
@@ -167,15 +277,15 @@ fn close_budget(options: Options) -> crate::regress::Budget {
     }
 }
 
-/// Closes a tree of Algorithm 1 or guided backchaining over disturbances
-/// ([`crate::regress::close_with`]): where a disturbance leads to a state from which
-/// the tree does not reach the goal, rules go in front of it and undo rules behind it
-/// (`Fallback(goal?, rules..., tree, undo rules...)`: the rules of the tree's own plan,
-/// and those of the ways back from such states), with [`Options::close_backchained`]. A tree that
-/// reaches the goal alone from every state looked at stays exactly as it was, and so
-/// does one whose closure ran out of budget before it looked at every state.
+/// Closes a tree of guided backchaining over disturbances, and one of Algorithm 1 with
+/// [`Options::close_backchained`] ([`crate::regress::close_with`]): where a disturbance
+/// leads to a state from which the tree does not reach the goal, rules go in front of
+/// it and undo rules behind it (`Fallback(goal?, rules..., tree, undo rules...)`: the
+/// rules of the tree's own plan, and those of the ways back from such states). A tree
+/// that reaches the goal alone from every state looked at stays exactly as it was, and
+/// so does one whose closure ran out of budget before it looked at every state.
 fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {
-    if !options.close_backchained || options.close_nodes == 0 {
+    if !(options.close_backchained || p.method == Made::SearchGuided) || options.close_nodes == 0 {
         return Ok(p);
     }
     let base = p.planner.tree().clone();
@@ -220,6 +330,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
         Ok(mut q) => {
             q.gave_up = p.gave_up;
             q.closed = Some(closed);
+            q.covered = p.covered;
             Ok(q)
         }
         // The rules are checked on every state they were made for; should the whole tree
@@ -469,5 +580,6 @@ fn finish<C: Catalog>(
         executed,
         gave_up: Vec::new(),
         closed: None,
+        covered: 0,
     })
 }

@@ -66,17 +66,18 @@ pub struct Options {
     /// more). Off by default: a Sequence of one child ticks exactly as the child does,
     /// so the shorter tree behaves the same and costs a node less.
     pub goal_sequence: bool,
-    /// Offline: most planner nodes a regression tree may grow to while it is closed
-    /// over disturbances ([`crate::regress::close`]); 0 leaves the plan's regression
-    /// tree as it is (smaller, and it fails where an external agent moves the world
-    /// off the plan).
+    /// Offline: most planner nodes a tree made from a search plan (guided or
+    /// regression) may grow to while it is closed over disturbances
+    /// ([`crate::regress::close`]); 0 leaves the tree as the method makes it (smaller,
+    /// and it fails where an external agent moves the world off the plan).
     pub close_nodes: usize,
-    /// Offline: close the trees of Algorithm 1 and guided backchaining over
-    /// disturbances too, by rules in front of them for the disturbed states they fail
-    /// from, and undo rules behind them (within [`Options::close_nodes`]). Off by default: those trees stay as the
-    /// method makes them (the paper's figures and the brick tasks' trees), and they
-    /// fail where an external agent does one of their actions out of turn and leaves
-    /// no branch that applies.
+    /// Offline: close the trees of Algorithm 1 over disturbances too, as guided and
+    /// regression trees always are: by rules in front of them for the disturbed states
+    /// they fail from, and undo rules behind them (within [`Options::close_nodes`]).
+    /// Off by default: Algorithm 1's trees stay as the paper's method makes them (the
+    /// paper's figures and the brick tasks' trees among them), and they fail where an
+    /// external agent does one of their actions out of turn and leaves no branch that
+    /// applies.
     pub close_backchained: bool,
 }
 

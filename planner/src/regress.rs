@@ -674,7 +674,8 @@ const REJOIN_STATES: usize = 5_000;
 
 /// A tree a closure grows: the policy's rules first, then whatever the tree does where
 /// none of them holds. For a regression tree that is nothing (the tree fails there);
-/// the offline planner's `--close-backchained` puts a backchained tree behind them.
+/// the offline planner puts a backchained tree behind them (a guided one, or one of
+/// Algorithm 1 with `--close-backchained`).
 pub trait Closable {
     /// The states the tree passes through from `s` (`s` first, each one after an
     /// action completed), and whether it reaches the goal.

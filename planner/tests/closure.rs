@@ -172,13 +172,13 @@ fn the_factored_tree_starts_the_first_rule_that_holds() {
 }
 
 #[test]
-fn close_backchained_puts_rules_in_front_of_a_guided_tree_that_fails_after_disturbances() {
+fn a_guided_tree_gets_rules_in_front_where_it_fails_after_disturbances() {
     let (g, c) = grounding("transport-sat08-strips/domain.pddl", "transport-sat08-strips/p01.pddl");
-    let plain = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
+    let plain = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, ..Options::default() }).unwrap();
     assert_eq!(plain.method, planner::Made::SearchGuided, "this fixture no longer makes a guided tree");
-    assert!(plain.closed.is_none(), "closed without being asked");
-    let closed =
-        planner::plan(g.clone(), c.clone(), Options { close_backchained: true, ..Options::default() }).unwrap();
+    assert!(plain.closed.is_none(), "closed with no nodes to close it");
+    // Guided trees are closed by default (only Algorithm 1's need --close-backchained).
+    let closed = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
     assert_eq!(closed.method, planner::Made::SearchGuided);
     let report = closed.closed.unwrap();
     assert!(report.plans > 0, "{report}");
@@ -330,16 +330,16 @@ fn a_closed_backchained_tree_reaches_the_goal_wherever_one_disturbance_leads() {
 #[test]
 fn a_backchained_tree_whose_closure_runs_out_of_budget_is_kept_as_it_was() {
     let (g, c) = grounding("transport-sat08-strips/domain.pddl", "transport-sat08-strips/p01.pddl");
-    let plain = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
+    let plain = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, ..Options::default() }).unwrap();
     // Room for the tree and a few rules, not for the rules of every disturbed state.
-    let options = Options { close_backchained: true, close_nodes: plain.nodes.len() + 20, ..Options::default() };
+    let options = Options { close_nodes: plain.nodes.len() + 20, ..Options::default() };
     let p = planner::plan(g.clone(), c.clone(), options).unwrap();
     let report = p.closed.unwrap();
     assert!(!report.complete && report.kept, "{report}");
     assert!(report.to_string().ends_with("budget reached: the tree is kept as it was"), "{report}");
     assert_eq!(p.nodes, plain.nodes);
     // With room enough, the rules go in front.
-    let roomy = planner::plan(g.clone(), c.clone(), Options { close_backchained: true, ..Options::default() }).unwrap();
+    let roomy = planner::plan(g.clone(), c.clone(), Options::default()).unwrap();
     assert!(roomy.closed.unwrap().complete && roomy.nodes.len() > plain.nodes.len());
 }
 
@@ -453,5 +453,67 @@ fn undo_rules_never_take_turns() {
                 assert!(!turns, "{d}: {} and {} undo each other", g.action_name(r.action), g.action_name(q.action));
             }
         }
+    }
+}
+
+/// Inspections: a visit to a site on a day inspects every vehicle parked there that
+/// day, and uses the day up. Vehicle `v1` is at `north` on day 1 and `south` on day 2,
+/// `v2` at `north` on day 1 and `east` on day 3: one visit (day 1, north) does both.
+const INSPECT_DOMAIN: &str = "
+(define (domain inspect)
+  (:requirements :adl :typing :conditional-effects)
+  (:types vehicle day site)
+  (:predicates (inspected ?v - vehicle) (free ?d - day) (parked ?v - vehicle ?d - day ?s - site))
+  (:action visit
+    :parameters (?d - day ?s - site)
+    :precondition (free ?d)
+    :effect (and (not (free ?d))
+                 (forall (?v - vehicle) (when (parked ?v ?d ?s) (inspected ?v))))))";
+
+const INSPECT_PROBLEM: &str = "
+(define (problem two)
+  (:domain inspect)
+  (:objects v1 v2 - vehicle d1 d2 d3 - day north south east - site)
+  (:init (free d1) (free d2) (free d3)
+         (parked v1 d1 north) (parked v2 d1 north) (parked v1 d2 south) (parked v2 d3 east))
+  (:goal (and (inspected v1) (inspected v2))))";
+
+#[test]
+fn a_guided_tree_redoes_the_step_behind_a_condition_it_only_checked() {
+    let p = problem_of(INSPECT_DOMAIN, INSPECT_PROBLEM);
+    let (g, c) = (Arc::new(Grounding::new(&p).unwrap()), Arc::new(PddlCatalog::new(&p)));
+    // Not closed over disturbances (no nodes for it): the checks alone do this.
+    let options = Options { method: planner::Method::Search, close_nodes: 0, ..Options::default() };
+    let plan = planner::plan(g.clone(), c.clone(), options).unwrap();
+    assert_eq!(plan.method, planner::Made::SearchGuided);
+    assert!(plan.closed.is_none());
+    // Undisturbed: the one visit.
+    let names: Vec<String> = plan.executed.iter().map(|&a| g.action_name(a)).collect();
+    assert_eq!(names, ["visit(d1, north)"]);
+    // Backchaining expanded one goal condition with that visit and only checks the
+    // other, which the visit made true on the way: the check got the visit too.
+    assert_eq!(plan.covered, 1, "{}", planner::output::to_ascii_with(&plan.nodes, &plan.values, c.as_ref()).unwrap());
+    // An agent inspects either vehicle on its other day: the planned visit is still
+    // needed for the other one, and the tree makes it whichever vehicle it expanded.
+    let mut states = Vec::new();
+    for other in ["visit(d2, south)", "visit(d3, east)"] {
+        let a = (0..g.actions().len() as u32).find(|&a| g.action_name(a) == other).unwrap();
+        let mut s = g.init().clone();
+        g.action(a).unwrap().apply(&mut s);
+        let mut world = StripsWorld::new(g.clone());
+        world.set_state(s);
+        let verdict = strips::run_to_goal(
+            (&plan.nodes, &plan.values),
+            c.as_ref(),
+            &mut world,
+            100,
+            strips::Ends::DETERMINISTIC,
+            |_, _| {},
+            &mut states,
+        )
+        .unwrap();
+        assert!(verdict.reached(), "after {other}: {verdict:?}");
+        let done: Vec<String> = world.executed().iter().map(|&a| g.action_name(a)).collect();
+        assert_eq!(done, ["visit(d1, north)"], "after {other}");
     }
 }

@@ -67,8 +67,8 @@ pub struct Args {
     /// Write the table (Markdown) here too.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Close the trees of Algorithm 1 and guided backchaining over disturbances too, as
-    /// `plan --close-backchained` does (the regression trees are always closed).
+    /// Close the trees of Algorithm 1 over disturbances too, as `plan
+    /// --close-backchained` does (guided and regression trees are always closed).
     #[arg(long)]
     pub close_backchained: bool,
     /// The most nodes a tree may grow to while it is closed over disturbances, as
@@ -147,6 +147,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         };
         let row = Row { instance, ours, valid, pyperplan, pyperplan_why };
         writeln!(out, "{}", line(&row))?;
+        if row.ours.covered > 0 {
+            writeln!(out, "  {}", planner::covered_line(row.ours.covered))?;
+        }
         if let Some(c) = &row.ours.closed {
             writeln!(out, "  {c}")?;
         }

@@ -31,8 +31,10 @@ pub enum Format {
 /// Which method makes the tree.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MethodArg {
-    /// Algorithm 1; when it cannot finish, guided by a plan of heuristic search; as a
-    /// last resort that plan's regression tree.
+    /// Algorithm 1; when it cannot finish, guided by a plan of heuristic search (the
+    /// conditions that plan made true on the way, which the tree only checks, get the
+    /// step that made them true, acting only where the tree would fail); as a last
+    /// resort that plan's regression tree.
     Auto,
     /// Algorithm 1 of seed 000 alone: fails where it cannot finish.
     #[value(name = "algorithm-1")]
@@ -120,22 +122,22 @@ pub struct Args {
     /// conditions, e.g. 'holding(cube), not hand-empty'.
     #[arg(long, value_name = "STATE", conflicts_with = "task")]
     pub expand_at: Option<String>,
-    /// When the tree is the regression of a search plan (the last resort after
-    /// Algorithm 1 and guided backchaining), the most nodes it may grow to while rules
+    /// When the tree is made from a search plan (guided backchaining, or as the last
+    /// resort the plan's regression tree), the most nodes it may grow to while rules
     /// are added for the states external agents can move the world to: ways back to
     /// the plan's rules, or rules after all the others that undo the agent's action
-    /// (PDDL only; 0: the plan's regression tree alone, smaller and less robust).
+    /// (PDDL only; 0: the tree as the method makes it, smaller and less robust).
     #[arg(long, value_name = "NODES", default_value_t = planner::Options::default().close_nodes, conflicts_with = "task")]
     pub close_nodes: usize,
-    /// Close the trees of Algorithm 1 and guided backchaining over disturbances too
-    /// (PDDL only): where an external agent doing one of the tree's actions out of turn
-    /// leaves the world in a state the tree fails from, rules for those states go in
-    /// front of it (and rules that undo the agent's action behind it), within
-    /// --close-nodes (a tree whose closure runs out of that budget
-    /// before it has looked at every such state stays as it was: it copes with many of
-    /// them alone, and rules for only some would give the agent new actions). Off by
-    /// default, so that those methods' trees stay as the method makes them (the
-    /// paper's figures among them).
+    /// Close the trees of Algorithm 1 over disturbances too, as guided and regression
+    /// trees always are (PDDL only): where an external agent doing one of the tree's
+    /// actions out of turn leaves the world in a state the tree fails from, rules for
+    /// those states go in front of it (and rules that undo the agent's action behind
+    /// it), within --close-nodes (a backchained tree whose closure runs out of that
+    /// budget before it has looked at every such state stays as it was: it copes with
+    /// many of them alone, and rules for only some would give the agent new actions).
+    /// Off by default, so that Algorithm 1's trees stay as the paper's method makes
+    /// them (the paper's figures among them).
     #[arg(long, conflicts_with = "task")]
     pub close_backchained: bool,
 }
@@ -278,6 +280,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         let offline_nodes = plan.nodes.len();
         let mut verdict_head = format!("{made}made by {}: {}\n", plan.method.name(), plan.method.describe());
+        if plan.covered > 0 {
+            verdict_head.push_str(&format!("{}\n", planner::covered_line(plan.covered)));
+        }
         if let Some(c) = plan.closed {
             verdict_head.push_str(&format!("{c}\n"));
         }
