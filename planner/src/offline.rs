@@ -297,7 +297,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     let mut policy = Trace::new(g, &p.executed)
         .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
     let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
-    if !closed.complete {
+    if !closed.complete || closed.too_long > 0 {
         // Unlike a regression tree, which fails wherever no rule holds, a backchained
         // tree copes alone with many of the states disturbances lead to; rules for only
         // some of the others bring new actions that an agent can do out of turn
@@ -310,7 +310,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
         // tree stays as it was only if it does as well alone.
         let mut none = crate::regress::Policy::empty();
         let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options))?;
-        if alone.plans == 0 && alone.undo == 0 && alone.given_up == 0 {
+        if alone.plans == 0 && alone.undo == 0 && alone.given_up == 0 && alone.too_long == 0 {
             return Ok(Plan { closed: Some(closed), ..p });
         }
         closed.own_rules = true;

@@ -67,7 +67,9 @@
 //!
 //! All within a budget of
 //! plans, nodes and time (the tree is correct at every point, so running out of
-//! budget leaves a tree that is only less robust). [`close_with`] does the same for
+//! budget leaves a tree that is only less robust); a way back whose rules would take
+//! more than an eighth of the node budget is left out, so that a few states with only
+//! long ways back do not use up the nodes meant for all the others. [`close_with`] does the same for
 //! rules in front of another tree ([`Closable`]), the undo rules behind it: where that
 //! tree fails from a state a disturbance leads to, the rules take over.
 
@@ -177,14 +179,17 @@ pub struct Closed {
     pub dead_ends: usize,
     /// States where the tree failed and the search for a plan ran out of its time.
     pub given_up: usize,
+    /// States where the tree failed and the only way back found was too long to add
+    /// (more than an eighth of the node budget).
+    pub too_long: usize,
     /// Whether every state within [`MAX_DISTURBANCES`] was looked at (false: a budget
     /// ran out first).
     pub complete: bool,
     /// Whether rules of a backchained tree's own plan went in front of it with no plan
     /// added ([`close_with`] looks with them there; the tree alone did worse).
     pub own_rules: bool,
-    /// Whether the closure of a backchained tree ran out of budget and the tree was
-    /// kept as it was, without the rules.
+    /// Whether the closure of a backchained tree ran out of budget, or left out a way
+    /// back that was too long, and the tree was kept as it was, without the rules.
     pub kept: bool,
 }
 
@@ -207,6 +212,9 @@ impl std::fmt::Display for Closed {
         }
         if self.given_up > 0 {
             write!(f, " ({} where no plan was found in time)", count(self.given_up, "state"))?;
+        }
+        if self.too_long > 0 {
+            write!(f, " ({} whose way back was too long to add)", count(self.too_long, "state"))?;
         }
         if self.own_rules {
             write!(f, ", the rules of the tree's own plan put in front of it")?;
@@ -669,6 +677,12 @@ impl Policy {
     }
 }
 
+/// A way back whose rules would grow the tree by more than this share of the node
+/// budget (an eighth) is not taken, so that a few states whose only ways back are long
+/// (a new plan of 134 steps in ged, about 1,000 nodes of rules each) do not use up
+/// the nodes meant for all the others.
+const WAY_BACK_SHARE: usize = 8;
+
 /// Most states [`Policy::rejoin`] stores.
 const REJOIN_STATES: usize = 5_000;
 
@@ -808,7 +822,14 @@ fn pass(
                             let back = way_back(g, policy, &levels[depth][k].0, &t, &own, budget, done);
                             let Some((steps, rule)) = back else { continue };
                             let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
+                            let before = policy.clone();
                             policy.add_path(g, &trace, &rule);
+                            if tree.nodes(g, policy).saturating_sub(size) > budget.nodes / WAY_BACK_SHARE {
+                                // One hard state would use up the nodes meant for many.
+                                *policy = before;
+                                done.too_long += 1;
+                                continue;
+                            }
                             done.plans += 1;
                             path = tree.run(g, policy, &t)?.0;
                         }

@@ -517,3 +517,19 @@ fn a_guided_tree_redoes_the_step_behind_a_condition_it_only_checked() {
         assert_eq!(done, ["visit(d1, north)"], "after {other}");
     }
 }
+
+#[test]
+fn a_way_back_too_long_for_its_share_of_the_budget_is_left_out() {
+    // Room for three plain trees: the rules of a few long ways back would fill it
+    // before the closure has looked at every state; left out, the budget serves the
+    // states with short ways back, and the closure looks at every state.
+    let (g, _) = grounding("gripper/domain.pddl", "gripper/prob01.pddl");
+    let mut policy = plain_policy(&g);
+    let size = policy.nodes(&g);
+    let budget = Budget { nodes: 3 * size, ..Budget::default() };
+    let closed = regress::close(&g, &mut policy, &budget).unwrap();
+    assert!(closed.too_long > 0, "{closed}");
+    assert!(closed.complete, "{closed}");
+    assert!(closed.to_string().contains("whose way back was too long to add"), "{closed}");
+    assert!(policy.nodes(&g) < budget.nodes, "{closed}: {} nodes", policy.nodes(&g));
+}
