@@ -65,13 +65,13 @@
 //! (see [`Policy::undo_rules`]), and the tree acts on them only where no other rule
 //! holds, so the rules' progress argument above is untouched.
 //!
-//! All within a budget of
-//! plans, nodes and time (the tree is correct at every point, so running out of
-//! budget leaves a tree that is only less robust); a way back whose rules would take
-//! more than an eighth of the node budget is left out, so that a few states with only
-//! long ways back do not use up the nodes meant for all the others. [`close_with`] does the same for
-//! rules in front of another tree ([`Closable`]), the undo rules behind it: where that
-//! tree fails from a state a disturbance leads to, the rules take over.
+//! All within a budget of plans, nodes and time (the tree is correct at every point,
+//! so running out of budget leaves a tree that is only less robust); a way back whose
+//! rules would take more than an eighth of the node budget is left out, so that a few
+//! states with only long ways back do not use up the nodes meant for all the others.
+//! [`close_with`] does the same for rules in front of another tree ([`Closable`]), the
+//! undo rules behind it: where that tree fails from a state a disturbance leads to,
+//! the rules take over.
 
 use std::collections::HashSet;
 use std::time::Instant;
