@@ -213,18 +213,7 @@ fn cover_checks<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) ->
         let fb = tree.add(Kind::Fallback);
         tree.replace(n, fb);
         tree.push_child(fb, n);
-        let act = tree.add(Kind::Action(a));
-        if pre.is_empty() {
-            tree.push_child(fb, act);
-        } else {
-            let seq = tree.add(Kind::Sequence);
-            for w in pre {
-                let c = tree.add(Kind::Condition(w));
-                tree.push_child(seq, c);
-            }
-            tree.push_child(seq, act);
-            tree.push_child(fb, seq);
-        }
+        tree.push_step(fb, &pre, a);
         covered += 1;
     }
     if covered == 0 {

@@ -489,19 +489,8 @@ impl Policy {
     /// Appends `Sequence(when?, action)` for `rule` to `parent` (the action alone when
     /// `known`, what the ancestors checked, covers every condition).
     fn push_rule(t: &mut PlanTree, parent: PlanNode, rule: &Rule, known: &[Lit]) {
-        let act = t.add(Kind::Action(rule.action));
         let when: Vec<Lit> = rule.when.iter().copied().filter(|l| !known.contains(l)).collect();
-        if when.is_empty() {
-            t.push_child(parent, act);
-            return;
-        }
-        let seq = t.add(Kind::Sequence);
-        for l in when {
-            let c = t.add(Kind::Condition(l));
-            t.push_child(seq, c);
-        }
-        t.push_child(seq, act);
-        t.push_child(parent, seq);
+        t.push_step(parent, &when, rule.action);
     }
 
     /// Adds an undo rule for `t`, a state an agent's action led to from `s`, when one

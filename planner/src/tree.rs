@@ -151,6 +151,23 @@ impl PlanTree {
         self.slots[parent as usize].children.push(child);
     }
 
+    /// Appends `Sequence(when?.., action)` to `parent`: a step and the conditions it
+    /// needs (the action alone when `when` is empty).
+    pub fn push_step(&mut self, parent: PlanNode, when: &[Lit], action: ActionId) {
+        let act = self.add(Kind::Action(action));
+        if when.is_empty() {
+            self.push_child(parent, act);
+            return;
+        }
+        let seq = self.add(Kind::Sequence);
+        for &l in when {
+            let c = self.add(Kind::Condition(l));
+            self.push_child(seq, c);
+        }
+        self.push_child(seq, act);
+        self.push_child(parent, seq);
+    }
+
     /// The root.
     #[must_use]
     pub fn root(&self) -> PlanNode {
