@@ -89,6 +89,27 @@ impl Trace {
         Some((j, a))
     }
 
+    /// The action of `lit`'s causal link for step `k` ([`Trace::achiever`]), with the
+    /// conditions it needs there (its preconditions and those of the effect that makes
+    /// `lit` true) in the order of their own causal links, and its step: how guided
+    /// backchaining expands `lit`. `None` where `lit` holds from the initial state on,
+    /// or where that action needs `lit` itself.
+    #[must_use]
+    pub fn causal_step(&self, g: &Grounding, lit: Lit, k: usize) -> Option<(ActionId, Vec<Lit>, usize)> {
+        let (j, a) = self.achiever(lit, k)?;
+        let action = g.action(a)?;
+        let mut pre = action.pre.clone();
+        for &w in action.achieving_condition(lit)? {
+            if !pre.contains(&w) {
+                pre.push(w);
+            }
+        }
+        if pre.contains(&lit) {
+            return None;
+        }
+        Some((a, self.ordered(&pre, j), j))
+    }
+
     /// `lits` in the order of their causal links for step `k` (earliest first; ties,
     /// and literals without a link, keep their order).
     #[must_use]

@@ -8,7 +8,7 @@ use std::time::Instant;
 use bt_core::{Catalog, Node};
 
 use crate::PlanError;
-use crate::ground::{ActionId, Grounding, Lit};
+use crate::ground::{ActionId, Grounding};
 use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
 use crate::search::{self, SearchOptions};
@@ -176,24 +176,9 @@ fn root_failing(tree: &PlanTree) -> Vec<crate::tree::PlanNode> {
     out
 }
 
-/// The plan's step that last made condition `l` true, with the conditions it needs
-/// there (its preconditions and those of the effect that makes `l` true) in the order
-/// of their causal links; `None` where `l` held from the initial state on, or where
-/// that action needs `l` itself.
-fn cover_achiever(g: &Grounding, trace: &Trace, l: Lit) -> Option<(ActionId, Vec<Lit>)> {
-    let (j, a) = trace.achiever(l, trace.goal_step())?;
-    let action = g.action(a)?;
-    let mut pre = action.pre.clone();
-    for &w in action.achieving_condition(l)? {
-        if !pre.contains(&w) {
-            pre.push(w);
-        }
-    }
-    (!pre.contains(&l)).then(|| (a, trace.ordered(&pre, j)))
-}
-
 /// Gives each condition that a guided backchained tree only checks, and whose failure
-/// fails the whole tree, the plan's step that made it true ([`cover_achiever`]): `c?`
+/// fails the whole tree, the plan's step that made it true ([`Trace::causal_step`] for
+/// the goal's step): `c?`
 /// becomes `Fallback(c?, Sequence(pre?.., a))`. Such checks are conditions the plan
 /// made true on the way to another (a plane maintained by the visit planned for
 /// another plane at the same airport), which guided backchaining never expands
@@ -209,7 +194,7 @@ fn cover_checks<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) ->
     let mut covered = 0;
     for n in root_failing(&tree) {
         let Kind::Condition(l) = tree.kind(n) else { continue };
-        let Some((a, pre)) = cover_achiever(g, &trace, l) else { continue };
+        let Some((a, pre, _)) = trace.causal_step(g, l, trace.goal_step()) else { continue };
         let fb = tree.add(Kind::Fallback);
         tree.replace(n, fb);
         tree.push_child(fb, n);

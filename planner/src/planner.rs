@@ -453,21 +453,7 @@ impl Planner {
     fn guided_choice(&self, c: PlanNode, lit: Lit) -> Option<(ActionId, Vec<Lit>, usize)> {
         let trace = self.guide.as_ref()?;
         let k = self.steps.get(c as usize).map_or(trace.goal_step(), |&s| s as usize);
-        let (j, a) = trace.achiever(lit, k)?;
-        let action = self.g.action(a)?;
-        if !action.achieves(lit) {
-            return None;
-        }
-        let mut pre = action.pre.clone();
-        for &w in action.achieving_condition(lit).unwrap_or(&[]) {
-            if !pre.contains(&w) {
-                pre.push(w);
-            }
-        }
-        if pre.contains(&lit) {
-            return None;
-        }
-        Some((a, trace.ordered(&pre, j), j))
+        trace.causal_step(&self.g, lit, k)
     }
 
     /// Records the plan step of the new subtree's conditions.

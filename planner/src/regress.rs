@@ -796,6 +796,8 @@ fn pass(
                     }
                     let (mut path, mut reached) = tree.run(g, policy, &t)?;
                     let mut added = false;
+                    // The tree's size with a way back's rules, counted once.
+                    let mut grown = None;
                     if !reached {
                         let own = tree.actions(policy);
                         if policy.push_undo(g, &levels[depth][k].0, &t, &own) {
@@ -813,16 +815,18 @@ fn pass(
                             let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
                             let before = policy.clone();
                             policy.add_path(g, &trace, &rule);
-                            if tree.nodes(g, policy).saturating_sub(size) > budget.nodes / WAY_BACK_SHARE {
+                            let nodes = tree.nodes(g, policy);
+                            if nodes.saturating_sub(size) > budget.nodes / WAY_BACK_SHARE {
                                 // One hard state would use up the nodes meant for many.
                                 *policy = before;
                                 done.too_long += 1;
                                 continue;
                             }
+                            grown = Some(nodes);
                             done.plans += 1;
                             path = tree.run(g, policy, &t)?.0;
                         }
-                        size = tree.nodes(g, policy);
+                        size = grown.unwrap_or_else(|| tree.nodes(g, policy));
                         added = true;
                     }
                     if let Some(level) = levels.get_mut(depth + 1) {
