@@ -33,6 +33,7 @@ use crate::ground::{ActionId, Grounding, Lit};
 use crate::refine::{Refinement, achieving_actions};
 use crate::state::State;
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
+use crate::variables::{Choice, StateVariables};
 use bt_core::{NodeState, NodeStatus};
 
 /// The atomic BT of `lit`'s achievers as a new detached subtree; `condition` becomes
@@ -91,7 +92,7 @@ pub fn expand_with(
     tree: &mut PlanTree,
     condition: PlanNode,
     lit: Lit,
-    choices: &[(ActionId, Vec<Lit>, usize)],
+    choices: &[Choice],
 ) -> (PlanNode, Vec<ActionId>) {
     let _ = lit;
     let rows: Vec<(ActionId, Vec<Lit>)> = choices.iter().map(|c| (c.0, c.1.clone())).collect();
@@ -100,6 +101,48 @@ pub fn expand_with(
     let fallback = atomic_bt_of(tree, condition, &rows);
     tree.replace(placeholder, fallback);
     (fallback, rows.iter().map(|r| r.0).collect())
+}
+
+/// ExpandTree with a step and its siblings over state variables
+/// ([`crate::variables::Variables::choices`]): the preconditions the siblings (the
+/// achievers of the first one's template) share are checked once, before a Fallback of
+/// the rest of each and its action, then the other achievers (actions that set the
+/// state variables) with the rest of theirs:
+/// `Fallback(c?, Sequence(shared?.., Fallback(Sequence(own?.., a)..)))`. Returns the
+/// new subtree and the actions used.
+pub fn expand_shared(
+    tree: &mut PlanTree,
+    g: &Grounding,
+    condition: PlanNode,
+    choices: &[Choice],
+) -> (PlanNode, Vec<ActionId>) {
+    let template = |a: ActionId| g.action(a).map(|x| x.template);
+    let Some(first) = choices.first() else { return (condition, Vec::new()) };
+    let shared: Vec<Lit> = first
+        .1
+        .iter()
+        .copied()
+        .filter(|l| choices.iter().filter(|c| template(c.0) == template(first.0)).all(|c| c.1.contains(l)))
+        .collect();
+    let placeholder = tree.add(Kind::Sequence);
+    tree.replace(condition, placeholder);
+    let outer = tree.add(Kind::Fallback);
+    tree.push_child(outer, condition);
+    let seq = tree.add(Kind::Sequence);
+    for &p in &shared {
+        let c = tree.add(Kind::Condition(p));
+        tree.push_child(seq, c);
+    }
+    let inner = tree.add(Kind::Fallback);
+    for (a, pre, _) in choices {
+        let own: Vec<Lit> = pre.iter().copied().filter(|l| !shared.contains(l)).collect();
+        let r = row(tree, *a, &own);
+        tree.push_child(inner, r);
+    }
+    tree.push_child(seq, inner);
+    tree.push_child(outer, seq);
+    tree.replace(placeholder, outer);
+    (outer, choices.iter().map(|c| c.0).collect())
 }
 
 /// ExpandTree: replaces the condition node `condition` by its atomic BT. Returns the
@@ -256,6 +299,23 @@ pub struct Conflict {
 /// Conflict(T) for the subtree `n` (see the module docs), or `None`.
 #[must_use]
 pub fn conflict(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Option<Conflict> {
+    conflict_with(tree, g, n, None)
+}
+
+/// [`conflict`], and with state variables (guided backchaining that does not pin them,
+/// [`crate::variables`]) three cases left out: a value of a state variable never
+/// conflicts (a Fallback of sibling rows serves every value); nothing conflicts in a
+/// subtree `Fallback(c?, ...)` whose condition `c` the part before it establishes for
+/// sure (the subtree succeeds at `c` there); and a precondition undone only by actions
+/// that make `c` true does not conflict either (a second subtree for `started(o)`
+/// after the first one started `o`).
+#[must_use]
+pub fn conflict_with(
+    tree: &PlanTree,
+    g: &Grounding,
+    n: PlanNode,
+    variables: Option<&StateVariables>,
+) -> Option<Conflict> {
     let before = executed_before(tree, n);
     if before.is_empty() {
         return None;
@@ -263,6 +323,14 @@ pub fn conflict(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Option<Conflict>
     let mut acc = Summary::default();
     for &b in &before {
         then(&mut acc, &summary(tree, g, b));
+    }
+    let is_value = |l: Lit| variables.is_some_and(|v| v.is_value(g, l));
+    let own_condition = match tree.children(n).first().map(|&c| tree.kind(c)) {
+        Some(Kind::Condition(c)) if variables.is_some() && tree.kind(n) == Kind::Fallback => Some(c),
+        _ => None,
+    };
+    if own_condition.is_some_and(|c| acc.must.contains(&c)) {
+        return None;
     }
     let pre = preconditions(tree, n);
     let undoing = |nodes: &mut dyn Iterator<Item = PlanNode>, undo: Lit| {
@@ -273,13 +341,20 @@ pub fn conflict(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Option<Conflict>
             })
             .collect::<Vec<_>>()
     };
-    if let Some(precondition) = pre.into_iter().find(|p| acc.may.contains(&p.negated())) {
+    let harmful = |p: Lit| {
+        let Some(c) = own_condition else { return true };
+        let mut all = before.iter().flat_map(|&b| tree.preorder(b));
+        undoing(&mut all, p.negated()).iter().any(|&a| !g.action(a).is_some_and(|x| x.achieves(c)))
+    };
+    if let Some(precondition) = pre.into_iter().find(|&p| !is_value(p) && acc.may.contains(&p.negated()) && harmful(p))
+    {
         let mut all = before.iter().flat_map(|&b| tree.preorder(b));
         let by = undoing(&mut all, precondition.negated()).pop()?;
         return Some(Conflict { precondition, by, by_new_subtree: false });
     }
     let own = summary(tree, g, n);
-    let established = acc.must.iter().find(|l| own.may.contains(&l.negated()) && !own.must.contains(l))?;
+    let established =
+        acc.must.iter().find(|&&l| !is_value(l) && own.may.contains(&l.negated()) && !own.must.contains(&l))?;
     let by = *undoing(&mut tree.preorder(n).into_iter(), established.negated()).first()?;
     Some(Conflict { precondition: *established, by, by_new_subtree: true })
 }

@@ -170,6 +170,8 @@ pub struct Run {
     /// Conditions the backchained tree only checked that were given the plan's step
     /// that made them true ([`crate::Plan::covered`]).
     pub covered: usize,
+    /// The state variables guided backchaining did not pin ([`crate::Plan::variables`]).
+    pub variables: Vec<String>,
 }
 
 impl Run {
@@ -188,6 +190,7 @@ impl Run {
             oscillation: None,
             closed: None,
             covered: 0,
+            variables: Vec::new(),
         }
     }
 
@@ -256,6 +259,7 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
     out.method = Some(plan.method);
     out.closed = plan.closed.map(|c| c.to_string());
     out.covered = plan.covered;
+    out.variables.clone_from(&plan.variables);
     out.nodes = plan.nodes.len();
     out.plan = plan.executed.iter().map(|&a| g.action_pddl(a)).collect();
     out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
@@ -398,11 +402,53 @@ pub fn disturbed<C: Catalog + ?Sized>(
     undisturbed_ticks: u32,
     settings: &Settings,
 ) -> Result<Disturbed, PlanError> {
-    let helpers = tree_actions(nodes, values, g);
     let budget = episode_ticks(undisturbed_ticks);
     let mut out = Disturbed { episodes: settings.episodes, ..Disturbed::default() };
     let mut states = Vec::new();
     let mut solvable = Solvable::new(g);
+    for (reached, changes) in episodes((nodes, values), catalog, g, undisturbed_ticks, settings)? {
+        if reached {
+            out.reached += 1;
+            continue;
+        }
+        // A plan existed before the disturbance if the tree, run undisturbed from
+        // there, reaches the goal (where search for one may take longer than it is
+        // given here), or if search finds one.
+        let mut tree_reaches = |s: &State| -> Result<bool, PlanError> {
+            let mut w = StripsWorld::new(g.clone());
+            w.set_state(s.clone());
+            let ends = strips::Ends { on_loop: false, failures: settings.failures };
+            Ok(strips::run_to_goal((nodes, values), catalog, &mut w, budget, ends, |_, _| {}, &mut states)?.reached())
+        };
+        for (before, after) in &changes {
+            if solvable.from(after) == Some(false) && (tree_reaches(before)? || solvable.from(before) == Some(true)) {
+                out.dead_ends += 1;
+                break;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One disturbed episode: whether it reached the goal, and the state before and after
+/// each disturbance in it.
+pub(crate) type Episode = (bool, Vec<(State, State)>);
+
+/// The disturbed episodes of the tree ([`Episode`]).
+///
+/// # Errors
+/// As [`strips::run_to_goal`].
+pub(crate) fn episodes<C: Catalog + ?Sized>(
+    (nodes, values): (&[Node], &[u16]),
+    catalog: &C,
+    g: &Arc<Grounding>,
+    undisturbed_ticks: u32,
+    settings: &Settings,
+) -> Result<Vec<Episode>, PlanError> {
+    let helpers = tree_actions(nodes, values, g);
+    let budget = episode_ticks(undisturbed_ticks);
+    let mut out = Vec::new();
+    let mut states = Vec::new();
     for e in 0..settings.episodes {
         let mut rng = ChaCha8Rng::seed_from_u64(settings.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(e));
         let mut world = StripsWorld::new(g.clone());
@@ -451,25 +497,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
             },
             &mut states,
         )?;
-        if verdict.reached() {
-            out.reached += 1;
-            continue;
-        }
-        // A plan existed before the disturbance if the tree, run undisturbed from
-        // there, reaches the goal (where search for one may take longer than it is
-        // given here), or if search finds one.
-        let mut tree_reaches = |s: &State| -> Result<bool, PlanError> {
-            let mut w = StripsWorld::new(g.clone());
-            w.set_state(s.clone());
-            let ends = strips::Ends { on_loop: false, failures: settings.failures };
-            Ok(strips::run_to_goal((nodes, values), catalog, &mut w, budget, ends, |_, _| {}, &mut states)?.reached())
-        };
-        for (before, after) in &changes {
-            if solvable.from(after) == Some(false) && (tree_reaches(before)? || solvable.from(before) == Some(true)) {
-                out.dead_ends += 1;
-                break;
-            }
-        }
+        out.push((verdict.reached(), changes));
     }
     Ok(out)
 }
@@ -513,6 +541,9 @@ impl Run {
         if self.covered > 0 {
             line("covered", &self.covered.to_string());
         }
+        if !self.variables.is_empty() {
+            line("variables", &self.variables.join(" "));
+        }
         if let Some((tree, actions)) = &self.oscillation {
             for t in tree.lines() {
                 line("tree", t);
@@ -552,6 +583,7 @@ impl Run {
                 "gave-up" => r.gave_up.push(v.to_string()),
                 "closed" => r.closed = Some(v.to_string()),
                 "covered" => r.covered = v.parse().unwrap_or(0),
+                "variables" => r.variables = v.split(' ').filter(|x| !x.is_empty()).map(str::to_string).collect(),
                 "tree" => {
                     tree.push_str(v);
                     tree.push('\n');

@@ -57,11 +57,12 @@ pub mod state;
 pub mod strips;
 pub mod tokens;
 pub mod tree;
+pub mod variables;
 mod wording;
 
 pub use catalog::{NoPorts, PddlCatalog, Ports};
 pub use error::PlanError;
-pub use offline::{GaveUp, Made, Plan, covered_line, plan};
+pub use offline::{GaveUp, Made, Plan, covered_line, plan, variables_line};
 pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
 pub use refine::Refinement;
 pub use run_time::{AtRunTime, Change, ChangeError, expand_at, parse_changes};

@@ -15,6 +15,7 @@ use crate::refine::Refinement;
 use crate::state::State;
 use crate::strips::{self, StripsWorld};
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
+use crate::variables::{Choice, Variables};
 
 /// What [`Planner::backtrack`] did.
 enum Backtrack {
@@ -33,8 +34,10 @@ pub const MAX_ALTERNATIVES: usize = 8;
 pub enum Method {
     /// Algorithm 1 first; when it cannot finish (it oscillates, meets a dead end or
     /// an unresolvable conflict, or runs out of its share of the time), a plan from
-    /// heuristic search guides backchaining; when even that tree does not reach the
-    /// goal, the plan's regression tree ([`crate::regress`]).
+    /// heuristic search guides backchaining; when that tree does not reach the goal,
+    /// the plan guides it again without pinning the problem's state variables
+    /// ([`crate::variables`]); when even that fails, the plan's regression tree
+    /// ([`crate::regress`]).
     #[default]
     Auto,
     /// Algorithm 1 of seed 000 alone.
@@ -171,6 +174,9 @@ pub struct Planner {
     steps: Vec<u32>,
     /// How often each literal was expanded again as a lone condition.
     again: std::collections::HashMap<Lit, u8>,
+    /// Guided only: the plan's state variables, which its steps do not pin
+    /// ([`Planner::with_state_variables`]).
+    variables: Option<Arc<Variables>>,
 }
 
 impl Planner {
@@ -214,6 +220,7 @@ impl Planner {
             guide: None,
             steps: Vec::new(),
             again: std::collections::HashMap::new(),
+            variables: None,
         })
     }
 
@@ -293,14 +300,22 @@ impl Planner {
         for c in candidates {
             let Kind::Condition(lit) = self.tree.kind(c) else { continue };
             self.mark(c);
-            let guided = self.guided_choice(c, lit);
-            let expanded = match &guided {
-                Some(choice) => Some(algorithm::expand_with(&mut self.tree, c, lit, std::slice::from_ref(choice))),
-                None => algorithm::expand(&mut self.tree, &self.g, c, belief, self.options.refinement),
-            };
-            match expanded {
+            if let Some(action) = self.add_sibling(c, lit, belief) {
+                // The new row differs from the others of its Fallback only in values of
+                // state variables, which never conflict: nothing moves.
+                self.expansions += 1;
+                self.flat = self.tree.flatten(&self.g)?;
+                return Ok(Expansion {
+                    condition: self.g.lit_name(lit),
+                    actions: vec![self.g.action_name(action)],
+                    unachievable,
+                    conflicts: Vec::new(),
+                    nodes: self.flat.nodes.len(),
+                    added_alternative: true,
+                });
+            }
+            match self.expand_at(c, lit, belief) {
                 Some((sub, actions)) => {
-                    self.set_steps(sub, c, guided.as_ref());
                     chosen = Some((lit, sub, actions));
                     break;
                 }
@@ -385,30 +400,12 @@ impl Planner {
                     continue;
                 }
                 *count += 1;
-                let guided = self.guided_choice(n, lit);
-                let expanded = match &guided {
-                    Some(choice) => Some(algorithm::expand_with(&mut self.tree, n, lit, std::slice::from_ref(choice))),
-                    None => algorithm::expand(&mut self.tree, &self.g, n, belief, self.options.refinement),
-                };
-                if let Some((sub, actions)) = expanded {
-                    self.set_steps(sub, n, guided.as_ref());
+                if let Some((sub, actions)) = self.expand_at(n, lit, belief) {
                     return Some(Backtrack::Expanded(lit, sub, actions));
                 }
                 continue;
             }
-            let have: Vec<ActionId> = self
-                .tree
-                .children(fb)
-                .iter()
-                .filter_map(|&c| match self.tree.kind(c) {
-                    Kind::Action(a) => Some(a),
-                    Kind::Sequence => self.tree.children(c).last().and_then(|&l| match self.tree.kind(l) {
-                        Kind::Action(a) => Some(a),
-                        _ => None,
-                    }),
-                    _ => None,
-                })
-                .collect();
+            let have: Vec<ActionId> = self.tree.children(fb).iter().filter_map(|&c| self.tree.row_action(c)).collect();
             if have.len() >= MAX_ALTERNATIVES {
                 continue;
             }
@@ -456,8 +453,76 @@ impl Planner {
         trace.causal_step(&self.g, lit, k)
     }
 
+    /// Expands condition node `c` (`lit`): with the plan's choices when guided (and its
+    /// siblings over state variables, [`Variables::choices`]), else as Algorithm 1 does.
+    /// Returns the new subtree and the actions used, or `None` when nothing achieves it.
+    fn expand_at(&mut self, c: PlanNode, lit: Lit, belief: &State) -> Option<(PlanNode, Vec<ActionId>)> {
+        let mut guided: Vec<Choice> = self.guided_choice(c, lit).into_iter().collect();
+        if let Some(v) = &self.variables
+            && let Some(first) = guided.pop()
+        {
+            // Empty for a value that no action sets without doing more: expanded as
+            // Algorithm 1 would.
+            guided = v.choices(&self.g, lit, first, belief);
+        }
+        let (sub, actions) = match guided.len() {
+            0 => algorithm::expand(&mut self.tree, &self.g, c, belief, self.options.refinement)?,
+            1 => algorithm::expand_with(&mut self.tree, c, lit, &guided),
+            _ => algorithm::expand_shared(&mut self.tree, &self.g, c, &guided),
+        };
+        self.set_steps(sub, c, guided.first());
+        Some((sub, actions))
+    }
+
+    /// With state variables, where the failed value `lit` (node `c`) stands in a row of
+    /// siblings and none of them starts from the values `belief` holds: adds the one
+    /// that does to their Fallback ([`Variables::sibling_for`]). Returns its action.
+    fn add_sibling(&mut self, c: PlanNode, lit: Lit, belief: &State) -> Option<ActionId> {
+        let v = self.variables.clone()?;
+        let row = self.tree.parent(c)?;
+        let fb = self.tree.parent(row)?;
+        if self.tree.kind(row) != Kind::Sequence || self.tree.kind(fb) != Kind::Fallback {
+            return None;
+        }
+        let a = self.tree.row_action(row)?;
+        let own: Vec<Lit> = self
+            .tree
+            .children(row)
+            .iter()
+            .filter_map(|&k| match self.tree.kind(k) {
+                Kind::Condition(l) => Some(l),
+                _ => None,
+            })
+            .collect();
+        let have: Vec<ActionId> = self.tree.children(fb).iter().filter_map(|&r| self.tree.row_action(r)).collect();
+        let (b, pre) = v.sibling_for(&self.g, lit, a, &own, &have, belief)?;
+        let r = algorithm::row(&mut self.tree, b, &pre);
+        self.tree.push_child(fb, r);
+        if let Some(trace) = &self.guide {
+            let step = self.steps.get(c as usize).copied().unwrap_or(trace.goal_step() as u32);
+            self.steps.resize(self.tree.capacity(), step);
+        }
+        Some(b)
+    }
+
+    /// Guided backchaining that does not pin the plan's state variables to the values
+    /// its steps give them ([`crate::variables`]). Returns `false`, and changes
+    /// nothing, where the planner is not guided or the problem has none.
+    pub fn with_state_variables(&mut self) -> bool {
+        let Some(v) = self.guide.as_ref().and_then(|t| Variables::new(&self.g, t)) else { return false };
+        self.variables = Some(Arc::new(v));
+        true
+    }
+
+    /// The state variables it does not pin ([`Planner::with_state_variables`]), as
+    /// `predicate/argument`.
+    #[must_use]
+    pub fn state_variable_names(&self) -> Vec<String> {
+        self.variables.as_ref().map_or_else(Vec::new, |v| v.state_variables().names(&self.g))
+    }
+
     /// Records the plan step of the new subtree's conditions.
-    fn set_steps(&mut self, sub: PlanNode, expanded: PlanNode, guided: Option<&(ActionId, Vec<Lit>, usize)>) {
+    fn set_steps(&mut self, sub: PlanNode, expanded: PlanNode, guided: Option<&Choice>) {
         let Some(trace) = &self.guide else { return };
         let outer = self.steps.get(expanded as usize).copied().unwrap_or(trace.goal_step() as u32);
         let inner = guided.map_or(outer, |g| g.2 as u32);
@@ -474,7 +539,9 @@ impl Planner {
         let mut steps = Vec::new();
         let mut guarded = false;
         let limit = self.tree.capacity() * 2 + 2;
-        while let Some(c) = algorithm::conflict(&self.tree, &self.g, sub) {
+        let variables = self.variables.clone();
+        let of = variables.as_ref().map(|v| v.state_variables());
+        while let Some(c) = algorithm::conflict_with(&self.tree, &self.g, sub, of) {
             let text = |g: &Grounding, c: algorithm::Conflict| (g.lit_name(c.precondition), g.action_name(c.by));
             if steps.len() > limit {
                 let (p, by) = text(&self.g, c);

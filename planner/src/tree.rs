@@ -248,6 +248,20 @@ impl PlanTree {
         copy[other.root as usize]
     }
 
+    /// The action of a row of an atomic BT: `n` itself if it is an action, the last
+    /// child of a Sequence `n` if that is one.
+    #[must_use]
+    pub fn row_action(&self, n: PlanNode) -> Option<ActionId> {
+        let last = match self.kind(n) {
+            Kind::Sequence => *self.children(n).last()?,
+            _ => n,
+        };
+        match self.kind(last) {
+            Kind::Action(a) => Some(a),
+            _ => None,
+        }
+    }
+
     /// The nodes of the subtree at `n` in pre-order.
     #[must_use]
     pub fn preorder(&self, n: PlanNode) -> Vec<PlanNode> {

@@ -36,3 +36,20 @@ fn close_nodes_bounds_the_closure_the_disturbed_episodes_measure() {
     assert!(nodes(&plain) < nodes(&closed), "{plain}\n{closed}");
     assert!(reached(&plain) < reached(&closed), "{plain}\n{closed}");
 }
+
+#[test]
+fn the_bench_reports_the_state_variables_a_tree_does_not_pin() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/fixtures/mini-openstacks");
+    let out = sim_host(&["bench-pddl", dir.to_str().unwrap(), "--timeout", "60", "--episodes", "5"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text.lines().position(|l| l.starts_with("p01.pddl:") || l.contains("/p01.pddl:"));
+    let at = line.unwrap_or_else(|| panic!("{text}"));
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[at].contains("solved") && lines[at].contains("search-guided"), "{text}");
+    assert_eq!(
+        lines[at + 1].trim(),
+        "state variables not pinned: stacks-avail/1 (each step also has its groundings from the other values the plan visits)",
+        "{text}"
+    );
+}

@@ -147,6 +147,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         };
         let row = Row { instance, ours, valid, pyperplan, pyperplan_why };
         writeln!(out, "{}", line(&row))?;
+        if !row.ours.variables.is_empty() {
+            writeln!(out, "  {}", planner::variables_line(&row.ours.variables))?;
+        }
         if row.ours.covered > 0 {
             writeln!(out, "  {}", planner::covered_line(row.ours.covered))?;
         }

@@ -33,8 +33,10 @@ pub enum Format {
 pub enum MethodArg {
     /// Algorithm 1; when it cannot finish, guided by a plan of heuristic search (the
     /// conditions that plan made true on the way, which the tree only checks, get the
-    /// step that made them true, acting only where the tree would fail); as a last
-    /// resort that plan's regression tree.
+    /// step that made them true, acting only where the tree would fail); when that
+    /// fails, guided again with state variables (a count of free stacks, a robot's
+    /// place) not pinned to the plan's values; as a last resort that plan's regression
+    /// tree.
     Auto,
     /// Algorithm 1 of seed 000 alone: fails where it cannot finish.
     #[value(name = "algorithm-1")]
@@ -280,6 +282,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         let offline_nodes = plan.nodes.len();
         let mut verdict_head = format!("{made}made by {}: {}\n", plan.method.name(), plan.method.describe());
+        if !plan.variables.is_empty() {
+            verdict_head.push_str(&format!("{}\n", planner::variables_line(&plan.variables)));
+        }
         if plan.covered > 0 {
             verdict_head.push_str(&format!("{}\n", planner::covered_line(plan.covered)));
         }
