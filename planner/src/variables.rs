@@ -27,9 +27,10 @@
 //!   several actions achieving a condition so that where one cannot run another can;
 //! * ends that Fallback with the actions that set the plan's value and change nothing
 //!   but state variables (open a stack), for where the variable holds none of them;
-//! * expands a failed value only with such actions, never through a plan step that
-//!   does more, and adds the sibling for the value the world is in where a step's row
-//!   meets one it has no row for ([`Variables::sibling_for`]);
+//! * expands a failed value with such an action where one exists (else as Algorithm 1
+//!   would), never through the plan's causal link, and adds the sibling for the value
+//!   the world is in where a step's row meets one it has no row for
+//!   ([`Variables::sibling_for`]);
 //! * leaves values out of the conflict test (a sibling row serves every value), and
 //!   sees no conflict where the subtree's own condition holds by the time it is
 //!   reached, or where the action that undoes a precondition makes that condition
