@@ -63,26 +63,9 @@ fn atomic_bt_of(tree: &mut PlanTree, condition: PlanNode, rows: &[(ActionId, Vec
     let fallback = tree.add(Kind::Fallback);
     tree.push_child(fallback, condition);
     for (a, pre) in rows {
-        let r = row(tree, *a, pre);
-        tree.push_child(fallback, r);
+        tree.push_step(fallback, pre, *a);
     }
     fallback
-}
-
-/// One alternative of an atomic BT, detached: `Sequence(pre..., action)`, or the
-/// action alone without preconditions.
-pub fn row(tree: &mut PlanTree, action: ActionId, pre: &[Lit]) -> PlanNode {
-    let act = tree.add(Kind::Action(action));
-    if pre.is_empty() {
-        return act;
-    }
-    let seq = tree.add(Kind::Sequence);
-    for &p in pre {
-        let c = tree.add(Kind::Condition(p));
-        tree.push_child(seq, c);
-    }
-    tree.push_child(seq, act);
-    seq
 }
 
 /// ExpandTree with achievers chosen by the caller (a plan's guidance): each is an
@@ -136,8 +119,7 @@ pub fn expand_shared(
     let inner = tree.add(Kind::Fallback);
     for (a, pre, _) in choices {
         let own: Vec<Lit> = pre.iter().copied().filter(|l| !shared.contains(l)).collect();
-        let r = row(tree, *a, &own);
-        tree.push_child(inner, r);
+        tree.push_step(inner, &own, *a);
     }
     tree.push_child(seq, inner);
     tree.push_child(outer, seq);

@@ -434,12 +434,7 @@ impl Planner {
                     pre.push(w);
                 }
             }
-            let r = algorithm::row(&mut self.tree, action, &pre);
-            self.tree.push_child(fb, r);
-            if let Some(trace) = &self.guide {
-                let step = self.steps.get(n as usize).copied().unwrap_or(trace.goal_step() as u32);
-                self.steps.resize(self.tree.capacity(), step);
-            }
+            self.push_alternative(fb, n, action, &pre);
             return Some(Backtrack::Alternative(lit, fb, action));
         }
         None
@@ -496,13 +491,18 @@ impl Planner {
             .collect();
         let have: Vec<ActionId> = self.tree.children(fb).iter().filter_map(|&r| self.tree.row_action(r)).collect();
         let (b, pre) = v.sibling_for(&self.g, lit, a, &own, &have, belief)?;
-        let r = algorithm::row(&mut self.tree, b, &pre);
-        self.tree.push_child(fb, r);
+        self.push_alternative(fb, c, b, &pre);
+        Some(b)
+    }
+
+    /// Appends `Sequence(pre?.., action)` to the Fallback `fb` as one more alternative,
+    /// its conditions standing for the plan step of node `at` (guided only).
+    fn push_alternative(&mut self, fb: PlanNode, at: PlanNode, action: ActionId, pre: &[Lit]) {
+        self.tree.push_step(fb, pre, action);
         if let Some(trace) = &self.guide {
-            let step = self.steps.get(c as usize).copied().unwrap_or(trace.goal_step() as u32);
+            let step = self.steps.get(at as usize).copied().unwrap_or(trace.goal_step() as u32);
             self.steps.resize(self.tree.capacity(), step);
         }
-        Some(b)
     }
 
     /// Guided backchaining that does not pin the plan's state variables to the values

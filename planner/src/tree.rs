@@ -151,13 +151,12 @@ impl PlanTree {
         self.slots[parent as usize].children.push(child);
     }
 
-    /// Appends `Sequence(when?.., action)` to `parent`: a step and the conditions it
-    /// needs (the action alone when `when` is empty).
-    pub fn push_step(&mut self, parent: PlanNode, when: &[Lit], action: ActionId) {
+    /// A step and the conditions it needs, detached: `Sequence(when?.., action)`, or the
+    /// action alone when `when` is empty (a row of an atomic BT, a rule).
+    pub fn step(&mut self, when: &[Lit], action: ActionId) -> PlanNode {
         let act = self.add(Kind::Action(action));
         if when.is_empty() {
-            self.push_child(parent, act);
-            return;
+            return act;
         }
         let seq = self.add(Kind::Sequence);
         for &l in when {
@@ -165,7 +164,13 @@ impl PlanTree {
             self.push_child(seq, c);
         }
         self.push_child(seq, act);
-        self.push_child(parent, seq);
+        seq
+    }
+
+    /// Appends [`PlanTree::step`]`(when, action)` to `parent`.
+    pub fn push_step(&mut self, parent: PlanNode, when: &[Lit], action: ActionId) {
+        let s = self.step(when, action);
+        self.push_child(parent, s);
     }
 
     /// The root.
