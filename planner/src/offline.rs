@@ -449,12 +449,12 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
             &mut world,
             self.max_ticks,
             strips::Ends::DETERMINISTIC,
-            |_, w| {
+            worlds::agent::BeforeTicks(|_, w: &mut StripsWorld| {
                 if w.executed().len() != done {
                     done = w.executed().len();
                     path.push(w.state().clone());
                 }
-            },
+            }),
             &mut self.states,
         )?;
         if world.executed().len() != done {
@@ -529,7 +529,7 @@ fn run_algorithm1<C: Catalog>(
             &mut world,
             options.max_ticks,
             strips::Ends::DETERMINISTIC,
-            |_, _| {},
+            (),
             &mut states,
         )?;
         match verdict {
@@ -583,7 +583,7 @@ fn finish<C: Catalog>(
         &mut fresh,
         options.max_ticks,
         strips::Ends::DETERMINISTIC,
-        |_, _| {},
+        (),
         &mut states,
     )?;
     let nodes = planner.nodes().to_vec();

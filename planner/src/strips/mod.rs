@@ -7,8 +7,16 @@
 //! name several groundings (`place at P!` for whichever brick is held): the first
 //! applicable one runs.
 //!
-//! External agents act through [`StripsWorld::set`] (and the by-name variants) between
-//! ticks; [`run`] calls a script hook before every tick for that.
+//! The same semantics runs every tree that acts in a STRIPS world: the planner's runs
+//! ([`run_to_goal`], Algorithm 1), the learner's episodes (through
+//! [`StripsWorld::act`], for leaves of its own), the scenarios and the IPC benchmark.
+//! Effects are the grounded action's, conditional ones included
+//! ([`crate::ground::GroundAction::apply`]).
+//!
+//! Episodes run on the one runner of [`worlds`]: [`run`] and [`run_to_goal`] set it up
+//! for the planner. External agents act through [`StripsWorld::set`] (and the by-name
+//! variants) between ticks, as a [`worlds::Agent`]: scripts, or the seeded
+//! [`disturb`]ances of the IPC benchmark and of learning.
 //!
 //! ```
 //! use std::sync::Arc;
@@ -23,12 +31,15 @@
 
 use std::sync::Arc;
 
-use bt_core::{BehaviorSet, Catalog, Context, Executor, Leaf, NodeId, NodeState, Status, Tree};
+use bt_core::{BehaviorSet, Context, Leaf, NodeId, Status};
 
-use crate::PlanError;
-use crate::ground::{ActionId, AtomId, Grounding};
+use crate::ground::{ActionId, AtomId, Grounding, Lit};
 use crate::state::State;
-use crate::tree::DEPTH;
+
+pub mod disturb;
+mod run;
+
+pub use run::{Ends, Outcome, Verdict, run, run_to_goal, run_with};
 
 /// The symbolic world of a grounded problem.
 #[derive(Clone, Debug)]
@@ -152,7 +163,7 @@ impl StripsWorld {
 
     /// Back to the initial state, nothing running, counters cleared.
     pub fn reset(&mut self) {
-        self.state = self.g.init().clone();
+        self.state.clone_from(self.g.init());
         self.running.clear();
         self.starts.fill(0);
         self.done.fill(0);
@@ -163,6 +174,66 @@ impl StripsWorld {
     #[must_use]
     pub fn goal_reached(&self) -> bool {
         self.g.goal_holds(&self.state)
+    }
+
+    /// Whether literal `lit` holds: a condition leaf's status.
+    #[must_use]
+    pub fn check(&self, lit: Lit) -> Status {
+        if lit.holds(&self.state) { Status::Success } else { Status::Failure }
+    }
+
+    /// An action leaf at `node` that runs one of `candidates` (the ground actions its
+    /// leaf names, in order): the semantics of every action in this world (see the
+    /// module docs). `starting` is bt-core's [`Context::starting`].
+    pub fn act(&mut self, node: NodeId, starting: bool, candidates: &[ActionId]) -> Status {
+        match self.complete(node, starting) {
+            Some(done) => done,
+            None => self.start(node, candidates),
+        }
+    }
+
+    /// The action running at `node` completes, if one does: its effects are applied.
+    fn complete(&mut self, node: NodeId, starting: bool) -> Option<Status> {
+        if starting {
+            return None;
+        }
+        let i = self.running.iter().position(|r| r.0 == node)?;
+        let (_, a) = self.running.swap_remove(i);
+        if let Some(ga) = self.g.action(a) {
+            if self.checked && !ga.applicable(&self.state) {
+                return Some(Status::Failure);
+            }
+            ga.apply(&mut self.state);
+        }
+        if let Some(d) = self.done.get_mut(a as usize) {
+            *d += 1;
+        }
+        self.executed.push(a);
+        Some(Status::Success)
+    }
+
+    /// The first of `candidates` that is not sabotaged and applicable starts at `node`.
+    fn start(&mut self, node: NodeId, candidates: &[ActionId]) -> Status {
+        let chosen = candidates.iter().copied().find(|&a| {
+            !self.sabotaged.get(a as usize).copied().unwrap_or(false)
+                && self.g.action(a).is_some_and(|ga| ga.applicable(&self.state))
+        });
+        match chosen {
+            Some(a) => {
+                self.running.retain(|r| r.0 != node);
+                self.running.push((node, a));
+                if let Some(s) = self.starts.get_mut(a as usize) {
+                    *s += 1;
+                }
+                Status::Running
+            }
+            None => Status::Failure,
+        }
+    }
+
+    /// The action running at `node` stops, without effects.
+    pub fn stop(&mut self, node: NodeId) {
+        self.running.retain(|r| r.0 != node);
     }
 }
 
@@ -175,211 +246,43 @@ impl BehaviorSet for StripsWorld {
     }
 
     fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
-        if !ctx.starting
-            && let Some(i) = self.running.iter().position(|r| r.0 == ctx.node)
-        {
-            let (_, a) = self.running.swap_remove(i);
-            if let Some(ga) = self.g.action(a) {
-                if self.checked && !ga.applicable(&self.state) {
-                    return Status::Failure;
-                }
-                ga.apply(&mut self.state);
-            }
-            if let Some(d) = self.done.get_mut(a as usize) {
-                *d += 1;
-            }
-            self.executed.push(a);
-            return Status::Success;
+        if let Some(done) = self.complete(ctx.node, ctx.starting) {
+            return done;
         }
         let mut candidates = std::mem::take(&mut self.scratch);
         self.g.leaf_actions_of(leaf, ctx.args(leaf), &mut candidates);
-        let chosen = candidates.iter().copied().find(|&a| {
-            !self.sabotaged.get(a as usize).copied().unwrap_or(false)
-                && self.g.action(a).is_some_and(|ga| ga.applicable(&self.state))
-        });
+        let status = self.start(ctx.node, &candidates);
         self.scratch = candidates;
-        match chosen {
-            Some(a) => {
-                self.running.retain(|r| r.0 != ctx.node);
-                self.running.push((ctx.node, a));
-                if let Some(s) = self.starts.get_mut(a as usize) {
-                    *s += 1;
-                }
-                Status::Running
-            }
-            None => Status::Failure,
-        }
+        status
     }
 
     fn halt(&mut self, _: &Leaf, node: NodeId) {
-        self.running.retain(|r| r.0 != node);
+        self.stop(node);
     }
 }
 
-/// How a run ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Outcome {
-    /// The root's last status (Running when the tick budget ran out).
-    pub status: Status,
-    /// Ticks made.
-    pub ticks: u32,
-}
-
-/// Ticks `nodes` in `world` until the root returns Success or Failure, or `max_ticks`
-/// ticks; `script(tick, world)` runs before every tick (tick numbers start at 1), for
-/// external agents. `states` receives the node states after the last tick.
-///
-/// # Errors
-/// [`PlanError::TreeTooLarge`] when the tree does not validate within the planner's
-/// depth, [`PlanError::Tick`] when a behavior breaks the rules.
-pub fn run<C: Catalog + ?Sized>(
-    nodes: &[bt_core::Node],
-    catalog: &C,
-    world: &mut StripsWorld,
-    max_ticks: u32,
-    script: impl FnMut(u32, &mut StripsWorld),
-    states: &mut Vec<NodeState>,
-) -> Result<Outcome, PlanError> {
-    run_with(nodes, &[], catalog, world, max_ticks, script, states)
-}
-
-/// [`run`] for a tree with a value table (leaves with more than
-/// [`bt_core::MAX_ARGS`] arguments).
-///
-/// # Errors
-/// As [`run`].
-pub fn run_with<C: Catalog + ?Sized>(
-    nodes: &[bt_core::Node],
-    values: &[u16],
-    catalog: &C,
-    world: &mut StripsWorld,
-    max_ticks: u32,
-    mut script: impl FnMut(u32, &mut StripsWorld),
-    states: &mut Vec<NodeState>,
-) -> Result<Outcome, PlanError> {
-    let tree: Tree<'_, DEPTH> =
-        Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
-    states.clear();
-    states.resize(nodes.len(), NodeState::IDLE);
-    let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;
-    let mut status = Status::Running;
-    let mut ticks = 0;
-    while ticks < max_ticks {
-        ticks += 1;
-        script(ticks, world);
-        status = exec.tick(world, ticks)?;
-        if status != Status::Running {
-            break;
-        }
-    }
-    if status == Status::Running {
-        exec.halt_all(world);
-    }
-    Ok(Outcome { status, ticks })
-}
-
-/// How an episode judged on the goal state ended ([`run_to_goal`]).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    /// The root returned Success with every goal condition true, after `ticks` ticks.
-    Reached {
-        /// Ticks made.
-        ticks: u32,
-    },
-    /// The root returned Failure.
-    Failed {
-        /// Ticks made.
-        ticks: u32,
-    },
-    /// The world came back to a state it was in before, with the same actions
-    /// running, without reaching the goal: ticking on repeats `actions` forever.
-    Oscillates {
-        /// The actions completed between the two visits of that state, in order.
-        actions: Vec<ActionId>,
-    },
-    /// The tick budget ran out (the root kept returning Running, or Success with the
-    /// goal false).
-    OutOfTicks {
-        /// The budget.
-        ticks: u32,
-    },
-}
-
-impl Verdict {
-    /// Whether the goal was reached.
-    #[must_use]
-    pub fn reached(&self) -> bool {
-        matches!(self, Self::Reached { .. })
+impl worlds::World for StripsWorld {
+    fn reset(&mut self) {
+        StripsWorld::reset(self);
     }
 }
 
-/// What ends a run of [`run_to_goal`] besides the goal and the tick budget.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Ends {
-    /// Stop as soon as the world returns to a state it was in after an action
-    /// completed, with the same actions running (the tree and the world are
-    /// deterministic, so it would loop); `false` when the world changes at random.
-    pub on_loop: bool,
-    /// Root Failures in a row that end the run: 1, the first; 2, a robot that ticks on
-    /// after a failed tick and stops when the next one fails too.
-    pub failures: u32,
-}
-
-impl Ends {
-    /// A deterministic run: it ends at the first Failure or loop.
-    pub const DETERMINISTIC: Self = Self { on_loop: true, failures: 1 };
-    /// A run whose world changes at random: it ends at the first Failure.
-    pub const RANDOM: Self = Self { on_loop: false, failures: 1 };
-}
-
-/// Ticks `nodes` (with their value table) in `world` until the goal is reached: the root returns Success *and*
-/// every goal condition holds in the world. A Success with a goal condition false
-/// (an action undid a condition checked earlier in the same tick) is not the end: the
-/// next tick starts a new activation. `ends` says what else ends it (a Failure, a
-/// loop). `script(tick, world)` runs before every tick. `states` receives the node
-/// states after the last tick.
-///
-/// # Errors
-/// As [`run`].
-pub fn run_to_goal<C: Catalog + ?Sized>(
-    (nodes, values): (&[bt_core::Node], &[u16]),
-    catalog: &C,
-    world: &mut StripsWorld,
-    max_ticks: u32,
-    ends: Ends,
-    mut script: impl FnMut(u32, &mut StripsWorld),
-    states: &mut Vec<NodeState>,
-) -> Result<Verdict, PlanError> {
-    let tree: Tree<'_, DEPTH> =
-        Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))?;
-    states.clear();
-    states.resize(nodes.len(), NodeState::IDLE);
-    let mut exec = Executor::new(tree, states).map_err(|_| PlanError::InvalidTree("state storage too small".into()))?;
-    let mut seen: std::collections::HashMap<(State, Vec<(NodeId, ActionId)>), usize> = std::collections::HashMap::new();
-    let mut completed = world.executed.len();
-    let mut ticks = 0;
-    let mut failures = 0;
-    while ticks < max_ticks {
-        ticks += 1;
-        script(ticks, world);
-        let status = exec.tick(world, ticks)?;
-        failures = if status == Status::Failure { failures + 1 } else { 0 };
-        match status {
-            Status::Failure if failures >= ends.failures.max(1) => return Ok(Verdict::Failed { ticks }),
-            Status::Success if world.goal_reached() => return Ok(Verdict::Reached { ticks }),
-            _ => {}
-        }
-        if ends.on_loop && world.executed.len() != completed {
-            completed = world.executed.len();
-            let key = (world.state.clone(), world.running());
-            if let Some(&before) = seen.get(&key) {
-                let actions = world.executed[before..].to_vec();
-                exec.halt_all(world);
-                return Ok(Verdict::Oscillates { actions });
-            }
-            seen.insert(key, completed);
-        }
+impl worlds::end::Goal for StripsWorld {
+    fn goal_reached(&self) -> bool {
+        StripsWorld::goal_reached(self)
     }
-    exec.halt_all(world);
-    Ok(Verdict::OutOfTicks { ticks })
+}
+
+/// A situation is the state with the actions running: ticking on from an equal one
+/// repeats what was done since.
+impl worlds::end::Progress for StripsWorld {
+    type Key = (State, Vec<(NodeId, ActionId)>);
+
+    fn progress(&self) -> usize {
+        self.executed.len()
+    }
+
+    fn key(&self) -> Self::Key {
+        (self.state.clone(), self.running())
+    }
 }

@@ -37,7 +37,7 @@
 //! # Time
 //!
 //! One tick is 0.1 s (10 Hz) of [`BrickParams::steps_per_tick`] rapier steps. An
-//! episode alternates `exec.tick(&mut world, t)` and [`BrickWorld::step`]. An action
+//! episode alternates `exec.tick(&mut world, t)` and [`worlds::World::step`]. An action
 //! returns Running on its first tick (it only plans its motion) and reports its outcome
 //! on the tick after the motion ends; it fails when it has not completed 50 ticks after
 //! it started. A halted action stops the gripper where it is; the grasp stays as it is.
@@ -1025,11 +1025,7 @@ impl PhysicsBrickWorld {
     }
 }
 
-impl BrickWorld for PhysicsBrickWorld {
-    fn spec(&self) -> &Spec {
-        &self.spec
-    }
-
+impl worlds::World for PhysicsBrickWorld {
     fn reset(&mut self) {
         // The spec and parameters were checked when the world was made, so rebuilding
         // from them cannot fail; a rapier world has no cheaper exact reset.
@@ -1057,6 +1053,12 @@ impl BrickWorld for PhysicsBrickWorld {
             self.world.step();
         }
         self.tick = self.tick.saturating_add(1);
+    }
+}
+
+impl BrickWorld for PhysicsBrickWorld {
+    fn spec(&self) -> &Spec {
+        &self.spec
     }
 
     fn position(&self, brick: usize) -> [f32; 3] {
@@ -1122,6 +1124,7 @@ impl BehaviorSet for PhysicsBrickWorld {
 mod tests {
     use super::*;
     use planner::duplo::Task;
+    use worlds::World as _;
 
     #[test]
     fn bricks_start_where_the_reference_puts_them() {

@@ -41,15 +41,14 @@
 //!
 //! # External agents
 //!
-//! [`Agent`] events happen at the start of a tick, before the tree is ticked: taking the
-//! cube from the hand, rolling the sphere into the path to the goal and away again,
-//! handing the cube to the robot, putting the cube on the goal. They come from a script
-//! ([`MobileWorld::with_script`]) or from a seeded generator
-//! ([`MobileWorld::with_random_agents`]); [`MobileWorld::events`] is the narration.
+//! [`Agent`] acts happen between ticks, before the world steps into the next tick
+//! ([`MobileWorld::apply`], whose event carries that tick): taking the cube from the
+//! hand, rolling the sphere into the path to the goal and away again, handing the cube
+//! to the robot, putting the cube on the goal. Who acts when is a [`worlds::Agent`]: a
+//! script, a story or a seeded generator ([`crate::scenario::agents`]);
+//! [`MobileWorld::events`] is the narration.
 
 use bt_core::{BehaviorInfo, BehaviorSet, Context, Leaf, NodeId, Status};
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use rapier3d::parry::shape::Cuboid;
 use rapier3d::prelude::{
     ColliderBuilder, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyBuilder, RigidBodyHandle,
@@ -130,7 +129,9 @@ impl Agent {
     pub const ALL: [Agent; 5] =
         [Agent::TakeCube, Agent::BlockPath, Agent::UnblockPath, Agent::HandCube, Agent::CubeToGoal];
 
-    fn describe(self) -> &'static str {
+    /// The act in words, as the narration says it.
+    #[must_use]
+    pub fn describe(self) -> &'static str {
         match self {
             Self::TakeCube => "an agent takes the cube from the gripper",
             Self::BlockPath => "an agent rolls the sphere into the path to the goal",
@@ -183,8 +184,6 @@ pub struct MobileWorld {
     grasp: Option<(u16, ImpulseJointHandle)>,
     running: Option<Running>,
     tick: u32,
-    script: Vec<(u32, Agent)>,
-    random: Option<(ChaCha8Rng, f32)>,
     events: Vec<MobileEvent>,
 }
 
@@ -238,26 +237,8 @@ impl MobileWorld {
             grasp: None,
             running: None,
             tick: 0,
-            script: Vec::new(),
-            random: None,
             events: Vec::new(),
         }
-    }
-
-    /// With agents acting at the given ticks.
-    #[must_use]
-    pub fn with_script(mut self, script: &[(u32, Agent)]) -> Self {
-        self.script = script.to_vec();
-        self.script.sort_by_key(|&(t, _)| t);
-        self
-    }
-
-    /// With agents acting at random: each tick, with probability `rate`, one of the
-    /// agent actions that makes sense now, drawn from a generator seeded with `seed`.
-    #[must_use]
-    pub fn with_random_agents(mut self, seed: u64, rate: f32) -> Self {
-        self.random = Some((ChaCha8Rng::seed_from_u64(seed), rate));
-        self
     }
 
     /// Ticks stepped so far.
@@ -395,13 +376,10 @@ impl MobileWorld {
         }
     }
 
-    /// Makes an agent act now, between ticks (a scenario's own triggers); returns
-    /// whether the act made sense in the current state (then it is in the event log).
+    /// Makes an agent act now, between ticks: before the world steps into the next tick,
+    /// whose number the event carries. Returns whether the act made sense in the
+    /// current state (then it is in the event log).
     pub fn apply(&mut self, agent: Agent) -> bool {
-        self.act(agent)
-    }
-
-    fn act(&mut self, agent: Agent) -> bool {
         let ok = match agent {
             Agent::TakeCube if self.held() == Some(CUBE) => {
                 self.release(None);
@@ -432,7 +410,7 @@ impl MobileWorld {
             _ => false,
         };
         if ok {
-            self.say(agent.describe());
+            self.events.push(MobileEvent { tick: self.tick.saturating_add(1), text: agent.describe().into() });
         }
         ok
     }
@@ -587,25 +565,9 @@ impl MobileWorld {
         self.running = Some(r);
     }
 
-    /// Advances the world by one tick: agents act, the running action moves, physics
-    /// runs.
+    /// Advances the world by one tick: the running action moves, physics runs.
     pub fn step(&mut self) {
         self.tick = self.tick.saturating_add(1);
-        while let Some(&(t, agent)) = self.script.first() {
-            if t > self.tick {
-                break;
-            }
-            self.script.remove(0);
-            let _ = self.act(agent);
-        }
-        if let Some((rng, rate)) = self.random.as_mut()
-            && rng.random::<f32>() < *rate
-        {
-            let pick = rng.random_range(0..Agent::ALL.len());
-            if let Some(&agent) = Agent::ALL.get(pick) {
-                let _ = self.act(agent);
-            }
-        }
         self.advance();
         if let Some(b) = self.world.bodies.get_mut(self.base) {
             b.set_next_kinematic_translation(Vector::new(self.base_at[0], self.base_at[1], 0.0));
@@ -618,6 +580,17 @@ impl MobileWorld {
 
 fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+impl worlds::World for MobileWorld {
+    /// Back to the start of Example 1 (a rapier world has no cheaper exact reset).
+    fn reset(&mut self) {
+        *self = Self::new();
+    }
+
+    fn step(&mut self) {
+        MobileWorld::step(self);
+    }
 }
 
 impl BehaviorSet for MobileWorld {

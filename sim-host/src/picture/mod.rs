@@ -18,6 +18,7 @@ use std::fmt::Write as _;
 use bt_core::Node;
 use planner::duplo::{BRICK_2X2, BrickKind, Spec};
 
+pub mod scenario;
 mod tree;
 use tree::{chosen_ticks, tree_panel};
 

@@ -7,8 +7,8 @@ use std::fmt::Write as _;
 
 use bt_core::{Catalog, NodeKind, NodeStatus, Tree};
 
-use super::Run;
-use super::driver::{DEPTH, leaf_name};
+use crate::scenario::Run;
+use crate::scenario::driver::{DEPTH, leaf_name};
 
 const PALETTE: [&str; 6] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
 const VIEW: f32 = 520.0;

@@ -6,28 +6,27 @@
 //!
 //! GP draws argument-less leaves ([`gp::Alphabet`]), so each grounded literal and each
 //! ground action is one leaf of a [`FlatCatalog`]: the conditions are the literals that
-//! some ground action needs or the goal asks for (`holding(cube)`, and
-//! `not hand-empty` for a negative one), then every ground action
-//! (`move-to(goal)`). Trees are converted both ways to the PDDL leaf contract
-//! (predicate or action id with object arguments; a negative condition is an
+//! some ground action needs or the goal asks for (`holding(cube)`, and `not hand-empty`
+//! for a negative one), then every ground action (`move-to(goal)`). Trees are converted both ways to the PDDL leaf
+//! contract (predicate or action id with object arguments; a negative condition is an
 //! `Inverter` over the condition), which is what images, XML and ASCII output use.
 //!
 //! # Episodes
 //!
-//! An action leaf runs its ground action as [`planner::strips::StripsWorld`] does: it
-//! fails if its preconditions do not hold when it starts, else returns Running, and on
-//! its next tick applies its effects and succeeds; a halted action has no effect. An
-//! episode ticks the tree from the initial state until the root fails, succeeds on two
-//! ticks in a row, or the tick limit is reached (a timeout).
+//! Episodes run on the one runner of [`worlds`], in the planner's STRIPS world
+//! ([`planner::strips::StripsWorld`]): a condition leaf holds when its literal does; an
+//! action leaf fails if its preconditions do not hold when it starts, else returns
+//! Running, and on its next tick applies its effects (conditional ones included) and
+//! succeeds; a halted action has no effect. An episode ticks the tree from the initial
+//! state until the root fails, succeeds on two ticks in a row, or the tick limit is
+//! reached (a timeout).
 //!
-//! With disturbances (seed 000, Problem 1), before every tick an external agent acts
-//! with probability `rate`: with even odds it *does* a ground action whose
-//! preconditions hold (a helper: the tree should skip what is done), or *undoes* one
-//! whose effects all hold (its add effects become false and its delete effects true:
-//! the cube taken from the hand, the sphere rolled back into the path), each drawn
-//! uniformly among those that change the state. The agents of episode `k` draw from a
-//! generator seeded by the disturbance seed and `k`, so a tree always meets the same
-//! `episodes` disturbed episodes and its fitness is a function of the tree.
+//! With disturbances, external agents act before ticks as in the IPC benchmark
+//! ([`planner::strips::disturb`]: with chance `rate` per tick, at most three times an
+//! episode, they undo the robot's last completed action or do one of the tree's actions
+//! for it). The agents of episode `k` draw from a generator seeded by the disturbance
+//! seed and `k`, so a tree always meets the same `episodes` disturbed episodes and its
+//! fitness is a function of the tree.
 //!
 //! # Fitness
 //!
@@ -112,6 +111,18 @@ pub struct Disturbance {
     pub seed: u64,
     /// How many disturbed episodes score a tree.
     pub episodes: u32,
+}
+
+impl Disturbance {
+    /// The agents' model: the IPC benchmark's, with this rate and seed.
+    #[must_use]
+    pub fn model(&self) -> planner::strips::disturb::Disturbance {
+        planner::strips::disturb::Disturbance {
+            rate: self.rate,
+            seed: self.seed,
+            ..planner::strips::disturb::Disturbance::default()
+        }
+    }
 }
 
 /// A PDDL problem ready to learn on: grounded, with its leaves and the planner's tree.
