@@ -6,8 +6,9 @@
 //!
 //! GP draws argument-less leaves ([`gp::Alphabet`]), so each grounded literal and each
 //! ground action is one leaf of a [`FlatCatalog`]: the conditions are the literals that
-//! some ground action needs or the goal asks for (`holding(cube)`, and `not hand-empty`
-//! for a negative one), then every ground action (`move-to(goal)`). Trees are converted both ways to the PDDL leaf
+//! some ground action needs, that a conditional effect's `when` asks for, or that the
+//! goal asks for (`holding(cube)`, and `not hand-empty` for a negative one), then every
+//! ground action (`move-to(goal)`). Trees are converted both ways to the PDDL leaf
 //! contract (predicate or action id with object arguments; a negative condition is an
 //! `Inverter` over the condition), which is what images, XML and ASCII output use.
 //!
@@ -166,6 +167,7 @@ impl StripsProblem {
         let mut conditions: BTreeSet<Lit> = g.goal().iter().copied().collect();
         for a in g.actions() {
             conditions.extend(a.pre.iter().copied());
+            conditions.extend(a.cond.iter().flat_map(|c| c.when.iter().copied()));
         }
         let mut letters: Vec<Letter> = conditions.into_iter().map(Letter::Condition).collect();
         letters.extend((0..g.actions().len() as ActionId).map(Letter::Action));
@@ -349,7 +351,10 @@ impl StripsProblem {
                     let negated = i > 0 && nodes.get(i - 1).is_some_and(inverter);
                     let lit = Lit { atom, positive: !negated };
                     let id = self.letter_of(Letter::Condition(lit)).ok_or_else(|| {
-                        anyhow!("node {i}: `{}` is not a precondition or goal of this problem", self.g.lit_name(lit))
+                        anyhow!(
+                            "node {i}: `{}` is not a precondition, effect condition or goal of this problem",
+                            self.g.lit_name(lit)
+                        )
                     })?;
                     NodeKind::Condition(Leaf::new(id))
                 }
