@@ -19,7 +19,7 @@
 //! let mut storage = vec![bt_core::Node::EMPTY; p.nodes.len()];
 //! let tree: bt_core::Tree<'_, 32> = bt_core::load(&image, catalog.as_ref(), &mut storage)?;
 //! let mut world = StripsWorld::new(g);
-//! let out = strips::run(tree.nodes(), catalog.as_ref(), &mut world, 100, (), &mut Vec::new())?;
+//! let out = strips::run((tree.nodes(), &[]), catalog.as_ref(), &mut world, 100, (), &mut Vec::new())?;
 //! assert_eq!(out.status, bt_core::Status::Success);
 //! assert!(world.holds_named("at", &["cube", "goal"]));
 //! # Ok::<(), Box<dyn std::error::Error>>(())

@@ -7,6 +7,7 @@ use bt_core::Status;
 use planner::algorithm::Move;
 use planner::strips::StripsWorld;
 use planner::{Options, PddlCatalog, domains, plan, run_blended, tokens};
+use worlds::agent::BeforeTicks;
 
 fn toks(nodes: &[bt_core::Node], c: &PddlCatalog) -> String {
     tokens::to_string(nodes, c).unwrap()
@@ -63,7 +64,7 @@ fn example_2_offline_resolves_the_conflict_into_fig_4() {
     assert_eq!(rest, ["near(sphere)"]);
     assert!(p.goal_ticks.is_some());
     let mut world = StripsWorld::new(g);
-    let out = planner::strips::run(&p.nodes, c.as_ref(), &mut world, 100, (), &mut Vec::new()).unwrap();
+    let out = planner::strips::run((&p.nodes, &[]), c.as_ref(), &mut world, 100, (), &mut Vec::new()).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(world.holds_named("at", &["cube", "goal"]));
 }
@@ -77,20 +78,14 @@ fn example_2_at_run_time_expands_once_into_fig_4_then_reaches_the_goal() {
     let mut world = StripsWorld::new(g.clone());
     let move_goal = action(&g, "move-to(goal)");
     let mut blocked_at = None;
-    let out = run_blended(
-        &mut planner,
-        c.as_ref(),
-        &mut world,
-        200,
-        worlds::agent::BeforeTicks(|t, w: &mut StripsWorld| {
-            // The sphere rolls into the path while the robot carries the cube to the goal.
-            if blocked_at.is_none() && w.starts(move_goal) == 1 && w.holds_named("holding", &["cube"]) {
-                w.set_named("path-free", &["goal"], false);
-                blocked_at = Some(t);
-            }
-        }),
-    )
-    .unwrap();
+    let script = BeforeTicks(|t, w: &mut StripsWorld| {
+        // The sphere rolls into the path while the robot carries the cube to the goal.
+        if blocked_at.is_none() && w.starts(move_goal) == 1 && w.holds_named("holding", &["cube"]) {
+            w.set_named("path-free", &["goal"], false);
+            blocked_at = Some(t);
+        }
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 200, script).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(blocked_at.is_some());
     let first = &out.expansions[0].1;
@@ -110,11 +105,11 @@ fn example_2_first_expansion_is_exactly_fig_4() {
     let mut world = StripsWorld::new(g.clone());
     // Carry the cube: run until holding, then block the path and tick once.
     let out = planner::strips::run(
-        planner.nodes(),
+        (planner.nodes(), &[]),
         c.as_ref(),
         &mut world,
         100,
-        worlds::agent::BeforeTicks(|_, w: &mut StripsWorld| {
+        BeforeTicks(|_, w: &mut StripsWorld| {
             if w.holds_named("holding", &["cube"]) {
                 w.set_named("path-free", &["goal"], false);
             }
@@ -123,7 +118,7 @@ fn example_2_first_expansion_is_exactly_fig_4() {
     );
     assert_eq!(out.unwrap().status, Status::Failure);
     let mut states = Vec::new();
-    let again = planner::strips::run(planner.nodes(), c.as_ref(), &mut world, 1, (), &mut states).unwrap();
+    let again = planner::strips::run((planner.nodes(), &[]), c.as_ref(), &mut world, 1, (), &mut states).unwrap();
     assert_eq!(again.status, Status::Failure);
     let e = planner.on_failure(&states, world.state()).unwrap();
     assert_eq!(e.condition, "path-free(goal)");

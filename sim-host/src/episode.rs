@@ -144,6 +144,24 @@ impl Fitness {
     pub fn value(&self) -> f64 {
         -self.cost()
     }
+
+    /// The terms by name, in the order they are summed (the distances as one).
+    #[must_use]
+    pub fn terms(&self) -> [(&'static str, f64); 5] {
+        [
+            ("length", self.length),
+            ("distance", self.distance_total()),
+            ("failure", self.failure),
+            ("timeout", self.timeout),
+            ("held", self.held),
+        ]
+    }
+
+    /// The terms as `length 0.400`, ... joined by `sep`.
+    #[must_use]
+    pub fn terms_text(&self, sep: &str) -> String {
+        self.terms().iter().map(|(name, v)| format!("{name} {v:.3}")).collect::<Vec<_>>().join(sep)
+    }
 }
 
 /// Everything one episode produced. `Copy`, no heap.

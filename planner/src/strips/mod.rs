@@ -39,7 +39,7 @@ use crate::state::State;
 pub mod disturb;
 mod run;
 
-pub use run::{Ends, Outcome, Verdict, run, run_to_goal, run_with};
+pub use run::{Ends, Outcome, Verdict, run, run_to_goal};
 
 /// The symbolic world of a grounded problem.
 #[derive(Clone, Debug)]

@@ -31,18 +31,6 @@ fn settings(max_ticks: u32) -> Settings {
     }
 }
 
-/// A runner over `states` (the caller's storage, handed back after the run).
-fn runner(max_ticks: u32, states: &mut Vec<NodeState>) -> Runner {
-    Runner::new(settings(max_ticks)).with_states(std::mem::take(states))
-}
-
-/// Hands the runner's node states back to the caller: one per node of the tree.
-fn give_back(runner: Runner, states: &mut Vec<NodeState>, nodes: usize) {
-    *states = runner.into_states();
-    states.resize(nodes, NodeState::IDLE);
-    states.truncate(nodes);
-}
-
 fn validate<'a, C: Catalog + ?Sized>(
     nodes: &'a [bt_core::Node],
     values: &'a [u16],
@@ -51,44 +39,46 @@ fn validate<'a, C: Catalog + ?Sized>(
     Tree::validate_with(nodes, values, catalog).map_err(|e| PlanError::InvalidTree(e.to_string()))
 }
 
-/// Ticks `nodes` in `world` until the root returns Success or Failure, or `max_ticks`
-/// ticks; `agents` act before every tick ([`worlds::agent::BeforeTicks`] for a
-/// script, `()` for none). `states` receives the node states after the last tick.
+/// Ticks `nodes` (with their value table, for leaves with more than
+/// [`bt_core::MAX_ARGS`] arguments) in `world` until the root returns Success or
+/// Failure, or `max_ticks` ticks; `agents` act before every tick
+/// ([`worlds::agent::BeforeTicks`] for a script, `()` for none). `states` receives the
+/// node states after the last tick.
 ///
 /// # Errors
 /// [`PlanError::InvalidTree`] when the tree does not validate within the planner's
 /// depth, [`PlanError::Tick`] when a behavior breaks the rules.
 pub fn run<C: Catalog + ?Sized>(
-    nodes: &[bt_core::Node],
+    tree: (&[bt_core::Node], &[u16]),
     catalog: &C,
     world: &mut StripsWorld,
     max_ticks: u32,
     agents: impl Agent<StripsWorld>,
     states: &mut Vec<NodeState>,
 ) -> Result<Outcome, PlanError> {
-    run_with(nodes, &[], catalog, world, max_ticks, agents, states)
+    let out = episode(tree, catalog, world, max_ticks, &mut Finished, agents, states)?;
+    Ok(Outcome { status: out.root, ticks: out.ticks })
 }
 
-/// [`run`] for a tree with a value table (leaves with more than
-/// [`bt_core::MAX_ARGS`] arguments).
-///
-/// # Errors
-/// As [`run`].
-pub fn run_with<C: Catalog + ?Sized>(
-    nodes: &[bt_core::Node],
-    values: &[u16],
+/// One episode of the tree in `world` on the [`worlds`] runner, as the planner runs them
+/// ([`settings`]), until `ends` or the tick limit stop it.
+fn episode<C: Catalog + ?Sized>(
+    (nodes, values): (&[bt_core::Node], &[u16]),
     catalog: &C,
     world: &mut StripsWorld,
     max_ticks: u32,
+    ends: &mut impl worlds::Ends<StripsWorld>,
     mut agents: impl Agent<StripsWorld>,
     states: &mut Vec<NodeState>,
-) -> Result<Outcome, PlanError> {
+) -> Result<worlds::Outcome, PlanError> {
     let tree = validate(nodes, values, catalog)?;
-    let mut runner = runner(max_ticks, states);
-    let out = runner.run(tree, world, &mut Finished, &mut agents, &mut ());
-    give_back(runner, states, nodes.len());
-    let out = out?;
-    Ok(Outcome { status: out.root, ticks: out.ticks })
+    let mut runner = Runner::new(settings(max_ticks)).with_states(std::mem::take(states));
+    let out = runner.run(tree, world, ends, &mut agents, &mut ());
+    // One state per node, after the last tick.
+    *states = runner.into_states();
+    states.resize(nodes.len(), NodeState::IDLE);
+    states.truncate(nodes.len());
+    Ok(out?)
 }
 
 /// How an episode judged on the goal state ended ([`run_to_goal`]).
@@ -160,16 +150,12 @@ pub fn run_to_goal<C: Catalog + ?Sized>(
     world: &mut StripsWorld,
     max_ticks: u32,
     ends: Ends,
-    mut agents: impl Agent<StripsWorld>,
+    agents: impl Agent<StripsWorld>,
     states: &mut Vec<NodeState>,
 ) -> Result<Verdict, PlanError> {
-    let tree = validate(nodes, values, catalog)?;
-    let mut runner = runner(max_ticks, states);
     let mut loops = ends.on_loop.then(Loops::default);
     let mut rules = (Failures::in_a_row(ends.failures), GoalReached, &mut loops);
-    let out = runner.run(tree, world, &mut rules, &mut agents, &mut ());
-    give_back(runner, states, nodes.len());
-    let out = out?;
+    let out = episode((nodes, values), catalog, world, max_ticks, &mut rules, agents, states)?;
     Ok(match out.stop {
         Stop::Goal => Verdict::Reached { ticks: out.ticks },
         Stop::Failure => Verdict::Failed { ticks: out.ticks },

@@ -249,17 +249,7 @@ fn report(out: &mut String, spec: &Spec, e: &Episode, limit: u32) {
     }
     let held = e.held.map_or_else(|| "nothing".to_string(), |b| format!("brick {b}"));
     let _ = writeln!(out, "held     {held}");
-    let f = &e.fitness;
-    let _ = writeln!(
-        out,
-        "fitness  {:.3}  length {:.3}  distance {:.3}  failure {:.3}  timeout {:.3}  held {:.3}",
-        f.value(),
-        f.length,
-        f.distance_total(),
-        f.failure,
-        f.timeout,
-        f.held
-    );
+    let _ = writeln!(out, "fitness  {:.3}  {}", e.fitness.value(), e.fitness.terms_text("  "));
 }
 
 fn fmt_pos(p: [f32; 3]) -> String {

@@ -102,15 +102,11 @@ fn header(s: &mut String, run: &Run<'_>) {
     };
     let _ = writeln!(
         s,
-        r#"<text x="{MARGIN}" y="54" font-size="14">ended by {outcome} after {}{}  ·  fitness {:.3} = −(length {:.3} + distance {:.3} + failure {:.3} + timeout {:.3} + held {:.3})</text>"#,
+        r#"<text x="{MARGIN}" y="54" font-size="14">ended by {outcome} after {}{}  ·  fitness {:.3} = −({})</text>"#,
         crate::text::count(e.ticks, "tick"),
         if e.timed_out && e.end != crate::episode::End::Timeout { " (the tick limit)" } else { "" },
         f.value(),
-        f.length,
-        f.distance_total(),
-        f.failure,
-        f.timeout,
-        f.held
+        f.terms_text(" + ")
     );
 }
 

@@ -13,6 +13,25 @@ use worlds::agent::TreeState;
 
 use crate::physics::mobile::{Agent, CUBE, MobileWorld};
 
+/// Names the action a tick left running, as a catalog renders it: what scripted agents
+/// react to.
+#[derive(Clone)]
+pub struct ActionNames(pub Arc<dyn Catalog + Send + Sync>);
+
+impl ActionNames {
+    /// The action the tree runs, by name.
+    #[must_use]
+    pub fn running(&self, tree: &TreeState<'_>) -> Option<String> {
+        tree.running_action().map(|(_, leaf)| super::driver::leaf_name(self.0.as_ref(), leaf))
+    }
+}
+
+impl std::fmt::Debug for ActionNames {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ActionNames").finish_non_exhaustive()
+    }
+}
+
 /// A world the cube scenario's agents act on.
 pub trait Acts {
     /// Makes `agent` act now; whether the act made sense (then it is narrated).
@@ -96,28 +115,21 @@ impl<W: Acts> worlds::Agent<W> for Random {
 /// 4. the sphere rolls into the path once more and, three ticks later, away again.
 ///
 /// Each act waits for one that makes sense in the world.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Story {
     step: usize,
     since: u32,
     patience: u32,
-    /// Names the action the tree runs.
-    catalog: Arc<dyn Catalog + Send + Sync>,
-}
-
-impl std::fmt::Debug for Story {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Story").field("step", &self.step).field("since", &self.since).finish_non_exhaustive()
-    }
+    names: ActionNames,
 }
 
 impl Story {
     /// The story; `patience` is how many ticks an agent lets the robot carry the cube
     /// before the next act (a symbolic move-to takes one tick, a physical one many);
-    /// `catalog` names the tree's actions.
+    /// `names` names the tree's actions.
     #[must_use]
-    pub fn new(patience: u32, catalog: Arc<dyn Catalog + Send + Sync>) -> Self {
-        Self { step: 0, since: 0, patience, catalog }
+    pub fn new(patience: u32, names: ActionNames) -> Self {
+        Self { step: 0, since: 0, patience, names }
     }
 
     fn due(&self, running: Option<&str>, holding: bool) -> Option<Agent> {
@@ -141,7 +153,7 @@ impl Story {
 
 impl<W: Acts> worlds::Agent<W> for Story {
     fn act(&mut self, _: u32, world: &mut W, tree: &TreeState<'_>) {
-        let running = tree.running_action().map(|(_, leaf)| super::driver::leaf_name(self.catalog.as_ref(), leaf));
+        let running = self.names.running(tree);
         self.since += 1;
         if let Some(agent) = self.due(running.as_deref(), world.holding_cube())
             && world.apply(agent)

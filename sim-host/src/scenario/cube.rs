@@ -22,6 +22,7 @@ use planner::strips::StripsWorld;
 
 use super::agents::Acts;
 use super::driver::{Points, Scene, belief_from_conditions};
+use super::strips::StripsScene;
 use crate::physics::mobile::{Agent, CUBE, MobileWorld, SPHERE};
 
 /// Chance per tick that a random agent acts (with `--seed`).
@@ -31,11 +32,10 @@ pub const RANDOM_RATE: f32 = 0.04;
 /// with the agents acting on its atoms.
 #[derive(Debug)]
 pub struct SymbolicCube {
-    world: StripsWorld,
+    world: StripsScene,
     /// The ground move-to actions with the location each reaches, and how often each
     /// had completed when last looked at.
     moves: Vec<(planner::ground::ActionId, String, u32)>,
-    events: Vec<String>,
 }
 
 impl SymbolicCube {
@@ -50,21 +50,22 @@ impl SymbolicCube {
                 Some((id, to, 0))
             })
             .collect();
-        Self { world: StripsWorld::new(g), moves, events: Vec::new() }
+        Self { world: StripsScene::new(g), moves }
     }
 
     /// The STRIPS world.
     #[must_use]
     pub fn world(&self) -> &StripsWorld {
-        &self.world
+        &self.world.strips
     }
 
     /// The one rule of motion STRIPS cannot state without quantified effects: a robot
     /// that moved to `l` is no longer near anywhere else.
     fn leave_other_places(&mut self) {
+        let w = &mut self.world.strips;
         let mut arrived = None;
         for (id, to, seen) in &mut self.moves {
-            let done = self.world.completions(*id);
+            let done = w.completions(*id);
             if done > *seen {
                 *seen = done;
                 arrived = Some(to.clone());
@@ -73,7 +74,7 @@ impl SymbolicCube {
         if let Some(here) = arrived {
             for (_, to, _) in &self.moves {
                 if *to != here {
-                    self.world.set_named("near", &[to.as_str()], false);
+                    w.set_named("near", &[to.as_str()], false);
                 }
             }
         }
@@ -84,11 +85,10 @@ super::forward_behaviors!(SymbolicCube);
 
 impl worlds::World for SymbolicCube {
     fn reset(&mut self) {
-        self.world.reset();
+        worlds::World::reset(&mut self.world);
         for m in &mut self.moves {
             m.2 = 0;
         }
-        self.events.clear();
     }
 
     fn step(&mut self) {
@@ -98,7 +98,7 @@ impl worlds::World for SymbolicCube {
 
 impl Acts for SymbolicCube {
     fn apply(&mut self, agent: Agent) -> bool {
-        let w = &mut self.world;
+        let w = &mut self.world.strips;
         let holding = w.holds_named("holding", &["cube"]);
         let ok = match agent {
             Agent::TakeCube if holding => {
@@ -118,25 +118,25 @@ impl Acts for SymbolicCube {
             _ => false,
         };
         if ok {
-            self.events.push(agent.describe().into());
+            self.world.events.push(agent.describe().into());
         }
         ok
     }
 
     fn holding_cube(&self) -> bool {
-        self.world.holds_named("holding", &["cube"])
+        self.world.strips.holds_named("holding", &["cube"])
     }
 }
 
 impl Scene for SymbolicCube {
     fn event(&self, i: usize) -> Option<&str> {
-        self.events.get(i).map(String::as_str)
+        self.world.event(i)
     }
 }
 
 impl Belief for SymbolicCube {
-    fn belief(&mut self, _: &Grounding) -> State {
-        self.world.state().clone()
+    fn belief(&mut self, g: &Grounding) -> State {
+        self.world.belief(g)
     }
 }
 

@@ -39,6 +39,7 @@ pub mod cellphone;
 pub mod cube;
 pub mod driver;
 pub mod narrate;
+pub mod strips;
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -54,7 +55,7 @@ use crate::physics::mobile::MobileWorld;
 use crate::symbolic::SymbolicBrickWorld;
 use crate::text::count;
 use crate::world::BrickWorld;
-use agents::{CubeAgents, Random, Story};
+use agents::{ActionNames, CubeAgents, Random, Story};
 use driver::{Points, Record, Scene};
 
 /// A scenario of the papers.
@@ -193,7 +194,10 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                     let _ = writeln!(out, "agents: random, seed {s}");
                     CubeAgents::Random(Box::new(Random::new(s, cube::RANDOM_RATE)))
                 }
-                None => CubeAgents::Story(Story::new(if world == WorldKind::Physics { 5 } else { 1 }, catalog.clone())),
+                None => {
+                    let patience = if world == WorldKind::Physics { 5 } else { 1 };
+                    CubeAgents::Story(Story::new(patience, ActionNames(catalog.clone())))
+                }
             };
             let _ = writeln!(
                 out,
@@ -227,9 +231,9 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                 "goal: every part mounted. The tree starts as the goal conditions in a Sequence and is \
                  expanded whenever it fails.\n"
             );
-            let mut w = cellphone::Cellphone::new(g);
+            let mut w = strips::StripsScene::new(g);
             let mut trees = Expanding::new(&mut planner, catalog.as_ref());
-            let mut agents = cellphone::Disturbances::new(catalog.clone());
+            let mut agents = cellphone::Disturbances::new(ActionNames(catalog.clone()));
             let record = driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
                 .map_err(|e| interrupted(&out, e))?;
             summary(&mut out, &record);

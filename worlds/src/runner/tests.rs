@@ -206,24 +206,31 @@ fn a_tree_that_grows_goes_on_from_the_world_as_it_is() {
     assert!(w.log.contains(&"full? @100".to_string()), "{:?}", w.log);
 }
 
+/// `CHECK` in a counter that is full at `goal`, growing at most once (none if
+/// `grown`), for at most `limit` ticks until the first Failure it does not grow at.
+fn grow_once(goal: u32, grown: u32, limit: u32) -> (Result<Outcome, RunError<String>>, Vec<String>) {
+    let mut w = Counter { goal, ..Counter::default() };
+    let mut trees = Grows { nodes: CHECK.to_vec(), grown };
+    let out = Runner::new(Settings::new(limit, Clock::TENTHS)).run_growing::<4, _, _, _, _, _>(
+        &mut trees,
+        &mut w,
+        &mut Failures::first(),
+        &mut (),
+        &mut (),
+    );
+    (out, w.log)
+}
+
 #[test]
 fn a_tree_that_cannot_grow_ends_the_run_with_the_tick() {
-    let mut w = Counter { goal: 5, ..Counter::default() };
-    let mut trees = Grows { nodes: CHECK.to_vec(), grown: 1 };
-    let err = Runner::new(Settings::new(10, Clock::TENTHS))
-        .run_growing::<4, _, _, _, _, _>(&mut trees, &mut w, &mut Failures::first(), &mut (), &mut ())
-        .unwrap_err();
+    let err = grow_once(5, 1, 10).0.unwrap_err();
     assert_eq!(err.tick, 1);
     assert_eq!(err.to_string(), "tick 1: no more");
 }
 
 #[test]
 fn a_tree_that_grows_on_the_last_tick_ends_at_the_limit() {
-    let mut w = Counter { goal: 1, ..Counter::default() };
-    let mut trees = Grows { nodes: CHECK.to_vec(), grown: 0 };
-    let out = Runner::new(Settings::new(1, Clock::TENTHS))
-        .run_growing::<4, _, _, _, _, _>(&mut trees, &mut w, &mut Failures::first(), &mut (), &mut ())
-        .unwrap();
-    assert_eq!(out, Outcome { stop: Stop::Limit, ticks: 1, root: Status::Failure });
-    assert_eq!(w.log, ["full? @0", "grow at 1", "step"]);
+    let (out, log) = grow_once(1, 0, 1);
+    assert_eq!(out.unwrap(), Outcome { stop: Stop::Limit, ticks: 1, root: Status::Failure });
+    assert_eq!(log, ["full? @0", "grow at 1", "step"]);
 }
