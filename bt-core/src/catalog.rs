@@ -1,9 +1,9 @@
 //! What a behavior set declares about its behaviors: names, kinds, arities and ports,
-//! and the 64-bit fingerprint that lets host and controller agree on them without
-//! sharing code.
+//! how their values print and read back, and the 64-bit fingerprint that lets host and
+//! controller agree on them without sharing code.
 
 use crate::node::{BehaviorId, LeafKind};
-use crate::port::{PortDirection, PortInfo};
+use crate::port::{PortDirection, PortInfo, PortValue};
 
 /// The declaration of one behavior.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -30,10 +30,21 @@ impl<'a> BehaviorInfo<'a> {
     }
 }
 
-/// The behaviors a tree may use, indexed by [`BehaviorId`].
+/// The behaviors a tree may use, indexed by [`BehaviorId`]: the one description of a
+/// behavior set that the loader, the renderers and every format read.
 ///
-/// Implemented for slices of [`BehaviorInfo`]; the host implements it over its own
-/// name tables.
+/// Implemented for slices of [`BehaviorInfo`] and [`Behavior`]; the host implements it
+/// over its own name tables (a PDDL problem, a brick task, an image's names section).
+///
+/// A leaf's values have two kinds of names, kept apart on purpose:
+/// - **declared ports** ([`Catalog::port`]): name, direction and type, which the loader
+///   checks every value against ([`PortTable::check_leaf`](crate::PortTable::check_leaf))
+///   and the [fingerprint](Catalog::fingerprint) covers, so that host and controller
+///   agree on them;
+/// - **names for display** ([`Catalog::port_name`]): what a value is shown and written
+///   as (`goal=...`, a PDDL parameter), by default the declared port's name. A set
+///   whose values are grounded arguments names them here without declaring ports, so
+///   naming them changes neither what loads nor the fingerprint.
 pub trait Catalog {
     /// Number of behaviors; ids run from 0 to `len() - 1`.
     fn len(&self) -> usize;
@@ -46,15 +57,25 @@ pub trait Catalog {
     /// The declaration of behavior `id`.
     fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>>;
 
-    /// Port `position` of behavior `id`, for behaviors that declare ports (one per
-    /// value, in order; see [`port`](crate::port)). `None` by default: the behavior's
-    /// values are grounded arguments.
+    /// Declared port `position` of behavior `id`, for behaviors that declare ports (one
+    /// per value, in order; see [`port`](crate::port)): the loader checks the leaf's
+    /// value against it and the default [`fingerprint`](Catalog::fingerprint) covers it.
+    /// `None` by default: the behavior's values are grounded arguments.
     fn port(&self, id: BehaviorId, position: usize) -> Option<PortInfo<'_>> {
         let _ = (id, position);
         None
     }
 
-    /// The fingerprint of this set: see [`fingerprint`].
+    /// The name value `position` of a leaf of behavior `id` is shown and written under
+    /// (a port name, a PDDL parameter): for display only, neither checked nor
+    /// fingerprinted. By default the declared port's name, else `None`.
+    fn port_name(&self, id: BehaviorId, position: usize) -> Option<&str> {
+        self.port(id, position).map(|p| p.name)
+    }
+
+    /// The fingerprint of this set: see [`fingerprint`]. Covers each behavior's name,
+    /// kind and arity and its declared ports ([`Catalog::port`]), never the names of
+    /// [`Catalog::port_name`] alone.
     fn fingerprint(&self) -> u64 {
         let mut h = Fnv1a::new().u64(self.len() as u64);
         let mut id: BehaviorId = 0;
@@ -77,31 +98,40 @@ pub trait Catalog {
 
     /// Writes a whole leaf for the renderer, whose values are `args` (inline or from the
     /// tree's value table). By default `name` or `name(arg, ...)` with
-    /// [`Catalog::write_arg`] for each argument; host catalogs override it to print
-    /// grounded names such as `0 at pos (0.0, 0.05, 0.0)?`.
+    /// [`Catalog::write_arg`] for each value; a value of a declared port is written
+    /// `port=value`, and left out when unset (`ComputePathToPose(goal={goal})`). Host
+    /// catalogs override it to print grounded names such as `0 at pos (0.0, 0.05, 0.0)?`.
     ///
     /// # Errors
     /// Whatever the formatter returns.
     fn write_leaf(&self, f: &mut core::fmt::Formatter<'_>, leaf: &crate::Leaf, args: &[u16]) -> core::fmt::Result {
-        match self.info(leaf.behavior()) {
+        let b = leaf.behavior();
+        match self.info(b) {
             Some(info) => f.write_str(info.name)?,
-            None => write!(f, "#{}", leaf.behavior())?,
+            None => write!(f, "#{b}")?,
         }
-        if !args.is_empty() {
-            f.write_str("(")?;
-            for (pos, &a) in args.iter().enumerate() {
-                if pos > 0 {
-                    f.write_str(", ")?;
-                }
-                self.write_arg(f, leaf.behavior(), pos, a)?;
+        let mut first = true;
+        for (pos, &a) in args.iter().enumerate() {
+            let port = self.port(b, pos);
+            if port.is_some() && PortValue::from_u16(a) == PortValue::Unset {
+                continue;
             }
+            f.write_str(if first { "(" } else { ", " })?;
+            first = false;
+            if let Some(p) = port {
+                write!(f, "{}=", p.name)?;
+            }
+            self.write_arg(f, b, pos, a)?;
+        }
+        if !first {
             f.write_str(")")?;
         }
         Ok(())
     }
 
-    /// Writes argument `value` at `position` of a leaf of `behavior`, for the renderer.
-    /// Prints the number by default; the host overrides it to print object names.
+    /// Writes value `value` at `position` of a leaf of `behavior`, for the renderer and
+    /// the formats. Prints the number by default; host catalogs print object names, and
+    /// for declared ports a blackboard key as `{key}` and a constant as written.
     ///
     /// # Errors
     /// Whatever the formatter returns.
@@ -114,6 +144,15 @@ pub trait Catalog {
     ) -> core::fmt::Result {
         let _ = (behavior, position);
         write!(f, "{value}")
+    }
+
+    /// The value written as `text` at `position` of a leaf of `behavior`: the inverse
+    /// of [`Catalog::write_arg`] for grounded arguments (an object's name back to its
+    /// index), so that a tree written as text reads back into this set. By default the
+    /// number itself; `None` when `text` names no value.
+    fn parse_arg(&self, behavior: BehaviorId, position: usize, text: &str) -> Option<u16> {
+        let _ = (behavior, position);
+        text.parse().ok()
     }
 }
 

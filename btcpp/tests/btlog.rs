@@ -291,8 +291,8 @@ fn exported_xml_numbers_the_nodes_as_the_logs_do() {
     );
 
     // An image's nodes: export and log number them 1, 2, ... in pre-order.
-    let image_log = LogTree::new(&imported.nodes, &imported, &btcpp::xml::NoPorts).unwrap();
-    let plain = btcpp::xml::to_xml(&imported.nodes, &imported, &btcpp::xml::NoPorts).unwrap();
+    let image_log = LogTree::new(&imported.nodes, &imported).unwrap();
+    let plain = btcpp::xml::to_xml(&imported.nodes, &imported).unwrap();
     let n = u16::try_from(imported.nodes.len()).unwrap();
     assert_eq!(uids(&plain), (1..=n).collect::<Vec<_>>());
     assert_eq!(by_core(&image_log), (1..=n).collect::<Vec<_>>());
@@ -305,11 +305,11 @@ fn extended_leaves_take_their_ports_from_the_value_table() {
     const SET: [BehaviorInfo<'static>; 1] = [BehaviorInfo::action("drive-truck", 4)];
     let nodes = [Node::new(NodeKind::Action(Leaf::extended(0, 0, 4).unwrap()), 1)];
     let values = [7, 1, 2, 3];
-    let tree = LogTree::with_values(&nodes, &values, &SET[..], &btcpp::xml::NoPorts).unwrap();
+    let tree = LogTree::with_values(&nodes, &values, &SET[..]).unwrap();
     let attrs: Vec<&str> = tree.nodes[0].attrs.iter().map(|(_, v)| v.as_str()).collect();
     let mut sorted = attrs.clone();
     sorted.sort_unstable();
     assert_eq!(sorted, ["1", "2", "3", "7"], "{:?}", tree.nodes[0].attrs);
     // Without the table, the leaf has no values to show.
-    assert!(LogTree::new(&nodes, &SET[..], &btcpp::xml::NoPorts).unwrap().nodes[0].attrs.is_empty());
+    assert!(LogTree::new(&nodes, &SET[..]).unwrap().nodes[0].attrs.is_empty());
 }

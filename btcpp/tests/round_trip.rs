@@ -8,7 +8,7 @@ use std::fmt;
 use std::path::Path;
 
 use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, LeafKind, Node, NodeKind};
-use btcpp::xml::{Grounded, ImportOptions, Ports, import_text, to_xml};
+use btcpp::xml::{ImportOptions, import_text, to_xml};
 use proptest::prelude::*;
 
 /// A behavior set like the planner's: conditions and actions with grounded object
@@ -34,20 +34,12 @@ impl Catalog for Objects {
         BEHAVIORS.get(usize::from(id)).map(|&(name, kind, arity)| BehaviorInfo { name, kind, arity })
     }
 
-    fn write_arg(&self, f: &mut fmt::Formatter<'_>, _: BehaviorId, _: usize, value: u16) -> fmt::Result {
-        f.write_str(OBJECTS[usize::from(value)])
-    }
-}
-
-impl Ports for Objects {
-    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
         (behavior == 5).then(|| ["what", "where", "on-top"][position])
     }
-}
 
-impl Grounded for Objects {
-    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
-        Ports::port(self, behavior, position)
+    fn write_arg(&self, f: &mut fmt::Formatter<'_>, _: BehaviorId, _: usize, value: u16) -> fmt::Result {
+        f.write_str(OBJECTS[usize::from(value)])
     }
 
     fn parse_arg(&self, _: BehaviorId, _: usize, text: &str) -> Option<u16> {
@@ -149,7 +141,7 @@ proptest! {
     fn exported_trees_import_to_the_same_image(seed in any::<u64>()) {
         let nodes = tree(seed);
         let tree: bt_core::Tree<'_, 16> = bt_core::Tree::validate(&nodes, &Objects).unwrap();
-        let xml = to_xml(tree.nodes(), &Objects, &Objects).unwrap();
+        let xml = to_xml(tree.nodes(), &Objects).unwrap();
         let options = ImportOptions { known: Some(&Objects), ..ImportOptions::default() };
         let back = import_text(Path::new("exported.xml"), &xml, &options).unwrap_or_else(|e| panic!("{e}\n{xml}"));
         prop_assert_eq!(&back.nodes, &nodes);

@@ -66,5 +66,5 @@ pub fn image() -> Result<Vec<u8>, String> {
         planner::parse_changes(&grounding, CUBE_IN_HAND).map_err(|e| format!("the state `{CUBE_IN_HAND}`: {e}"))?;
     planner::expand_at(&mut plan.planner, catalog.as_ref(), &changes, 1000)
         .map_err(|e| format!("expanding the planned tree for the cube in the hand: {e}"))?;
-    planner::output::to_image(plan.planner.nodes(), catalog.as_ref()).map_err(|e| format!("encoding the image: {e}"))
+    bt_formats::Image::new(plan.planner.nodes()).encode(catalog.fingerprint()).map_err(|e| format!("the image: {e}"))
 }

@@ -38,7 +38,7 @@ fn busy(tree: &[Node]) -> f64 {
 }
 
 fn baseline(spec: &Spec) -> Vec<Node> {
-    planner::tokens::parse(
+    bt_formats::tokens::parse(
         "s( f( 0 at pos (0.0, 0.05, 0.0)? s( pick 0! place at (0.0, 0.05, 0.0)! ) ) \
          f( 1 on 0? s( pick 1! place on 0! ) ) f( 2 on 1? s( pick 2! place on 1! ) ) )",
         spec,

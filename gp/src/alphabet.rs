@@ -39,7 +39,7 @@ pub enum AlphabetError {
 /// The leaves of one task: its conditions and its actions, each in behavior-id order.
 ///
 /// A leaf's behavior id is its index in the catalog (for the brick tasks, in
-/// [`planner::duplo::Task::behaviors`]). Random leaves are drawn uniformly from all
+/// `planner::duplo::Task::behaviors`). Random leaves are drawn uniformly from all
 /// conditions followed by all actions.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Alphabet {

@@ -162,7 +162,7 @@ pub enum GenomeError {
     TooLong(usize),
     /// The token notation could not be read or written.
     #[error(transparent)]
-    Tokens(#[from] planner::tokens::TokenError),
+    Tokens(#[from] bt_formats::tokens::TokenError),
 }
 
 /// A tree as GP sees it: pre-order tokens with closing tokens.
@@ -397,12 +397,12 @@ impl Genome {
     }
 
     /// The genome in the token notation of seed 003 (`s( f( 0 on 1? ... ) )`), leaves
-    /// named by `catalog` (see [`planner::tokens`]).
+    /// named by `catalog` (see [`bt_formats::tokens`]).
     ///
     /// # Errors
     /// As [`Genome::to_nodes`].
     pub fn to_text<C: Catalog + ?Sized>(&self, catalog: &C) -> Result<String, GenomeError> {
-        Ok(planner::tokens::to_string(&self.to_nodes()?, catalog)?)
+        Ok(bt_formats::tokens::to_string(&self.to_nodes()?, catalog)?)
     }
 
     /// Reads the token notation, names resolved by `catalog`, leaves checked against
@@ -411,7 +411,7 @@ impl Genome {
     /// # Errors
     /// A [`GenomeError`] naming the first fault.
     pub fn parse<C: Catalog + ?Sized>(text: &str, catalog: &C, alphabet: &Alphabet) -> Result<Self, GenomeError> {
-        Self::from_nodes(&planner::tokens::parse(text, catalog)?, alphabet)
+        Self::from_nodes(&bt_formats::tokens::parse(text, catalog)?, alphabet)
     }
 }
 

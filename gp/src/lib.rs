@@ -25,7 +25,7 @@
 //! };
 //!
 //! // The planner's tree as baseline, kept in the population.
-//! let baseline = planner::tokens::parse("s( picked 1? pick 0! )", &spec)?;
+//! let baseline = bt_formats::tokens::parse("s( picked 1? pick 0! )", &spec)?;
 //! let mut params = Params::new(1, Variant::Baseline, Some(baseline));
 //! params.generations = 30;
 //!

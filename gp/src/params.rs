@@ -249,7 +249,7 @@ impl Params {
     ///
     /// # Errors
     /// If the baseline cannot be written as tokens.
-    pub fn to_record<C: Catalog + ?Sized>(&self, catalog: &C) -> Result<String, planner::tokens::TokenError> {
+    pub fn to_record<C: Catalog + ?Sized>(&self, catalog: &C) -> Result<String, bt_formats::tokens::TokenError> {
         let mut s = String::new();
         let mut line = |k: &str, v: &dyn fmt::Display| s.push_str(&format!("{k} = {v}\n"));
         line("gp_version", &env!("CARGO_PKG_VERSION"));
@@ -269,7 +269,7 @@ impl Params {
         line("seed", &self.seed);
         line("variant", &self.variant);
         if let Some(tree) = &self.baseline {
-            line("baseline", &planner::tokens::to_string(tree, catalog)?);
+            line("baseline", &bt_formats::tokens::to_string(tree, catalog)?);
         }
         Ok(s)
     }
@@ -289,7 +289,7 @@ impl Params {
         }
         let baseline = match get("baseline") {
             Some(e) => Some(
-                planner::tokens::parse(e.value, catalog)
+                bt_formats::tokens::parse(e.value, catalog)
                     .map_err(|source| RecordError::Baseline { line: e.line, source })?,
             ),
             None => None,
@@ -372,7 +372,7 @@ pub enum RecordError {
         /// 1-based line.
         line: usize,
         /// Why.
-        source: planner::tokens::TokenError,
+        source: bt_formats::tokens::TokenError,
     },
 }
 
@@ -454,7 +454,7 @@ mod tests {
     #[test]
     fn record_round_trips() {
         let spec = Task::Tower.spec();
-        let tree = planner::tokens::parse("s( f( picked 0? pick 0! ) apply force 0! )", &spec).unwrap();
+        let tree = bt_formats::tokens::parse("s( f( picked 0? pick 0! ) apply force 0! )", &spec).unwrap();
         let mut p = Params::new(3, Variant::BoostCrossover, Some(tree));
         p.mutation = MutationRates { add: 0.1, delete: 0.2, change: 0.7 };
         p.generations = 1000;

@@ -555,7 +555,7 @@ mod tests {
     fn boosting_lifts_the_baseline_for_selection_only() {
         let spec = Task::Tower.spec();
         let alphabet = Alphabet::from_catalog(&spec).unwrap();
-        let baseline = planner::tokens::parse("s( picked 0? pick 0! )", &spec).unwrap();
+        let baseline = bt_formats::tokens::parse("s( picked 0? pick 0! )", &spec).unwrap();
         // The baseline scores worst, every other tree by its length.
         let b = baseline.clone();
         let fitness = move |t: &[Node]| if t == b.as_slice() { -100.0 } else { -(t.len() as f64) };

@@ -179,7 +179,7 @@ fn bad_setups_are_refused_with_the_reason() {
     );
     // A baseline from another task: its leaves are not all in the tower's alphabet.
     let blocking = planner::duplo::Task::Blocking.spec();
-    let foreign = planner::tokens::parse("s( put 2 at (-0.1, 0.0, 0.0)! put 0 on 1! )", &blocking).unwrap();
+    let foreign = bt_formats::tokens::parse("s( put 2 at (-0.1, 0.0, 0.0)! put 0 on 1! )", &blocking).unwrap();
     let p = Params::new(1, Variant::Baseline, Some(foreign));
     assert!(matches!(Gp::new(alphabet.clone(), &target, p, Evaluation::Parallel), Err(GpError::Baseline(_))));
     let mut p = params(1, Variant::None, &spec, 3);

@@ -1,5 +1,5 @@
 //! Reading the token notation: time against text size, to keep the reader linear.
-//! `cargo bench -p planner --bench tokens`. Trees are a Sequence of `n - 1` tower leaves
+//! `cargo bench -p planner --bench tokens` (the notation is `bt_formats::tokens`). Trees are a Sequence of `n - 1` tower leaves
 //! with long names (`0 at pos (0.0, 0.05, 0.0)?`), up to the largest tree a `u16`
 //! node count allows.
 
@@ -27,7 +27,7 @@ fn parse(c: &mut Criterion) {
         let t = text(nodes);
         group.throughput(Throughput::Bytes(t.len() as u64));
         group.bench_with_input(BenchmarkId::from_parameter(nodes), &t, |b, t| {
-            b.iter(|| black_box(planner::tokens::parse(black_box(t), &spec).expect("parses")));
+            b.iter(|| black_box(bt_formats::tokens::parse(black_box(t), &spec).expect("parses")));
         });
     }
     group.finish();

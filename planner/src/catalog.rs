@@ -5,7 +5,9 @@
 //! parameter count), then the action templates in declaration order (actions); a
 //! leaf's arguments are object indices in the problem's `:objects` order. The
 //! fingerprint depends on the domain only; the object names come from the problem and
-//! are used to render leaves, e.g. `holding(cube)`.
+//! are used to render leaves, e.g. `holding(cube)`, and read back from text. The
+//! parameter names name the leaves' values ([`Catalog::port_name`]) without declaring
+//! ports, so they leave the fingerprint as it is.
 
 use bt_core::{BehaviorId, BehaviorInfo, Catalog, LeafKind};
 
@@ -81,6 +83,12 @@ impl Catalog for PddlCatalog {
         self.behaviors.get(usize::from(id)).map(|(name, kind, arity)| BehaviorInfo { name, kind: *kind, arity: *arity })
     }
 
+    /// The parameter's name: written as the port of BehaviorTree.CPP XML, read back by it.
+    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
+        self.param(behavior, position)
+    }
+
+    /// The object's name (`#index` for a domain alone).
     fn write_arg(
         &self,
         f: &mut core::fmt::Formatter<'_>,
@@ -88,32 +96,11 @@ impl Catalog for PddlCatalog {
         _position: usize,
         value: u16,
     ) -> core::fmt::Result {
-        match self.objects.get(usize::from(value)) {
-            Some(name) => f.write_str(name),
-            None => write!(f, "#{value}"),
-        }
-    }
-}
-
-pub use btcpp::xml::{NoPorts, Ports};
-
-impl Ports for PddlCatalog {
-    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
-        self.param(behavior, position)
-    }
-}
-
-/// XML written for a PDDL problem's trees reads back into the same behavior set: ports
-/// are the parameters, values the object names.
-impl btcpp::xml::Grounded for PddlCatalog {
-    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
-        self.param(behavior, position)
+        bt_formats::names::write_value_name(f, &self.objects, value)
     }
 
+    /// The object with this name (`#index` for a domain alone).
     fn parse_arg(&self, _behavior: BehaviorId, _position: usize, text: &str) -> Option<u16> {
-        match text.strip_prefix('#') {
-            Some(n) if self.objects.is_empty() => n.parse().ok(),
-            _ => self.object(text),
-        }
+        bt_formats::names::parse_value_name(&self.objects, text)
     }
 }

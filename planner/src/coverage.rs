@@ -28,7 +28,7 @@ use crate::ground::{Grounding, Limits};
 use crate::state::State;
 use crate::strips::disturb::{Disturbance, tree_actions};
 use crate::strips::{self, StripsWorld};
-use crate::{Made, Options, PddlCatalog, PlanError, output, pddl};
+use crate::{Made, Options, PddlCatalog, PlanError, pddl};
 
 /// One problem of a collection with its domain file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -272,7 +272,7 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         if let PlanError::Oscillates { actions, nodes, values } = &gu.error
             && out.oscillation.is_none()
         {
-            let tree = output::to_ascii_with(nodes, values, catalog.as_ref()).unwrap_or_default();
+            let tree = bt_formats::ascii::to_ascii_with(nodes, values, catalog.as_ref()).unwrap_or_default();
             out.oscillation = Some((tree, actions.clone()));
         }
     }

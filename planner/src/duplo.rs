@@ -20,7 +20,7 @@ pub use crate::duplo_plan::grounding;
 /// use planner::duplo::{self, Task};
 /// let plan = duplo::plan(Task::Tower)?;
 /// assert_eq!(
-///     planner::tokens::to_string(&plan.nodes, plan.catalog.as_ref())?,
+///     bt_formats::tokens::to_string(&plan.nodes, plan.catalog.as_ref())?,
 ///     "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \
 ///      f( 1 at pos (0.0, 0.05, 0.0192)? s( f( 1 on 0? s( f( picked 1? pick 1! ) place on 0! ) ) apply force 1! ) ) \
 ///      f( 2 at pos (0.0, 0.05, 0.0384)? s( f( 2 on 1? s( f( picked 2? pick 2! ) place on 1! ) ) apply force 2! ) ) )"
@@ -342,9 +342,6 @@ impl bt_core::Catalog for Spec {
         Some(BehaviorInfo { name, kind: b.kind(), arity: 0 })
     }
 }
-
-/// Brick behaviors take no arguments: XML written for a task reads back by name.
-impl btcpp::xml::Grounded for Spec {}
 
 #[cfg(test)]
 mod tests {

@@ -6,16 +6,18 @@
 //!
 //! ```
 //! use std::sync::Arc;
-//! use planner::{domains, output, plan, Options, PddlCatalog, strips::{self, StripsWorld}};
+//! use bt_core::Catalog as _;
+//! use bt_formats::{ascii, image::Image};
+//! use planner::{domains, plan, Options, PddlCatalog, strips::{self, StripsWorld}};
 //!
 //! let g = Arc::new(domains::cube_sphere()?);
 //! let catalog = Arc::new(PddlCatalog::new(g.problem()));
 //! let p = plan(g.clone(), catalog.clone(), Options::default())?;
 //! assert_eq!(p.expansions.len(), 4); // Fig. 3 (b) to (e)
-//! println!("{}", output::to_ascii(&p.nodes, catalog.as_ref())?);
+//! println!("{}", ascii::to_ascii(&p.nodes, catalog.as_ref())?);
 //!
 //! // The image a controller loads; the tree reaches the goal in the STRIPS world.
-//! let image = output::to_image(&p.nodes, catalog.as_ref())?;
+//! let image = Image::new(&p.nodes).encode(catalog.fingerprint())?;
 //! let mut storage = vec![bt_core::Node::EMPTY; p.nodes.len()];
 //! let tree: bt_core::Tree<'_, 32> = bt_core::load(&image, catalog.as_ref(), &mut storage)?;
 //! let mut world = StripsWorld::new(g);
@@ -28,9 +30,10 @@
 //! The pieces: [`model`] (domains, problems, builders) and [`pddl`] (PDDL input);
 //! [`ground`] (grounding, the paper's action refinement); [`algorithm`] (the steps of
 //! Algorithm 1) driven by a [`Planner`], offline by [`plan`] or online by
-//! [`Planner::on_failure`], from a given state by [`expand_at`] ([`run_time`]); [`strips`] (the symbolic world); [`output`] (image, ASCII,
-//! DOT, BehaviorTree.CPP XML) and [`tokens`]; [`domains`] and [`duplo`] (the shipped
-//! problems).
+//! [`Planner::on_failure`], from a given state by [`expand_at`] ([`run_time`]); [`strips`]
+//! (the symbolic world); [`domains`] and [`duplo`] (the shipped problems). The tree and
+//! its names go out through `bt-formats` (image, ASCII, DOT, tokens) and `btcpp`
+//! (BehaviorTree.CPP XML), which take a [`PddlCatalog`] as any behavior set.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -44,9 +47,7 @@ mod error;
 pub mod ground;
 pub mod guide;
 pub mod model;
-pub mod names;
 mod offline;
-pub mod output;
 pub mod pddl;
 mod planner;
 pub mod refine;
@@ -55,12 +56,11 @@ pub mod run_time;
 pub mod search;
 pub mod state;
 pub mod strips;
-pub mod tokens;
 pub mod tree;
 pub mod variables;
 mod wording;
 
-pub use catalog::{NoPorts, PddlCatalog, Ports};
+pub use catalog::PddlCatalog;
 pub use error::PlanError;
 pub use offline::{GaveUp, Made, Plan, covered_line, plan, variables_line};
 pub use planner::{ConflictStep, Expansion, Method, Options, Planner};

@@ -49,12 +49,9 @@ fn leaf_of(
 pub type PlanNode = u32;
 const NONE: u32 = u32::MAX;
 
-/// The most levels (root and leaves included) of a tree the host tools make, load and
-/// run: the planner emits no deeper tree, and `sim-host` (plan, inspect, export, run,
-/// scenarios, learning) and `gp` load and tick trees up to this depth, so that every
-/// tree one of them makes, the others take. Re-exported as `planner::DEPTH`; a
-/// controller picks its own depth for its own stack.
-pub const DEPTH: usize = 128;
+/// The most levels of a tree the host tools make, load and run ([`bt_formats::DEPTH`]):
+/// the planner emits no deeper tree. Re-exported as `planner::DEPTH`.
+pub const DEPTH: usize = bt_formats::DEPTH;
 
 /// What a planner node is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -492,7 +492,7 @@ fn a_guided_tree_redoes_the_step_behind_a_condition_it_only_checked() {
     assert_eq!(names, ["visit(d1, north)"]);
     // Backchaining expanded one goal condition with that visit and only checks the
     // other, which the visit made true on the way: the check got the visit too.
-    assert_eq!(plan.covered, 1, "{}", planner::output::to_ascii_with(&plan.nodes, &plan.values, c.as_ref()).unwrap());
+    assert_eq!(plan.covered, 1, "{}", bt_formats::ascii::to_ascii_with(&plan.nodes, &plan.values, c.as_ref()).unwrap());
     // An agent inspects either vehicle on its other day: the planned visit is still
     // needed for the other one, and the tree makes it whichever vehicle it expanded.
     let mut states = Vec::new();

@@ -3,8 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use bt_core::{Catalog, Tree};
+use bt_formats::tokens;
 use planner::duplo::{self, Task};
-use planner::tokens;
 
 fn tree(task: Task) -> String {
     let p = duplo::plan(task).unwrap();

@@ -4,17 +4,19 @@
 
 use std::sync::Arc;
 
-use bt_core::{Node, Status, Tree};
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, Node, Status, Tree};
+use bt_formats::{ascii, dot, image::Image};
+use btcpp::xml::to_xml;
 use planner::ground::Grounding;
 use planner::strips::{self, StripsWorld};
-use planner::{NoPorts, Options, PddlCatalog, domains, output, plan};
+use planner::{Options, PddlCatalog, domains, plan};
 use worlds::agent::BeforeTicks;
 
 fn plan_load_run(g: Grounding) -> (Vec<Node>, Arc<PddlCatalog>, u32) {
     let g = Arc::new(g);
     let c = Arc::new(PddlCatalog::new(g.problem()));
     let p = plan(g.clone(), c.clone(), Options::default()).unwrap();
-    let image = output::to_image(&p.nodes, c.as_ref()).unwrap();
+    let image = Image::new(&p.nodes).encode(c.fingerprint()).unwrap();
     let mut storage = vec![Node::EMPTY; 1024];
     let tree: Tree<'_, 64> = bt_core::load(&image, c.as_ref(), &mut storage).unwrap();
     assert_eq!(tree.nodes(), &p.nodes[..]);
@@ -45,7 +47,7 @@ fn blocked_cube_domain_end_to_end() {
 #[test]
 fn cellphone_assembly_end_to_end_with_regrasps() {
     let (nodes, c, _) = plan_load_run(domains::cellphone().unwrap());
-    let ascii = output::to_ascii(&nodes, c.as_ref()).unwrap();
+    let ascii = ascii::to_ascii(&nodes, c.as_ref()).unwrap();
     assert!(ascii.contains("hand-over(left, right, chassis)"), "{ascii}");
     assert!(ascii.contains("hand-over(left, right, battery)"), "{ascii}");
     assert!(ascii.contains("-^- Inverter\n"), "negative preconditions are inverted conditions");
@@ -63,10 +65,10 @@ fn dot_and_xml_describe_the_same_tree() {
     let g = Arc::new(domains::cellphone().unwrap());
     let c = Arc::new(PddlCatalog::new(g.problem()));
     let p = plan(g, c.clone(), Options::default()).unwrap();
-    let dot = output::to_dot(&p.nodes, c.as_ref());
+    let dot = dot::to_dot(&p.nodes, c.as_ref());
     assert_eq!(dot.matches(" -> ").count(), p.nodes.len() - 1);
     assert!(dot.contains("label=\"hand-over(left, right, chassis)\", shape=box"));
-    let numbered = output::to_xml(&p.nodes, c.as_ref(), c.as_ref()).unwrap();
+    let numbered = to_xml(&p.nodes, c.as_ref()).unwrap();
     // Every node numbered from 1 in pre-order, as BehaviorTree.CPP numbers it (`_uid`).
     let uids: Vec<usize> =
         numbered.split(" _uid=\"").skip(1).map(|r| r.split('"').next().unwrap().parse().unwrap()).collect();
@@ -97,7 +99,7 @@ fn dot_and_xml_describe_the_same_tree() {
     assert_eq!(xml.matches("<Condition ID=").count() + xml.matches("<Action ID=").count(), kinds.len());
     let tree = &xml[..xml.find("<TreeNodesModel>").unwrap()];
     assert!(!tree.contains("<Action") && !tree.contains("<Condition"), "{tree}");
-    let plain = without_uids(&output::to_xml(&p.nodes, c.as_ref(), &NoPorts).unwrap());
+    let plain = without_uids(&to_xml(&p.nodes, &Unnamed(c.as_ref())).unwrap());
     assert!(plain.contains("<hand-over arg0=\"left\" arg1=\"right\" arg2=\"chassis\"/>"));
 }
 
@@ -125,6 +127,23 @@ fn refinement_all_keeps_every_grounding_and_still_reaches_the_goal() {
     assert_eq!(out.status, Status::Success);
     let hand = out.expansions.iter().find(|e| e.1.condition == "hand-empty").unwrap();
     assert_eq!(hand.1.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);
+}
+
+/// A PDDL catalog whose parameters have no names: the XML names its ports `arg0`, ...
+struct Unnamed<'a>(&'a PddlCatalog);
+
+impl Catalog for Unnamed<'_> {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
+        self.0.info(id)
+    }
+
+    fn write_arg(&self, f: &mut std::fmt::Formatter<'_>, b: BehaviorId, position: usize, v: u16) -> std::fmt::Result {
+        self.0.write_arg(f, b, position, v)
+    }
 }
 
 /// The document without its ` _uid="N"` attributes.

@@ -4,9 +4,10 @@
 use std::sync::Arc;
 
 use bt_core::Status;
+use bt_formats::tokens;
 use planner::algorithm::Move;
 use planner::strips::StripsWorld;
-use planner::{Options, PddlCatalog, domains, plan, run_blended, tokens};
+use planner::{Options, PddlCatalog, domains, plan, run_blended};
 use worlds::agent::BeforeTicks;
 
 fn toks(nodes: &[bt_core::Node], c: &PddlCatalog) -> String {

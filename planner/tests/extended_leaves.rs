@@ -5,11 +5,13 @@
 
 use std::sync::Arc;
 
+use bt_core::Catalog as _;
 use bt_core::{Node, NodeKind, Status, Tree};
+use bt_formats::{ascii, image::Image};
 use planner::ground::Grounding;
 use planner::pddl::{parse_domain, parse_problem};
 use planner::strips::{self, StripsWorld};
-use planner::{Options, PddlCatalog, output, plan};
+use planner::{Options, PddlCatalog, plan};
 
 /// A truck drives between cities of a region (`drive ?t ?from ?to ?region`, four
 /// parameters) and the goal names four places at once (`route`, five).
@@ -48,11 +50,11 @@ fn leaves_with_four_and_five_arguments_plan_encode_load_and_run() {
     assert!(extended > 0, "no extended leaf in the tree");
     assert!(!plan.values.is_empty());
 
-    let ascii = output::to_ascii_with(&plan.nodes, &plan.values, c.as_ref()).unwrap();
+    let ascii = ascii::to_ascii_with(&plan.nodes, &plan.values, c.as_ref()).unwrap();
     assert!(ascii.contains("route(t1, a, b, c, north)"), "{ascii}");
     assert!(ascii.contains("drive(t1, "), "{ascii}");
 
-    let image = output::to_image_parts(&plan.nodes, &plan.values, c.as_ref(), None).unwrap();
+    let image = Image::new(&plan.nodes).values(&plan.values).encode(c.fingerprint()).unwrap();
     let mut storage = vec![Node::EMPTY; plan.nodes.len()];
     let mut values = vec![0u16; plan.values.len()];
     let tree: Tree<'_, 64> = bt_core::load_with(&image, c.as_ref(), &mut storage, &mut values).unwrap();

@@ -20,9 +20,11 @@
 
 use std::sync::Arc;
 
+use bt_core::Catalog as _;
+use bt_formats::{ascii, image::Image, tokens};
 use planner::duplo::Task;
 use planner::pddl::{parse_domain, parse_problem};
-use planner::{Options, PddlCatalog, domains, expand_at, output, parse_changes, plan, tokens};
+use planner::{Options, PddlCatalog, domains, expand_at, parse_changes, plan};
 
 // ---------------------------------------------------------------------------------
 // Seed 000's notation.
@@ -193,7 +195,7 @@ fn the_firmware_tree_is_the_end_of_example_2_either_way() {
     assert_eq!(toks(p.planner.nodes(), &c), FIRMWARE);
     assert_eq!(toks(p.planner.nodes(), &c), fig_4_with(NEAR_S, HAND_EMPTY));
     // The image the firmware's build script makes from it: 162 bytes.
-    assert_eq!(output::to_image(p.planner.nodes(), c.as_ref()).unwrap().len(), 162);
+    assert_eq!(Image::new(p.planner.nodes()).encode(c.fingerprint()).unwrap().len(), 162);
     // It reaches the goal from both states.
     assert_eq!((at.goal_ticks_initial, at.goal_ticks_given), (7, 8));
 }
@@ -283,7 +285,7 @@ fn the_cellphone_problem_keeps_its_tree() {
         mount("battery", "board", handed("battery", "pick-by-front")),
         mount("screen", "battery", direct("screen")),
     );
-    assert_eq!(compact(&output::to_ascii(&p.nodes, c.as_ref()).unwrap()), want);
+    assert_eq!(compact(&ascii::to_ascii(&p.nodes, c.as_ref()).unwrap()), want);
     assert_eq!(p.nodes.len(), 104);
 }
 

@@ -24,7 +24,7 @@ fn episodes(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1));
     for task in Task::ALL {
         let spec = task.spec();
-        let nodes = planner::tokens::parse(planner_trees::planner_tree(task), &spec).unwrap();
+        let nodes = bt_formats::tokens::parse(planner_trees::planner_tree(task), &spec).unwrap();
         let tree: Tree<'_, 64> = Tree::validate(&nodes, &spec).unwrap();
         let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
         let e = runner.run(tree).unwrap();
@@ -40,7 +40,7 @@ fn episodes(c: &mut Criterion) {
     }
     // Validation included, as a caller holding only nodes pays it.
     let spec = Task::Tower.spec();
-    let nodes = planner::tokens::parse(planner_trees::TOWER, &spec).unwrap();
+    let nodes = bt_formats::tokens::parse(planner_trees::TOWER, &spec).unwrap();
     let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
     group.bench_function("tower_validate_and_run", |b| {
         b.iter(|| black_box(runner.run_nodes(black_box(&nodes)).unwrap()));

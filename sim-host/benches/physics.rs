@@ -51,7 +51,7 @@ fn bench(c: &mut Criterion) {
         ("tower_planner_tree_all_200_ticks", Task::Tower, TOWER, true),
         ("balance_planner_tree_all_200_ticks", Task::Balance, BALANCE, true),
     ] {
-        let nodes = planner::tokens::parse(text, &task.spec()).unwrap();
+        let nodes = bt_formats::tokens::parse(text, &task.spec()).unwrap();
         eprintln!("{name}: {} ticks", episode(task, &nodes, full));
         g.bench_function(name, |b| b.iter(|| episode(task, &nodes, full)));
     }

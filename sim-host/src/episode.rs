@@ -273,7 +273,7 @@ pub enum EpisodeError {
 ///
 /// let spec = Task::Tower.spec();
 /// let mut runner = Runner::new(SymbolicBrickWorld::new(&spec)?)?;
-/// let nodes = planner::tokens::parse("s( pick 0! place on 1! apply force 0! )", &spec)?;
+/// let nodes = bt_formats::tokens::parse("s( pick 0! place on 1! apply force 0! )", &spec)?;
 /// let episode = runner.run_nodes(&nodes)?;
 /// // `pick 0!` starts again right after the place, so the press never happens.
 /// assert_eq!(episode.end, End::Timeout);

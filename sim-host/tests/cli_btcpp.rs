@@ -345,15 +345,25 @@ fn imported_leaves_with_more_than_three_ports_keep_them_in_every_notation() {
 
 #[test]
 fn the_models_name_an_imported_images_behaviors() {
-    // An imported image carries no names; the files `import` read give them back to
-    // inspect, export and btlog, and models of another set are refused.
+    // An imported image carries its names; one without them (stripped) takes them from
+    // the files `import` read, for inspect, export and btlog, and models of another
+    // set are refused.
     let x = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/btcpp-examples");
     let (tree, models) = (x.join("t05_crossdoor.xml"), x.join("example_nodes.xml"));
     let (tree, models) = (tree.to_str().unwrap(), models.to_str().unwrap());
     let dir = tempfile::tempdir().unwrap();
+    let named = dir.path().join("t05-named.bt");
+    let named = named.to_str().unwrap();
+    ok(&sim_host(&["import", tree, "--nodes", models, "--main", "MainTree", "--out", named]));
+    let shown = ok(&sim_host(&["inspect", named]));
+    assert!(shown.contains("--> IsDoorClosed") && shown.contains("--> PassThroughDoor"), "{shown}");
+    assert!(
+        shown.contains("(BehaviorTree.CPP tree `MainTree` of t05_crossdoor.xml (names from the image))"),
+        "{shown}"
+    );
     let image = dir.path().join("t05.bt");
+    std::fs::write(&image, bt_formats::image::strip_names(&std::fs::read(named).unwrap()).unwrap()).unwrap();
     let image = image.to_str().unwrap();
-    ok(&sim_host(&["import", tree, "--nodes", models, "--main", "MainTree", "--out", image]));
     let bare = ok(&sim_host(&["inspect", image]));
     assert!(bare.contains("--> #14") && !bare.contains("IsDoorClosed"), "{bare}");
     let named = ok(&sim_host(&["inspect", image, "--nodes", tree, "--nodes", models]));
@@ -376,6 +386,106 @@ fn the_models_name_an_imported_images_behaviors() {
         &sim_host(&["inspect", image, "--nodes", other.to_str().unwrap()]),
         "but the models of --nodes",
     );
+}
+
+/// Imports Nav2's `file` with Nav2's models into `dir`; the image's path.
+fn nav2_image(dir: &Path, file: &str) -> String {
+    let nav2 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../btcpp/tests/fixtures/nav2");
+    let (tree, models) = (nav2.join(file), nav2.join("nav2_tree_nodes.xml"));
+    let image = dir.join(file.replace(".xml", ".bt"));
+    let image = image.to_str().unwrap().to_string();
+    ok(&sim_host(&["import", tree.to_str().unwrap(), "--nodes", models.to_str().unwrap(), "--out", &image]));
+    image
+}
+
+/// The tree `inspect` prints (the lines after the facts).
+fn inspected_tree(image: &str) -> String {
+    let text = ok(&sim_host(&["inspect", image]));
+    text.split_once("\n\n").unwrap().1.to_string()
+}
+
+#[test]
+fn an_imported_nav2_image_shows_its_ports_as_written_without_the_models() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = nav2_image(dir.path(), "follow_point.xml");
+    let shown = ok(&sim_host(&["inspect", &image]));
+    assert!(
+        shown.contains(
+            "behaviors  0xf6713800ea1f907b (BehaviorTree.CPP tree `FollowPoint` of follow_point.xml (names from the image))"
+        ),
+        "{shown}"
+    );
+    assert_eq!(
+        inspected_tree(&image),
+        "{-} PipelineSequence
+    --> ControllerSelector(topic_name=controller_selector, default_controller=FollowPath, selected_controller={selected_controller})
+    --> PlannerSelector(topic_name=planner_selector, default_planner=GridBased, selected_planner={selected_planner})
+    -^- RateController(1000)
+        {*} SequenceWithMemory
+            -^- Gate GoalUpdater(input_goal={goal}, output_goal={updated_goal})
+                --> ComputePathToPose(goal={updated_goal}, planner_id={selected_planner}, path={path}, error_code_id={compute_path_error_code}, error_msg={compute_path_error_msg})
+            --> TruncatePath(input_path={path}, distance=1.0, output_path={truncated_path})
+    -^- KeepRunningUntilFailure
+        --> FollowPath(path={truncated_path}, controller_id={selected_controller}, tracking_feedback={tracking_feedback}, error_code_id={follow_path_error_code}, error_msg={follow_path_error_msg})
+"
+    );
+    // btlog names the nodes and ports from the image too (of a tree without plugin
+    // decorators, which replay logs do not have).
+    let image = nav2_image(dir.path(), "navigate_w_replanning_time.xml");
+    let trace = dir.path().join("run.txt");
+    std::fs::write(&trace, "tick 0 RUNNING ran=1S,2S,4S,5R halt=-\n").unwrap();
+    let log = dir.path().join("run.btlog");
+    ok(&sim_host(&[
+        "btlog",
+        "--from-trace",
+        trace.to_str().unwrap(),
+        "--image",
+        &image,
+        "--out",
+        log.to_str().unwrap(),
+    ]));
+    let parsed = btcpp::btlog::Log::parse(&std::fs::read(&log).unwrap()).unwrap();
+    assert!(
+        parsed.xml.contains(
+            r#"<ComputePathToPose name="ComputePathToPose" _uid="5" goal="{goal}" planner_id="{selected_planner}" "#
+        ),
+        "{}",
+        parsed.xml
+    );
+    assert!(parsed.xml.contains(r#"default_planner="GridBased""#), "{}", parsed.xml);
+}
+
+#[test]
+fn an_imported_gate_decorator_tree_inspects_with_and_without_names() {
+    // Nav2's DistanceController is a plugin decorator: a Gate whose behavior is an action.
+    let dir = tempfile::tempdir().unwrap();
+    let image = nav2_image(dir.path(), "navigate_w_replanning_distance.xml");
+    let tree = inspected_tree(&image);
+    assert!(tree.contains("\n    -^- Gate DistanceController(distance=1.0)\n"), "{tree}");
+    assert!(tree.contains("--> ComputePathToPose(goal={goal}, planner_id={selected_planner}, path={path}, "), "{tree}");
+    // Without its names it is still shown, by ids.
+    let bare = dir.path().join("bare.bt");
+    std::fs::write(&bare, bt_formats::image::strip_names(&std::fs::read(&image).unwrap()).unwrap()).unwrap();
+    let tree = inspected_tree(bare.to_str().unwrap());
+    assert!(tree.contains("\n    -^- Gate #25(4, 32767, 32767)\n"), "{tree}");
+}
+
+#[test]
+fn an_imported_image_exported_as_xml_imports_back_to_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    for file in
+        ["follow_point.xml", "navigate_w_replanning_distance.xml", "navigate_to_pose_w_replanning_and_recovery.xml"]
+    {
+        let image = nav2_image(dir.path(), file);
+        let xml = dir.path().join("again.xml");
+        ok(&sim_host(&["export", &image, "--format", "xml", "--out", xml.to_str().unwrap()]));
+        let again = dir.path().join("again.bt");
+        ok(&sim_host(&["import", xml.to_str().unwrap(), "--out", again.to_str().unwrap()]));
+        // The same nodes, values, constants, slots and fingerprint: the controller's bytes.
+        let strip = |p: &Path| bt_formats::image::strip_names(&std::fs::read(p).unwrap()).unwrap();
+        assert_eq!(strip(&again), strip(Path::new(&image)), "{file}");
+        assert_eq!(inspected_tree(again.to_str().unwrap()), inspected_tree(&image), "{file}");
+    }
 }
 
 #[test]

@@ -13,7 +13,7 @@ const TOWER: &str = "s( f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) 
 
 fn tower_image(dir: &Path) -> std::path::PathBuf {
     let spec = Task::Tower.spec();
-    let nodes = planner::tokens::parse(TOWER, &spec).unwrap();
+    let nodes = bt_formats::tokens::parse(TOWER, &spec).unwrap();
     let mut buf = vec![0u8; max_image_len(nodes.len())];
     let len = encode(&nodes, spec.fingerprint(), &mut buf).unwrap();
     let path = dir.join("tower.bt");

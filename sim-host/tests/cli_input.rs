@@ -127,7 +127,7 @@ fn token_errors_give_line_and_column_and_quote_briefly() {
 fn an_image_of_another_task_names_that_task() {
     let dir = tempfile::tempdir().unwrap();
     let spec = Task::Croissant.spec();
-    let nodes = planner::tokens::parse("s( pick 0! )", &spec).unwrap();
+    let nodes = bt_formats::tokens::parse("s( pick 0! )", &spec).unwrap();
     let img = write(dir.path(), "c.bt", &image(Task::Croissant, &nodes));
     let out = sim_host(&["run", "--task", "tower", "--tree", s(&img)]);
     assert_error(
@@ -193,7 +193,7 @@ fn trees_as_deep_as_the_planner_makes_load_everywhere() {
     let out = sim_host(&["run", "--task", "tower", "--tree", s(&tokens)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8(out.stdout).unwrap().contains("128 nodes, depth 128"));
-    let img = write(dir.path(), "deep.bt", &image(Task::Tower, &planner::tokens::parse(&text, &spec).unwrap()));
+    let img = write(dir.path(), "deep.bt", &image(Task::Tower, &bt_formats::tokens::parse(&text, &spec).unwrap()));
     let out = sim_host(&["inspect", s(&img)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8(out.stdout).unwrap().contains("nodes      128 (depth 128)"));
@@ -205,7 +205,7 @@ fn trees_as_deep_as_the_planner_makes_load_everywhere() {
     let tokens = write(dir.path(), "deeper.txt", text.as_bytes());
     let out = sim_host(&["run", "--task", "tower", "--tree", s(&tokens)]);
     assert_error(&out, &["deeper.txt", "limit of 128 levels"]);
-    let img = write(dir.path(), "deeper.bt", &image(Task::Tower, &planner::tokens::parse(&text, &spec).unwrap()));
+    let img = write(dir.path(), "deeper.bt", &image(Task::Tower, &bt_formats::tokens::parse(&text, &spec).unwrap()));
     let out = sim_host(&["inspect", s(&img)]);
     assert_error(&out, &["deeper.bt", "limit of 128 levels"]);
 }
@@ -221,7 +221,7 @@ fn the_largest_tree_a_u16_count_allows_loads() {
     let out = sim_host(&["run", "--task", "tower", "--tree", s(&tokens)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8(out.stdout).unwrap().contains("65535 nodes, depth 2"));
-    let img = write(dir.path(), "big.bt", &image(Task::Tower, &planner::tokens::parse(&text, &spec).unwrap()));
+    let img = write(dir.path(), "big.bt", &image(Task::Tower, &bt_formats::tokens::parse(&text, &spec).unwrap()));
     let out = sim_host(&["inspect", s(&img)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8(out.stdout).unwrap().contains("nodes      65535 (depth 2)"));

@@ -82,7 +82,7 @@ fn cube_image(dir: &Path) -> (PathBuf, Vec<u8>) {
     let g = Arc::new(planner::domains::cube_sphere().unwrap());
     let c = Arc::new(planner::PddlCatalog::new(g.problem()));
     let plan = planner::plan(g, c.clone(), planner::Options::default()).unwrap();
-    let image = planner::output::to_image(&plan.nodes, c.as_ref()).unwrap();
+    let image = bt_formats::Image::new(&plan.nodes).encode(bt_core::Catalog::fingerprint(c.as_ref())).unwrap();
     let path = dir.join("cube.bt");
     std::fs::write(&path, &image).unwrap();
     (path, image)
@@ -128,6 +128,35 @@ fn deploy_prints_the_verdict_and_the_swap() {
 }
 
 #[test]
+fn strip_names_sends_the_image_without_the_names_the_controller_never_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, bare) = cube_image(dir.path());
+    // The same tree with names longer than the controller's 640-byte slot.
+    let c = catalog();
+    let mut nodes = vec![bt_core::Node::EMPTY; 64];
+    let tree: bt_core::Tree<'_, 16> = bt_core::load(&bare, &c, &mut nodes).unwrap();
+    let mut names = bt_formats::Names::of("the cube tree", &c, c.objects());
+    names.title.push_str(&" with a long story".repeat(40));
+    let named = bt_formats::Image::new(tree.nodes()).names(&names).encode(c.fingerprint()).unwrap();
+    assert!(named.len() > 640 && bare.len() < 640);
+    let path = dir.path().join("named.bt");
+    std::fs::write(&path, &named).unwrap();
+    let (addr, handle) = controller::<64>(None);
+    cli_common::one_line_error(
+        &sim_host(&["deploy", path.to_str().unwrap(), "--tcp", &addr]),
+        "holds images of at most 640 bytes; --strip-names leaves out the ",
+    );
+    handle.join().unwrap();
+    let (addr, handle) = controller::<64>(None);
+    let out = sim_host(&["deploy", path.to_str().unwrap(), "--tcp", &addr, "--strip-names"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains(&format!("accepted: {} ({} bytes, ", path.display(), bare.len())), "{text}");
+    assert_eq!(std::fs::read(&path).unwrap(), named, "the file is left as it is");
+    handle.join().unwrap();
+}
+
+#[test]
 fn a_refusal_exits_2_with_the_controller_s_reason() {
     let dir = tempfile::tempdir().unwrap();
     let (path, _) = cube_image(dir.path());
@@ -146,7 +175,7 @@ fn a_refusal_exits_2_with_the_controller_s_reason() {
 fn an_image_for_another_behavior_set_is_refused_before_sending() {
     let dir = tempfile::tempdir().unwrap();
     let spec = planner::duplo::Task::Tower.spec();
-    let nodes = planner::tokens::parse("s( f( picked 0? pick 0! ) )", &spec).unwrap();
+    let nodes = bt_formats::tokens::parse("s( f( picked 0? pick 0! ) )", &spec).unwrap();
     let mut buf = vec![0u8; bt_core::image::max_image_len(nodes.len())];
     let n = bt_core::encode(&nodes, spec.fingerprint(), &mut buf).unwrap();
     let path = dir.path().join("tower.bt");

@@ -22,7 +22,7 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 
 fn image(task: Task, text: &str) -> Vec<u8> {
     let spec = task.spec();
-    let nodes = planner::tokens::parse(text, &spec).unwrap();
+    let nodes = bt_formats::tokens::parse(text, &spec).unwrap();
     let mut buf = vec![0u8; max_image_len(nodes.len())];
     let len = encode(&nodes, spec.fingerprint(), &mut buf).unwrap();
     buf.truncate(len);

@@ -30,13 +30,13 @@ fn conditional_effects_fire_in_learning_episodes() {
     // `powered` is a precondition of `unplug` too, so the problem is read as before; the
     // planner's tree plugs the lamp in, then flips it.
     let p = Arc::new(problem("lamp-unplug"));
-    let tree = planner::tokens::to_string(p.planner_tree(), p.catalog()).unwrap();
+    let tree = bt_formats::tokens::to_string(p.planner_tree(), p.catalog()).unwrap();
     assert_eq!(tree, "f( lit? s( f( powered? plug! ) flip! ) )");
     let mut runner = StripsRunner::new(p.clone(), p.default_tick_limit());
     let e = runner.episode(p.planner_tree(), None).unwrap();
     assert!(e.goal_reached(), "flip lights the powered lamp: {e:?}");
     // Flipped before it is powered, the lamp stays dark.
-    let flip = planner::tokens::parse("flip!", p.catalog()).unwrap();
+    let flip = bt_formats::tokens::parse("flip!", p.catalog()).unwrap();
     let dark = runner.episode(&flip, None).unwrap();
     assert!(!dark.goal_reached(), "{dark:?}");
 }

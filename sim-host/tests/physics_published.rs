@@ -85,7 +85,7 @@ fn the_published_solutions_score_their_published_fitness() {
     let mut failures = Vec::new();
     for (task, text, published) in SOLVED {
         let spec = task.spec();
-        let nodes = planner::tokens::parse(text, &spec).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let nodes = bt_formats::tokens::parse(text, &spec).unwrap_or_else(|e| panic!("{text}: {e}"));
         let mut runner = Runner::new(PhysicsBrickWorld::new(&spec).unwrap()).unwrap();
         let episode = runner.run_nodes(&nodes).unwrap();
         let fitness = episode.fitness.value();

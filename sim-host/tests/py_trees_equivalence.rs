@@ -129,7 +129,7 @@ fn bt_core_with_the_resume_rule_gives_the_reference_episodes() {
             let expected = reference_episode(task, &nodes);
             let e = runner.run_nodes(&nodes).unwrap();
             let got = (e.end, e.ticks, e.positions().to_vec(), e.held);
-            assert_eq!(got, expected, "{task:?} tree {i}: {}", planner::tokens::to_string(&nodes, &spec).unwrap());
+            assert_eq!(got, expected, "{task:?} tree {i}: {}", bt_formats::tokens::to_string(&nodes, &spec).unwrap());
             let c = cancel.run_nodes(&nodes).unwrap();
             if (c.end, c.ticks, c.positions().to_vec(), c.held) != expected {
                 differ_under_cancel += 1;

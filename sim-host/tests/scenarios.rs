@@ -84,7 +84,7 @@ fn the_cube_scenario_shows_fig_4_after_the_blocked_path_is_expanded() {
     for world in [WorldKind::Physics, WorldKind::Symbolic] {
         let run = scenario::run(Scenario::Cube, world, None).unwrap();
         let after_5 = &run.record.snapshots[5].nodes;
-        assert_eq!(planner::tokens::to_string(after_5, run.catalog.as_ref()).unwrap(), fig_4, "{world:?}");
+        assert_eq!(bt_formats::tokens::to_string(after_5, run.catalog.as_ref()).unwrap(), fig_4, "{world:?}");
         let at = run.narration.find("expansion 5: `path-free(goal)`").unwrap();
         assert!(run.narration[at..].contains("the tree now (25 nodes):"), "{world:?}");
     }

@@ -36,7 +36,7 @@ fn runner(task: Task, rule: HaltRule) -> Runner<SymbolicBrickWorld> {
 }
 
 fn nodes(task: Task, text: &str) -> Vec<Node> {
-    planner::tokens::parse(text, &task.spec()).unwrap_or_else(|e| panic!("{text}: {e}"))
+    bt_formats::tokens::parse(text, &task.spec()).unwrap_or_else(|e| panic!("{text}: {e}"))
 }
 
 fn episode(task: Task, text: &str, rule: HaltRule) -> Episode {

@@ -5,9 +5,10 @@
 use std::sync::Arc;
 
 use bt_core::{Catalog, Node, Status, Tree};
+use bt_formats::Image;
 use planner::duplo::Task;
 use planner::strips::{self, StripsWorld};
-use planner::{Options, PddlCatalog, domains, output};
+use planner::{Options, PddlCatalog, domains};
 use sim_host::episode::{End, Runner};
 use sim_host::symbolic::SymbolicBrickWorld;
 
@@ -24,7 +25,7 @@ fn load<C: Catalog + ?Sized>(image: &[u8], catalog: &C) -> Vec<Node> {
 fn every_brick_plan_survives_the_image_and_behaves_as_the_paper_says() {
     for task in Task::ALL {
         let plan = planner::duplo::plan(task).unwrap();
-        let image = output::to_image(&plan.nodes, plan.catalog.as_ref()).unwrap();
+        let image = Image::new(&plan.nodes).encode(plan.catalog.as_ref().fingerprint()).unwrap();
         let spec = task.spec();
         let nodes = load(&image, &spec);
         assert_eq!(nodes, plan.nodes, "{task:?}: the image round-trips the tree");
@@ -48,7 +49,7 @@ fn the_cube_plan_loads_on_a_controller_that_only_knows_the_contract() {
     let g = Arc::new(domains::cube_sphere_blocked().unwrap());
     let catalog = Arc::new(PddlCatalog::new(g.problem()));
     let plan = planner::plan(g.clone(), catalog.clone(), Options::default()).unwrap();
-    let image = output::to_image(&plan.nodes, catalog.as_ref()).unwrap();
+    let image = Image::new(&plan.nodes).encode(catalog.as_ref().fingerprint()).unwrap();
     let controller = &sim_host::physics::mobile::CATALOG;
     assert_eq!(controller.fingerprint(), catalog.fingerprint());
     let nodes = load(&image, controller);
@@ -78,7 +79,7 @@ fn learning_from_the_planners_tree_never_ends_below_it() {
     assert!(result.best.fitness >= planner_fitness, "{} < {planner_fitness}", result.best.fitness);
 
     let best = result.best.tree().unwrap();
-    let image = output::to_image(&best, &spec).unwrap();
+    let image = Image::new(&best).encode(spec.fingerprint()).unwrap();
     let replay = fitness(&load(&image, &spec));
     assert_eq!(replay.to_bits(), result.best.fitness.to_bits(), "the image replays the learned fitness exactly");
 }

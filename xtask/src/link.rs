@@ -56,7 +56,9 @@ fn plan(grounding: planner::ground::Grounding) -> Result<(Vec<u8>, Vec<bt_core::
     let grounding = Arc::new(grounding);
     let catalog = Arc::new(planner::PddlCatalog::new(grounding.problem()));
     let plan = planner::plan(grounding, catalog.clone(), planner::Options::default()).map_err(|e| e.to_string())?;
-    let image = planner::output::to_image(&plan.nodes, catalog.as_ref()).map_err(|e| e.to_string())?;
+    let image = bt_formats::Image::new(&plan.nodes)
+        .encode(bt_core::Catalog::fingerprint(catalog.as_ref()))
+        .map_err(|e| e.to_string())?;
     Ok((image, plan.nodes))
 }
 

@@ -359,19 +359,15 @@ fn inputs_order(remap: &[String], given: &[(String, String)], defaults: &[(&str,
 }
 
 impl LogTree {
-    /// The tree of bt-core `nodes` whose leaves `catalog` names, numbered as
-    /// BehaviorTree.CPP numbers the XML [`to_xml`](crate::xml::to_xml) writes for it;
-    /// `ports` names the ports of grounded arguments. For a tree without a value table
+    /// The tree of bt-core `nodes` whose leaves `catalog` names (their values as ports
+    /// named by [`Catalog::port_name`]), numbered as BehaviorTree.CPP numbers the XML
+    /// [`to_xml`](crate::xml::to_xml) writes for it. For a tree without a value table
     /// (no extended leaves); otherwise [`LogTree::with_values`].
     ///
     /// # Errors
     /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
-    pub fn new<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
-        nodes: &[Node],
-        catalog: &C,
-        ports: &P,
-    ) -> Result<Self, NotExpressible> {
-        Self::with_values(nodes, &[], catalog, ports)
+    pub fn new<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<Self, NotExpressible> {
+        Self::with_values(nodes, &[], catalog)
     }
 
     /// [`LogTree::new`] for a tree with a value table (`values`, as
@@ -381,15 +377,14 @@ impl LogTree {
     ///
     /// # Errors
     /// [`NotExpressible`] for kinds BehaviorTree.CPP has no equivalent of.
-    pub fn with_values<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
+    pub fn with_values<C: Catalog + ?Sized>(
         nodes: &[Node],
         values: &[u16],
         catalog: &C,
-        ports: &P,
     ) -> Result<Self, NotExpressible> {
         let uids: Vec<u16> = (1..=nodes.len()).map(|u| u16::try_from(u).unwrap_or(u16::MAX)).collect();
         let names: Vec<Option<String>> = vec![None; nodes.len()];
-        Self::build(nodes, values, catalog, ports, "MainTree", &uids, &names, &[], &[], &[], |leaf| {
+        Self::build(nodes, values, catalog, "MainTree", &uids, &names, &[], &[], &[], |leaf| {
             leaf.args_in(values).to_vec()
         })
     }
@@ -408,7 +403,6 @@ impl LogTree {
             &imported.nodes,
             &imported.values,
             imported,
-            &crate::xml::NoPorts,
             &imported.main,
             &uids,
             &names,
@@ -420,11 +414,10 @@ impl LogTree {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn build<C: Catalog + ?Sized, P: crate::xml::Ports + ?Sized>(
+    fn build<C: Catalog + ?Sized>(
         nodes: &[Node],
         table: &[u16],
         catalog: &C,
-        ports: &P,
         main: &str,
         uids: &[u16],
         names: &[Option<String>],
@@ -511,7 +504,10 @@ impl LogTree {
                             catalog.port(b, pos).is_none() || PortValue::from_u16(v) != PortValue::Unset
                         })
                         .map(|(pos, &v)| {
-                            (crate::xml::write::port_name(catalog, ports, b, pos), arg_text(catalog, b, pos, v))
+                            (
+                                crate::xml::write::port_name(catalog, b, pos),
+                                crate::xml::write::arg_text(catalog, b, pos, v),
+                            )
                         })
                         .collect();
                     let kind = if matches!(n.kind(), NodeKind::Condition(_)) { Kind::Condition } else { Kind::Action };
@@ -584,9 +580,7 @@ impl LogTree {
                         if p.type_name.is_empty() { "BT::AnyTypeAllowed".to_string() } else { p.type_name.to_string() },
                         p.default.map(str::to_string),
                     ),
-                    None => {
-                        ("input_port", crate::xml::write::port_name(catalog, ports, b, pos), "std::string".into(), None)
-                    }
+                    None => ("input_port", crate::xml::write::port_name(catalog, b, pos), "std::string".into(), None),
                 })
                 .collect();
             models.push(LeafModel { tag, id: type_id(info.name), ports });
@@ -613,14 +607,4 @@ fn attach(out: &mut [LogNode], pending: &mut Option<Pending>) {
         node.hooks = Some(p.hooks);
         node.attrs.extend(p.attrs);
     }
-}
-
-fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
-    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
-    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_arg(f, self.1, self.2, self.3)
-        }
-    }
-    A(catalog, behavior, position, value).to_string()
 }

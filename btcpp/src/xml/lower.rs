@@ -76,32 +76,18 @@ pub struct SubtreeMeta {
     pub attrs: Vec<(String, String)>,
 }
 
-/// A behavior set whose leaves carry grounded arguments (PDDL objects, ...), to import
-/// XML that [`to_xml`](crate::xml::to_xml) wrote for it back into the same set: a leaf
-/// names its behavior by its element (or its `name` attribute, which the writer adds
-/// when the behavior's name is not an XML name) and its arguments by port.
-pub trait Grounded: Catalog {
-    /// The port name of argument `position` (`arg{position}` when `None`).
-    fn port_name(&self, behavior: BehaviorId, position: usize) -> Option<&str> {
-        let _ = (behavior, position);
-        None
-    }
-
-    /// The value of argument `position` written as `text`: the inverse of
-    /// [`Catalog::write_arg`]. By default the number itself.
-    fn parse_arg(&self, behavior: BehaviorId, position: usize, text: &str) -> Option<u16> {
-        let _ = (behavior, position);
-        text.parse().ok()
-    }
-}
-
 /// Which behavior set leaves resolve against.
 #[derive(Clone, Copy)]
 pub enum Target<'k> {
     /// The set of the document's models ([`XmlCatalog`]).
     Models,
-    /// A set the caller knows (a PDDL domain, a brick task).
-    Known(&'k dyn Grounded),
+    /// A set the caller knows (a PDDL domain, a brick task), to import XML that
+    /// [`to_xml`](crate::xml::to_xml) wrote for it back into the same set: a leaf names
+    /// its behavior by its element (or its `name` attribute, which the writer adds when
+    /// the behavior's name is not an XML name) and its arguments by the ports the
+    /// writer names them with ([`Catalog::port_name`], else `arg0`, ...), read back with
+    /// [`Catalog::parse_arg`].
+    Known(&'k dyn Catalog),
 }
 
 impl std::fmt::Debug for Target<'_> {
@@ -134,6 +120,8 @@ pub struct Imported {
     pub meta: Vec<NodeMeta>,
     /// The SubTree nodes, in uid order.
     pub subtrees: Vec<SubtreeMeta>,
+    /// The scripting enums the scripts were compiled with, as given.
+    pub enums: Vec<(String, i64)>,
 }
 
 impl Imported {
@@ -190,6 +178,7 @@ pub fn lower(
             constants: Vec::new(),
             meta: Vec::new(),
             subtrees: Vec::new(),
+            enums: enums.to_vec(),
         },
         slot_ids: BTreeMap::new(),
         slot_first: Vec::new(),
@@ -252,7 +241,7 @@ pub fn script_name(name: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// A known set's behaviors by name.
-fn known_names(k: &dyn Grounded) -> BTreeMap<String, BehaviorId> {
+fn known_names(k: &dyn Catalog) -> BTreeMap<String, BehaviorId> {
     let mut names = BTreeMap::new();
     for id in 0..k.len() {
         let Ok(id) = BehaviorId::try_from(id) else { break };
@@ -267,7 +256,7 @@ struct Lowerer<'a> {
     flat: &'a Flat,
     models: &'a Models,
     catalog: XmlCatalog,
-    known: Option<(&'a dyn Grounded, BTreeMap<String, BehaviorId>)>,
+    known: Option<(&'a dyn Catalog, BTreeMap<String, BehaviorId>)>,
     /// Scripting enums: names scripts read as numbers.
     enums: BTreeMap<String, i64>,
     /// Polymorphic casts, `(derived, base)`.
@@ -1162,14 +1151,9 @@ impl script::Symbols for ScriptSymbols<'_, '_, '_> {
 }
 
 /// The grounded arguments of a leaf of a known set, by port name.
-fn grounded_values(k: &dyn Grounded, behavior: BehaviorId, n: &Inst) -> Result<Vec<u16>> {
+fn grounded_values(k: &dyn Catalog, behavior: BehaviorId, n: &Inst) -> Result<Vec<u16>> {
     let arity = k.info(behavior).map_or(0, |i| usize::from(i.arity));
-    let names: Vec<String> = (0..arity)
-        .map(|pos| match k.port_name(behavior, pos) {
-            Some(p) if crate::xml::write::is_port_name(p) => p.replace('-', "_"),
-            _ => format!("arg{pos}"),
-        })
-        .collect();
+    let names: Vec<String> = (0..arity).map(|pos| crate::xml::write::port_name(k, behavior, pos)).collect();
     for b in &n.ports {
         if !names.contains(&b.port) {
             return Err(ImportError::new(

@@ -5,7 +5,9 @@
 //! ([`flatten`]: SubTrees per instance, blackboard scopes, BehaviorTree.CPP's node
 //! ids), then lowers it to bt-core ([`lower`]: kinds, leaf values, constants, slots)
 //! against the behavior set of its models ([`catalog`]). Writing ([`to_xml`]) is the
-//! way back, for trees made here and for imported ones.
+//! way back, for trees made here and for imported ones; both take the behavior set as
+//! a [`bt_core::Catalog`]. An imported tree becomes an image with its names
+//! ([`Imported::names`], [`Imported::named_image`]) through `bt-formats`.
 
 pub mod builtin;
 pub mod catalog;
@@ -20,14 +22,13 @@ pub(crate) mod write;
 use std::path::{Path, PathBuf};
 
 pub use catalog::{Models, XmlCatalog};
-pub use lower::{Grounded, Imported, Target};
-pub use view::ImageError;
-pub use write::{NoPorts, Ports, XmlError, XmlOptions, to_xml, to_xml_with};
+pub use lower::{Imported, Target};
+pub use write::{XmlError, XmlOptions, to_xml, to_xml_with};
 
 use crate::error::Result;
 
 /// What to import besides the tree file.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct ImportOptions<'k> {
     /// Files whose `<TreeNodesModel>` declare the node types (Nav2's
     /// `nav2_tree_nodes.xml`, a Groot2 project); read before the tree file. Their
@@ -37,8 +38,8 @@ pub struct ImportOptions<'k> {
     /// The tree to import, instead of `main_tree_to_execute`.
     pub main: Option<String>,
     /// A known behavior set to resolve leaves against instead of the models' (to read
-    /// back XML written for a PDDL domain or a brick task).
-    pub known: Option<&'k dyn Grounded>,
+    /// back XML written for a PDDL domain or a brick task): see [`Target::Known`].
+    pub known: Option<&'k dyn bt_core::Catalog>,
     /// Scripting enums (BT.CPP's `registerScriptingEnum`): names scripts read as numbers.
     pub enums: Vec<(String, i64)>,
     /// Polymorphic casts (BT.CPP's `registerPolymorphicCast<Derived, Base>()`), as
@@ -53,9 +54,16 @@ pub struct ImportOptions<'k> {
     pub loops: Vec<String>,
 }
 
-impl std::fmt::Debug for dyn Grounded + '_ {
+impl std::fmt::Debug for ImportOptions<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "behavior set {:#018x}", self.fingerprint())
+        f.debug_struct("ImportOptions")
+            .field("models", &self.models)
+            .field("main", &self.main)
+            .field("known", &self.known.map(|k| format!("behavior set {:#018x}", k.fingerprint())))
+            .field("enums", &self.enums)
+            .field("casts", &self.casts)
+            .field("loops", &self.loops)
+            .finish()
     }
 }
 

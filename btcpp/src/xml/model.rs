@@ -207,53 +207,9 @@ pub fn convert(type_name: Option<&str>, literal: &str) -> Option<Literal> {
     }
 }
 
-/// A constant as the image holds it.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Literal {
-    /// An integer.
-    Int(i64),
-    /// A floating-point number.
-    Double(f64),
-    /// A boolean.
-    Bool(bool),
-    /// A string.
-    Str(String),
-}
-
-impl Literal {
-    /// The bt-core constant borrowing this one.
-    #[must_use]
-    pub fn as_constant(&self) -> bt_core::port::Constant<'_> {
-        match self {
-            Self::Int(v) => bt_core::port::Constant::Int(*v),
-            Self::Double(v) => bt_core::port::Constant::Double(*v),
-            Self::Bool(v) => bt_core::port::Constant::Bool(*v),
-            Self::Str(s) => bt_core::port::Constant::Str(s),
-        }
-    }
-
-    /// A key for interning: equal constants (bit-equal doubles) share one entry.
-    pub(crate) fn key(&self) -> (u8, String) {
-        match self {
-            Self::Int(v) => (0, v.to_string()),
-            Self::Double(v) => (1, v.to_bits().to_string()),
-            Self::Bool(v) => (2, v.to_string()),
-            Self::Str(s) => (3, s.clone()),
-        }
-    }
-
-    /// The literal as XML writes it back (a double keeps enough digits to read back
-    /// the same bits).
-    #[must_use]
-    pub fn text(&self) -> String {
-        match self {
-            Self::Int(v) => v.to_string(),
-            Self::Double(v) => format!("{v:?}"),
-            Self::Bool(v) => v.to_string(),
-            Self::Str(s) => s.clone(),
-        }
-    }
-}
+/// A constant as the image holds it (interned by [`Literal::key`], written back by
+/// [`Literal::text`]).
+pub use bt_formats::Constant as Literal;
 
 #[cfg(test)]
 mod tests {

@@ -1,12 +1,16 @@
-//! An imported tree as the renderers and writers see it: its behavior set, with leaf
-//! values shown as the document wrote them (`goal={goal}`, `speed=0.5`).
+//! An imported tree as the renderers, the writers and the image see it: its behavior
+//! set, with leaf values shown as the document wrote them (`goal={goal}`, `speed=0.5`),
+//! and its names for the image's names section.
 
 use std::fmt;
 
-use bt_core::{BehaviorId, BehaviorInfo, Catalog, Leaf, PortInfo, PortValue};
+use bt_core::{BehaviorId, BehaviorInfo, Catalog, PortInfo};
+use bt_formats::constant::write_port_value;
+use bt_formats::{Image, ImageError, Names};
 
 use crate::xml::lower::Imported;
-use crate::xml::write::{NoPorts, XmlError, XmlOptions, to_xml_with};
+use crate::xml::model::Literal;
+use crate::xml::write::{XmlError, XmlOptions, to_xml_with};
 
 impl Catalog for Imported {
     fn len(&self) -> usize {
@@ -25,104 +29,60 @@ impl Catalog for Imported {
         self.fingerprint
     }
 
-    /// `ID(port=value, ...)`, unset ports left out.
-    fn write_leaf(&self, f: &mut fmt::Formatter<'_>, leaf: &Leaf, args: &[u16]) -> fmt::Result {
-        let b = leaf.behavior();
-        match self.info(b) {
-            Some(info) => f.write_str(info.name)?,
-            None => write!(f, "#{b}")?,
-        }
-        let mut first = true;
-        for (pos, &v) in args.iter().enumerate() {
-            if PortValue::from_u16(v) == PortValue::Unset {
-                continue;
-            }
-            f.write_str(if first { "(" } else { ", " })?;
-            first = false;
-            if let Some(p) = self.port(b, pos) {
-                write!(f, "{}=", p.name)?;
-            }
-            self.write_arg(f, b, pos, v)?;
-        }
-        if !first {
-            f.write_str(")")?;
-        }
-        Ok(())
-    }
-
     /// A constant as written, a slot as `{key}`.
     fn write_arg(&self, f: &mut fmt::Formatter<'_>, behavior: BehaviorId, position: usize, value: u16) -> fmt::Result {
         if self.port(behavior, position).is_none() {
             return write!(f, "{value}");
         }
-        match PortValue::from_u16(value) {
-            PortValue::Constant(i) => match self.constants.get(usize::from(i)) {
-                Some(c) => f.write_str(&c.text()),
-                None => write!(f, "#const{i}"),
-            },
-            PortValue::Slot(i) => match self.slots.get(usize::from(i)) {
-                Some(s) => write!(f, "{{{}}}", s.name),
-                None => write!(f, "{{#slot{i}}}"),
-            },
-            PortValue::Unset => Ok(()),
-        }
+        write_port_value(
+            f,
+            value,
+            |s| self.slots.get(usize::from(s)).map(|s| s.name.as_str()),
+            |c| self.constants.get(usize::from(c)).map(Literal::as_constant),
+        )
     }
 }
 
-/// Why an imported tree could not be made an image.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum ImageError {
-    /// The tree uses what this image format cannot hold.
-    #[error("{0}")]
-    Unsupported(String),
-    /// bt-core refused to encode it.
-    #[error("encoding the image: {0}")]
-    Encode(#[from] bt_core::EncodeError),
-}
-
 impl Imported {
-    /// The image a controller loads.
+    /// The names the image carries for host tools: the main tree's ID, the models'
+    /// behavior set with its ports, the blackboard keys, the scripting enums and the
+    /// constants, titled by the tree's ID (a producer may give a better title). For a tree imported against
+    /// its models; one read against a known set ([`Target::Known`](crate::xml::Target))
+    /// takes that set's names.
+    #[must_use]
+    pub fn names(&self) -> Names {
+        let mut names = Names::of(&format!("BehaviorTree.CPP tree `{}`", self.main), self, &[]);
+        names.tree_id.clone_from(&self.main);
+        names.slots = self.slots.iter().map(|s| s.name.clone()).collect();
+        names.enums.clone_from(&self.enums);
+        names.constants.clone_from(&self.constants);
+        names
+    }
+
+    /// The image a controller loads, without names.
     ///
     /// # Errors
     /// [`ImageError`] when the tree does not fit an image.
     pub fn image(&self) -> Result<Vec<u8>, ImageError> {
-        let mut parts = bt_core::image::ImageParts::new(&self.nodes).values(&self.values);
-        let ports = self.ports_section()?;
-        if let Some(p) = &ports {
-            parts = parts.ports(p);
-        }
-        let mut buf = vec![0u8; parts.max_len()];
-        let len = bt_core::encode_with(&parts, self.fingerprint, &mut buf)?;
-        buf.truncate(len);
-        Ok(buf)
+        self.encode(None)
     }
 
-    /// The ports section's body: `None` when the tree has no constants and no slots.
+    /// The image with a names section (see [`Imported::names`]), which host tools read
+    /// and the controller never does.
     ///
     /// # Errors
-    /// [`ImageError::Unsupported`] when it would exceed a section's limits.
-    pub fn ports_section(&self) -> Result<Option<Vec<u8>>, ImageError> {
-        if self.constants.is_empty() && self.slots.is_empty() {
-            return Ok(None);
-        }
+    /// As [`Imported::image`].
+    pub fn named_image(&self, names: &Names) -> Result<Vec<u8>, ImageError> {
+        self.encode(Some(names))
+    }
+
+    fn encode(&self, names: Option<&Names>) -> Result<Vec<u8>, ImageError> {
         let slots: Vec<bt_core::port::SlotInfo> = self.slots.iter().map(|s| s.info).collect();
-        let constants: Vec<bt_core::port::Constant<'_>> = self.constants.iter().map(|c| c.as_constant()).collect();
-        let bound = 8
-            + 8 * slots.len()
-            + constants
-                .iter()
-                .map(|c| {
-                    16 + match c {
-                        bt_core::port::Constant::Str(s) => s.len(),
-                        _ => 0,
-                    }
-                })
-                .sum::<usize>();
-        let mut out = vec![0u8; bound];
-        let n = bt_core::port::encode_table(&slots, &constants, &mut out)
-            .map_err(|e| ImageError::Unsupported(format!("the ports section: {e}")))?;
-        out.truncate(n);
-        Ok(Some(out))
+        let image = Image::new(&self.nodes).values(&self.values).ports(&slots, &self.constants);
+        match names {
+            Some(n) => image.names(n).encode(self.fingerprint),
+            None => image.encode(self.fingerprint),
+        }
     }
 
     /// The tree as BehaviorTree.CPP XML: one tree (SubTrees expanded), every behavior
@@ -164,6 +124,6 @@ impl Imported {
             tree_id: &self.main,
             ids: &ids,
         };
-        to_xml_with(&renamed.nodes, &renamed, &NoPorts, &options)
+        to_xml_with(&renamed.nodes, &renamed, &options)
     }
 }

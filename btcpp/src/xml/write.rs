@@ -1,8 +1,9 @@
 //! BehaviorTree.CPP v4 XML: `ReactiveSequence` / `ReactiveFallback` for the reactive
-//! controls, leaves in the compact form `<place i="cube" s="goal"/>` whose grounded
-//! arguments are input ports, and a `TreeNodesModel` section declaring every leaf type
-//! (`<Action ID="place">`) and its ports, so Groot2 shows the tree without the C++
-//! registrations.
+//! controls, leaves in the compact form `<place i="cube" s="goal"/>` whose values are
+//! ports (declared ports as declared, grounded arguments as input ports named by the
+//! catalog's [`Catalog::port_name`], else `arg0`, `arg1`, ...), and a `TreeNodesModel`
+//! section declaring every leaf type (`<Action ID="place">`) and its ports, so Groot2
+//! shows the tree without the C++ registrations.
 //!
 //! The compact form is the one BehaviorTree.CPP and Groot2 write themselves, and the
 //! only one releases 4.7 to 4.10 load under a `ReactiveSequence`: their check of a
@@ -23,26 +24,8 @@ use std::fmt::Write as _;
 
 use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind, PortValue};
 
-/// Port names for the BehaviorTree.CPP XML of a catalog's leaves, for behavior sets
-/// whose values are grounded arguments (PDDL parameters); behaviors that declare ports
-/// ([`Catalog::port`]) are written with those.
-pub trait Ports {
-    /// The name of argument `position` of `behavior`; `None` falls back to `arg{position}`.
-    fn port(&self, behavior: BehaviorId, position: usize) -> Option<&str>;
-}
-
-/// No port names: every argument is `arg{position}`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoPorts;
-
-impl Ports for NoPorts {
-    fn port(&self, _: BehaviorId, _: usize) -> Option<&str> {
-        None
-    }
-}
-
 /// An argument as the catalog renders it, e.g. `cube`.
-fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
+pub(crate) fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
     struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
     impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
         fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -155,20 +138,16 @@ pub(crate) fn is_port_name(p: &str) -> bool {
         && p != "ID"
 }
 
-/// A port name BehaviorTree.CPP accepts: starts with a letter, no `name`/`ID`.
-pub(crate) fn port_name<C: Catalog + ?Sized, P: Ports + ?Sized>(
-    catalog: &C,
-    ports: &P,
-    behavior: BehaviorId,
-    position: usize,
-) -> String {
+/// The port value `position` of `behavior` is written as: a declared port's name as it
+/// is; a grounded argument's name ([`Catalog::port_name`]) when BehaviorTree.CPP accepts
+/// it (a letter first, not `name` or `ID`; `-` becomes `_`), else `arg{position}`.
+pub(crate) fn port_name<C: Catalog + ?Sized>(catalog: &C, behavior: BehaviorId, position: usize) -> String {
     if let Some(p) = catalog.port(behavior, position) {
         return p.name.to_string();
     }
-    let fallback = || format!("arg{position}");
-    match ports.port(behavior, position) {
+    match catalog.port_name(behavior, position) {
         Some(p) if is_port_name(p) => p.replace('-', "_"),
-        _ => fallback(),
+        _ => format!("arg{position}"),
     }
 }
 
@@ -238,12 +217,8 @@ pub struct XmlOptions<'a> {
 ///
 /// # Errors
 /// [`XmlError`] for `Timeout` nodes and malformed arrays.
-pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
-    nodes: &[Node],
-    catalog: &C,
-    ports: &P,
-) -> Result<String, XmlError> {
-    to_xml_with(nodes, catalog, ports, &XmlOptions::default())
+pub fn to_xml<C: Catalog + ?Sized>(nodes: &[Node], catalog: &C) -> Result<String, XmlError> {
+    to_xml_with(nodes, catalog, &XmlOptions::default())
 }
 
 /// [`to_xml`] with a value table, node names and uids, and optionally the whole
@@ -251,10 +226,9 @@ pub fn to_xml<C: Catalog + ?Sized, P: Ports + ?Sized>(
 ///
 /// # Errors
 /// [`XmlError`] for kinds without an equivalent and malformed arrays.
-pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
+pub fn to_xml_with<C: Catalog + ?Sized>(
     nodes: &[Node],
     catalog: &C,
-    ports: &P,
     options: &XmlOptions<'_>,
 ) -> Result<String, XmlError> {
     let tree_id = if options.tree_id.is_empty() { "MainTree" } else { options.tree_id };
@@ -425,7 +399,7 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                 let values = leaf_values(&leaf, options.values);
                 let tag = declare(b, LeafKind::Action, values.len(), &mut used);
                 gates.insert(b);
-                let a = port_attrs(catalog, ports, b, values);
+                let a = port_attrs(catalog, b, values);
                 let _ = writeln!(out, "{pad}<{tag}{meta}{a}>");
                 open.push((end, tag));
                 continue;
@@ -442,7 +416,7 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                     let _ = write!(a, " name=\"{}\"", escape(&name));
                 }
                 a.push_str(&meta);
-                a.push_str(&port_attrs(catalog, ports, b, values));
+                a.push_str(&port_attrs(catalog, b, values));
                 let _ = writeln!(out, "{pad}<{tag}{a}/>");
                 continue;
             }
@@ -480,11 +454,9 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
                     let default = p.default.map_or(String::new(), |d| format!(" default=\"{}\"", escape(d)));
                     writeln!(out, "      <{} name=\"{}\"{ty}{default}/>", p.direction.tag(), p.name)
                 }
-                None => writeln!(
-                    out,
-                    "      <input_port name=\"{}\" type=\"std::string\"/>",
-                    port_name(catalog, ports, b, pos)
-                ),
+                None => {
+                    writeln!(out, "      <input_port name=\"{}\" type=\"std::string\"/>", port_name(catalog, b, pos))
+                }
             };
         }
         let _ = writeln!(out, "    </{tag}>");
@@ -494,13 +466,13 @@ pub fn to_xml_with<C: Catalog + ?Sized, P: Ports + ?Sized>(
 }
 
 /// ` port="value"` for each value of a leaf, unset ports left out.
-fn port_attrs<C: Catalog + ?Sized, P: Ports + ?Sized>(catalog: &C, ports: &P, b: BehaviorId, values: &[u16]) -> String {
+fn port_attrs<C: Catalog + ?Sized>(catalog: &C, b: BehaviorId, values: &[u16]) -> String {
     let mut a = String::new();
     for (pos, &v) in values.iter().enumerate() {
         if catalog.port(b, pos).is_some() && PortValue::from_u16(v) == PortValue::Unset {
             continue;
         }
-        let _ = write!(a, " {}=\"{}\"", port_name(catalog, ports, b, pos), escape(&arg_text(catalog, b, pos, v)));
+        let _ = write!(a, " {}=\"{}\"", port_name(catalog, b, pos), escape(&arg_text(catalog, b, pos, v)));
     }
     a
 }

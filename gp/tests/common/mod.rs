@@ -79,7 +79,7 @@ impl Fitness for Target {
 /// A planner-like baseline for the tower: right leaves, but in a shape that scores low
 /// on `Target` unless GP rearranges it.
 pub fn tower_baseline(spec: &Spec) -> Vec<Node> {
-    planner::tokens::parse(
+    bt_formats::tokens::parse(
         "s( f( 2 on 1? s( pick 2! place on 1! ) ) f( 1 on 0? s( pick 1! place on 0! ) ) \
          f( 0 at pos (0.0, 0.05, 0.0)? s( pick 0! place at (0.0, 0.05, 0.0)! ) ) )",
         spec,

@@ -7,7 +7,7 @@ use anyhow::{anyhow, bail};
 use bt_core::{Node, Tree};
 use btcpp::btlog::{LogTree, RunLog, replay::status};
 
-use planner::DEPTH;
+use bt_formats::DEPTH;
 use sim_host::input::{self, Limit};
 use sim_host::text::count;
 
@@ -20,7 +20,8 @@ pub const LONG_ABOUT: &str = "Turns the trace a controller printed (firmware-exa
     numbered as `sim-host export --format xml` numbers it (_uid), and every status \
     transition BehaviorTree.CPP's nodes would make for the leaf results in the trace. \
     Timestamps are the controller's ticks at the rate its `boot` line gives (hz=), so \
-    the same trace gives the same log.";
+    the same trace gives the same log. Nodes and ports are named from the image's names \
+    section, as `inspect` finds them.";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = "Example:\n  cargo run -p firmware-example --target x86_64-unknown-linux-gnu > run.txt\n  \
@@ -35,8 +36,9 @@ pub struct Args {
     /// The log to write (give it the .btlog extension Groot2 expects).
     #[arg(long, value_name = "FILE.btlog")]
     pub out: PathBuf,
-    /// For an image imported from BehaviorTree.CPP XML: the files `import` read (its tree
-    /// file and its --nodes), whose models name the behaviors in the log.
+    /// For an image imported from BehaviorTree.CPP XML without names (stripped, or made
+    /// before images carried them): the files `import` read (its tree file and its
+    /// --nodes), whose models name the behaviors in the log.
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
 }
@@ -68,11 +70,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut values = vec![0u16; bytes.len()];
     let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
-    let ports: &dyn btcpp::xml::Ports = match &known.ports {
-        Some(p) => p.as_ref(),
-        None => &btcpp::xml::NoPorts,
-    };
-    let log_tree = LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref(), ports)
+    let log_tree = LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref())
         .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
     let text = input::read_text(&args.from_trace, Limit::TRACE)?;
     let mut period_usec: i64 = 100_000;

@@ -1,10 +1,9 @@
 //! The behavior sets this binary knows, found by an image's fingerprint.
 
 use bt_core::{Catalog, LeafKind, Node};
-use btcpp::xml::Grounded;
+use bt_formats::{Names, NamesError};
 use planner::duplo::Task;
-use planner::names::NameTable;
-use planner::{PddlCatalog, Ports, domains, pddl};
+use planner::{PddlCatalog, domains, pddl};
 
 /// A behavior set the binary knows by name.
 pub struct Known {
@@ -13,12 +12,10 @@ pub struct Known {
     /// Its short name (`tower`, `cube-sphere`) for `--behaviors`; empty for sets read
     /// from an image.
     pub short: &'static str,
-    /// The set.
+    /// The set: its names, ports and values, how they print and read back.
     pub catalog: Box<dyn Catalog>,
-    /// The same set, for built-in sets: XML written for it reads back into it.
-    pub grounded: Option<Box<dyn Grounded>>,
-    /// Port names of its leaves' arguments, for BehaviorTree.CPP XML (PDDL domains).
-    pub ports: Option<Box<dyn Ports>>,
+    /// The tree's ID in BehaviorTree.CPP XML, when the image's names give one.
+    pub tree_id: String,
     /// Something the reader should know about these names (printed by `inspect`).
     pub note: Option<String>,
 }
@@ -41,15 +38,8 @@ fn pddl_catalogs() -> Vec<Known> {
         .filter_map(|(short, name, d, p)| {
             let d = pddl::parse_domain("built-in", d).ok()?;
             let p = pddl::parse_problem("built-in", p, &d).ok()?;
-            let c = PddlCatalog::new(&p);
-            Some(Known {
-                name: name.to_string(),
-                short,
-                catalog: Box::new(c.clone()),
-                grounded: Some(Box::new(c.clone())),
-                ports: Some(Box::new(c)),
-                note: None,
-            })
+            let catalog = Box::new(PddlCatalog::new(&p));
+            Some(Known { name: name.to_string(), short, catalog, tree_id: String::new(), note: None })
         })
         .collect()
 }
@@ -61,9 +51,8 @@ pub fn all() -> Vec<Known> {
         .map(|t| Known {
             name: format!("brick task `{}` (seed 003)", t.name()),
             short: t.name(),
-            catalog: Box::new(t.spec()) as Box<dyn Catalog>,
-            grounded: Some(Box::new(t.spec()) as Box<dyn Grounded>),
-            ports: None,
+            catalog: Box::new(t.spec()),
+            tree_id: String::new(),
             note: None,
         })
         .chain(pddl_catalogs())
@@ -97,9 +86,9 @@ pub fn for_image(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<(Known,
 }
 
 /// [`for_image`], first trying the behavior set of BehaviorTree.CPP models read from
-/// `models` (the files given to `import`): an image imported from XML carries no names,
-/// its models give them back. Models of another behavior set are an error, naming both
-/// fingerprints.
+/// `models` (the files given to `import`), for an image whose names were stripped or
+/// that was imported before images carried them. Models of another behavior set are an
+/// error, naming both fingerprints.
 ///
 /// # Errors
 /// As [`for_image`]; a model file that does not read; models of another set.
@@ -128,31 +117,24 @@ pub fn for_image_with(
             name: format!("BehaviorTree.CPP models of {}", files.join(", ")),
             short: "",
             catalog: Box::new(catalog),
-            grounded: None,
-            ports: None,
+            tree_id: String::new(),
             note: None,
         };
         return Ok((known, header));
     }
     let mut note = None;
-    if let Some(body) = bt_core::image::section(bytes, bt_core::image::SECTION_NAMES).map_err(fail)? {
-        match NameTable::from_bytes(body) {
-            Ok(t) if t.fingerprint() == header.fingerprint => {
-                let known = Known {
-                    name: format!("{} (names from the image)", t.title),
-                    short: "",
-                    catalog: Box::new(t.clone()),
-                    grounded: None,
-                    ports: Some(Box::new(t)),
-                    note: None,
-                };
-                return Ok((known, header));
-            }
-            Ok(_) => {
-                note = Some("the image's names section does not match its behavior set; names ignored".to_string())
-            }
-            Err(e) => note = Some(format!("{e}; names ignored")),
+    match Names::of_image(bytes) {
+        Ok(Some(names)) if names.fingerprint() == header.fingerprint => {
+            let name = format!("{} (names from the image)", names.title);
+            let tree_id = names.tree_id.clone();
+            return Ok((Known { name, short: "", catalog: Box::new(names), tree_id, note: None }, header));
         }
+        Ok(Some(_)) => {
+            note = Some("the image's names section does not match its behavior set; names ignored".to_string())
+        }
+        Ok(None) => {}
+        Err(NamesError::Image(e)) => return Err(fail(e)),
+        Err(e) => note = Some(format!("{e}; names ignored")),
     }
     if let Some(mut known) = by_fingerprint(header.fingerprint) {
         known.note = note;
@@ -164,8 +146,7 @@ pub fn for_image_with(
         name: "unknown to this binary".to_string(),
         short: "",
         catalog: Box::new(ids),
-        grounded: None,
-        ports: None,
+        tree_id: String::new(),
         note: Some(format!(
             "{why}behavior set {:#018x} is not built in and the image carries no names: \
              behaviors and values are shown as ids",
@@ -176,8 +157,8 @@ pub fn for_image_with(
 }
 
 /// Names for an image whose behavior set is unknown: each behavior is `#id`, with the
-/// kind and arity its leaves use, and the image's own fingerprint, so the tree can
-/// still be loaded, validated and shown.
+/// kind and arity its leaves (and plugin decorators' gates, which are actions) use, and
+/// the image's own fingerprint, so the tree can still be loaded, validated and shown.
 struct IdCatalog {
     behaviors: Vec<Option<(String, LeafKind, u8)>>,
     fingerprint: u64,
@@ -191,7 +172,11 @@ impl IdCatalog {
         let d = bt_core::image::decode(bytes, &mut nodes, &mut values)?;
         let mut behaviors: Vec<Option<(String, LeafKind, u8)>> = Vec::new();
         for node in &nodes[..d.nodes] {
-            if let Some((kind, leaf)) = node.kind().leaf() {
+            let used = match *node.kind() {
+                bt_core::NodeKind::Gate(leaf) => Some((LeafKind::Action, leaf)),
+                ref other => other.leaf(),
+            };
+            if let Some((kind, leaf)) = used {
                 let id = usize::from(leaf.behavior());
                 if behaviors.len() <= id {
                     behaviors.resize(id + 1, None);

@@ -7,7 +7,7 @@ use anyhow::bail;
 use bt_link::Reply;
 use bt_link::host::Verdict;
 
-use planner::DEPTH;
+use bt_formats::DEPTH;
 use sim_host::input::{self, Limit};
 
 use super::link::{self, Line, Target};
@@ -21,10 +21,13 @@ use sim_host::text::count;
     running tree goes on ticking, checks length, CRC and the whole image (as `inspect` \
     does), and only then swaps it in, between two ticks, after halting the running \
     tree's actions. A refused image leaves the running tree untouched; the reason is \
-    printed and the exit code is 2.",
+    printed and the exit code is 2.\n\n\
+    The controller never reads an image's names section (what `inspect`, `export` and \
+    `btlog` name the tree with); --strip-names sends the image without it.",
     after_help = "Examples:\n  sim-host deploy tree.bt --tcp 127.0.0.1:4321          # QEMU\n  \
     sim-host deploy tree.bt --port /dev/ttyACM0 --at-tick 200\n  \
-    sim-host deploy tree.bt --tcp 127.0.0.1:4321 --start"
+    sim-host deploy tree.bt --tcp 127.0.0.1:4321 --start\n  \
+    sim-host deploy nav.bt --port /dev/ttyACM0 --strip-names"
 )]
 pub struct Args {
     /// The image file (`sim-host plan --format image`).
@@ -43,12 +46,23 @@ pub struct Args {
     /// (what Timeout and Delay measure) advances by this much per tick.
     #[arg(long, default_value_t = 100)]
     pub period: u16,
+    /// Send the image without its names section (behavior, port and key names for
+    /// `inspect`, `export` and `btlog`), which the controller never reads: a smaller
+    /// image, the same tree. The file is left as it is.
+    #[arg(long)]
+    pub strip_names: bool,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
     let image = input::read(path, Limit::IMAGE)?;
     let header = bt_core::image::read_header(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    // The names section is the host tools' alone: the same nodes, values and ports.
+    let image = if args.strip_names {
+        bt_formats::image::strip_names(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+    } else {
+        image
+    };
     let (mut link, name) = link::open(&args.target, &args.line)?;
     let (info, set) = link::hello(&mut link, &name)?;
     if header.fingerprint != info.fingerprint {
@@ -59,8 +73,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         );
     }
     if image.len() > info.image_capacity as usize {
+        let names = bt_core::image::section(&image, bt_core::image::SECTION_NAMES).ok().flatten();
+        let hint = names.map_or(String::new(), |n| {
+            format!("; --strip-names leaves out the {} of names the controller never reads", count(n.len(), "byte"))
+        });
         bail!(
-            "{}: {}, the controller at {name} holds images of at most {}",
+            "{}: {}, the controller at {name} holds images of at most {}{hint}",
             path.display(),
             count(image.len(), "byte"),
             count(info.image_capacity, "byte")

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use bt_core::{MAX_ARGS, Node, Tree};
-use planner::DEPTH;
+use bt_core::{MAX_ARGS, Node, PortTable, Tree};
+use bt_formats::{DEPTH, dot, tokens};
 
 use super::catalogs;
 use super::output::{self, Content, Target};
@@ -13,7 +13,7 @@ use super::output::{self, Content, Target};
 pub enum Format {
     /// The indented py_trees-style view.
     Ascii,
-    /// The token notation of seed 003: `s( f( 0 on 1? put 0 on 1! ) )`.
+    /// The token notation of Styrud et al.: `s( f( 0 on 1? put 0 on 1! ) )`.
     Tokens,
     /// Graphviz DOT (`dot -Tsvg`).
     Dot,
@@ -23,7 +23,11 @@ pub enum Format {
 
 #[derive(clap::Args, Debug)]
 #[command(long_about = "Loads and validates a tree image, then writes the tree in another \
-    notation: to stdout, or to --out FILE (written whole or not at all).")]
+    notation: to stdout, or to --out FILE (written whole or not at all). The names come \
+    from the image's names section, as `inspect` finds them.\n\n\
+    --format xml of an image imported from BehaviorTree.CPP declares every model of its \
+    behavior set, so that `sim-host import` of the document gives the same image back \
+    (a tree with scripts excepted: an image keeps their programs, not their text).")]
 pub struct Args {
     /// The image file.
     pub image: PathBuf,
@@ -33,8 +37,9 @@ pub struct Args {
     /// Write here instead of stdout (`-`: stdout).
     #[arg(long, value_name = "FILE", value_parser = Target::parse)]
     pub out: Option<Target>,
-    /// For an image imported from BehaviorTree.CPP XML: the files `import` read (its tree
-    /// file and its --nodes), whose models name the behaviors.
+    /// For an image imported from BehaviorTree.CPP XML without names (stripped, or made
+    /// before images carried them): the files `import` read (its tree file and its
+    /// --nodes), whose models name the behaviors.
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
 }
@@ -56,23 +61,47 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             path.display()
         ),
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
+            let mut t = tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
                 anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
             })?;
             t.push('\n');
             t
         }
-        Format::Dot => planner::output::to_dot_with(tree.nodes(), values, known.catalog.as_ref()),
-        Format::Xml => {
-            let ports: &dyn planner::Ports = match &known.ports {
-                Some(p) => p.as_ref(),
-                None => &planner::NoPorts,
-            };
-            let options = planner::output::XmlOptions { values, ..planner::output::XmlOptions::default() };
-            planner::output::to_xml_with(tree.nodes(), known.catalog.as_ref(), ports, &options)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-        }
+        Format::Dot => dot::to_dot_with(tree.nodes(), values, known.catalog.as_ref()),
+        Format::Xml => xml(path, &bytes, &tree, &known)?,
     };
     output::write(args.out.as_ref().unwrap_or(&Target::Stdout), text.as_bytes(), Content::Text)?;
     Ok(())
+}
+
+/// The tree as BehaviorTree.CPP XML. A behavior set that declares ports is declared
+/// whole, so that importing the document gives the same set (and fingerprint) back.
+fn xml(
+    path: &std::path::Path,
+    bytes: &[u8],
+    tree: &Tree<'_, DEPTH>,
+    known: &catalogs::Known,
+) -> anyhow::Result<String> {
+    let catalog = known.catalog.as_ref();
+    let fail = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
+    // A key that starts at a literal was given it by a SubTree, which the document of a
+    // flattened tree does not have.
+    let table = PortTable::of_image(bytes).map_err(|e| fail(&e))?;
+    if let Some(slot) = (0..table.slot_count()).find(|&s| table.slot(s).is_some_and(|s| s.initial.is_some())) {
+        anyhow::bail!(
+            "{}: blackboard slot {slot} starts at a literal that a SubTree gave it, which the flattened tree \
+             cannot write; export the imported document instead (sim-host import TREE.xml --format xml)",
+            path.display()
+        );
+    }
+    let declares_ports = (0..catalog.len())
+        .filter_map(|b| u16::try_from(b).ok())
+        .any(|b| catalog.info(b).is_some_and(|i| (0..usize::from(i.arity)).any(|p| catalog.port(b, p).is_some())));
+    let options = btcpp::xml::XmlOptions {
+        values: tree.values(),
+        all_behaviors: declares_ports,
+        tree_id: &known.tree_id,
+        ..btcpp::xml::XmlOptions::default()
+    };
+    btcpp::xml::to_xml_with(tree.nodes(), catalog, &options).map_err(|e| fail(&e))
 }

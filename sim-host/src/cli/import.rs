@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use bt_core::MAX_ARGS;
+use bt_core::{Catalog, MAX_ARGS};
+use bt_formats::{ascii, dot, image::Image, tokens};
 use btcpp::xml::{ImportOptions, Imported, import};
 
 use sim_host::text::count;
@@ -22,7 +23,7 @@ pub enum Format {
     Dot,
     /// BehaviorTree.CPP XML again: one tree, SubTrees expanded, every model declared.
     Xml,
-    /// The token notation of seed 003 (reactive Sequence, Fallback and leaves only).
+    /// The token notation of Styrud et al. (reactive Sequence, Fallback and leaves only).
     Tokens,
 }
 
@@ -38,6 +39,11 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     prints the same set as the Rust table a controller compiles in. Port values become image \
     data: literals are constants typed as the model declares the port, {key}s are blackboard \
     slot numbers, ports left out are unset (the behavior's default).\n\n\
+    The image carries a names section that the controller never reads: the behavior set's \
+    names and ports (name, direction, type, default), the blackboard keys, the scripting \
+    enums and a title naming the tree, so that `inspect`, `export` and `btlog` show the tree as it \
+    is written here without the model files (`deploy --strip-names` sends the image \
+    without it).\n\n\
     Script, ScriptCondition, Precondition and the scripted attributes (_skipIf, _while, \
     _onSuccess, ...) run on the controller: their scripts are compiled at import into small \
     programs the image carries (keys become blackboard slots; --enum gives the scripting \
@@ -140,15 +146,19 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let options = ImportOptions {
         models: args.nodes.clone(),
         main: args.main.clone(),
-        known: known.as_ref().and_then(|k| k.grounded.as_deref()),
+        known: known.as_ref().map(|k| k.catalog.as_ref()),
         enums: args.enums.clone(),
         casts: args.casts.clone(),
         loops: args.loops.clone(),
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {
-        Some(k) => render_known(args.format, &imported, k)?,
-        None => render(args.format, &imported)?,
+        Some(k) => render_known(args.format, &imported, k.catalog.as_ref())?,
+        None => {
+            let file =
+                args.tree.file_name().map_or_else(|| args.tree.display().to_string(), |f| f.to_string_lossy().into());
+            render(args.format, &imported, &format!("BehaviorTree.CPP tree `{}` of {file}", imported.main))?
+        }
     };
     let summary = format!(
         "imported `{}` from {}: {}, {}, {}; behavior set {:#018x} ({})",
@@ -178,37 +188,43 @@ fn lines(mut text: String) -> Vec<u8> {
     text.into_bytes()
 }
 
-fn render(format: Format, imported: &Imported) -> anyhow::Result<Vec<u8>> {
+/// The tree imported against its models, with its names (titled `title`) in the image.
+fn render(format: Format, imported: &Imported, title: &str) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
-        Format::Image => imported.image()?,
-        Format::Ascii => lines(planner::output::to_ascii_with(&imported.nodes, &imported.values, imported)?),
-        Format::Dot => planner::output::to_dot_with(&imported.nodes, &imported.values, imported).into_bytes(),
+        Format::Image => {
+            let mut names = imported.names();
+            title.clone_into(&mut names.title);
+            imported.named_image(&names)?
+        }
+        Format::Ascii => lines(ascii::to_ascii_with(&imported.nodes, &imported.values, imported)?),
+        Format::Dot => dot::to_dot_with(&imported.nodes, &imported.values, imported).into_bytes(),
         Format::Xml => imported.to_xml()?.into_bytes(),
         Format::Tokens if !imported.values.is_empty() => anyhow::bail!(
             "--format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
              write it with --format ascii, dot, xml or image"
         ),
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(&imported.nodes, imported)?;
+            let mut t = tokens::to_string(&imported.nodes, imported)?;
             t.push('\n');
             t.into_bytes()
         }
     })
 }
 
-fn render_known(format: Format, imported: &Imported, known: &catalogs::Known) -> anyhow::Result<Vec<u8>> {
-    let catalog = known.catalog.as_ref();
-    let ports: &dyn btcpp::xml::Ports = match &known.ports {
-        Some(p) => p.as_ref(),
-        None => &btcpp::xml::NoPorts,
-    };
+/// The tree read back into a built-in behavior set, which `inspect` knows by its
+/// fingerprint: the image needs no names.
+fn render_known(format: Format, imported: &Imported, catalog: &dyn Catalog) -> anyhow::Result<Vec<u8>> {
+    let (nodes, values) = (&imported.nodes, &imported.values);
     Ok(match format {
-        Format::Image => planner::output::to_image(&imported.nodes, catalog)?,
-        Format::Ascii => lines(planner::output::to_ascii(&imported.nodes, catalog)?),
-        Format::Dot => planner::output::to_dot(&imported.nodes, catalog).into_bytes(),
-        Format::Xml => planner::output::to_xml(&imported.nodes, catalog, ports)?.into_bytes(),
+        Format::Image => Image::new(nodes).values(values).encode(catalog.fingerprint())?,
+        Format::Ascii => lines(ascii::to_ascii_with(nodes, values, catalog)?),
+        Format::Dot => dot::to_dot_with(nodes, values, catalog).into_bytes(),
+        Format::Xml => {
+            let options = btcpp::xml::XmlOptions { values, ..btcpp::xml::XmlOptions::default() };
+            btcpp::xml::to_xml_with(nodes, catalog, &options)?.into_bytes()
+        }
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(&imported.nodes, catalog)?;
+            let mut t = tokens::to_string(nodes, catalog)?;
             t.push('\n');
             t.into_bytes()
         }

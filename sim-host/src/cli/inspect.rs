@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use bt_core::{Node, Tree};
-use planner::DEPTH;
+use bt_formats::DEPTH;
 
 use super::catalogs;
 use super::output::out;
@@ -11,12 +11,17 @@ use super::output::out;
 #[derive(clap::Args, Debug)]
 #[command(long_about = "Loads a tree image exactly as a controller would (envelope, CRC, \
     behavior-set fingerprint, node decoding, validation) and prints the tree with its \
-    behavior names and the image's facts. A bad image prints its LoadError and exits 2.")]
+    behavior names and the image's facts. A bad image prints its LoadError and exits 2.\n\n\
+    The names come from the --nodes models when given, else from the image's names \
+    section (which `plan`, `learn` and `import` write and the controller never reads: \
+    behaviors, ports as `name={key}` or `name=value`, objects), else from the built-in \
+    behavior set with the image's fingerprint; else the tree is shown by ids.")]
 pub struct Args {
     /// The image file (as written by `sim-host plan --format image` or `learn`).
     pub image: PathBuf,
-    /// For an image imported from BehaviorTree.CPP XML: the files `import` read (its tree
-    /// file and its --nodes), whose models name the behaviors.
+    /// For an image imported from BehaviorTree.CPP XML without names (stripped, or made
+    /// before images carried them): the files `import` read (its tree file and its
+    /// --nodes), whose models name the behaviors.
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
 }

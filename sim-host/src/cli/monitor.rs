@@ -64,7 +64,6 @@ struct Live {
     values: Vec<u16>,
     status: Vec<NodeStatus>,
     catalog: Box<dyn Catalog>,
-    ports: Option<Box<dyn btcpp::xml::Ports>>,
     crc: u32,
 }
 
@@ -83,16 +82,12 @@ impl Live {
             .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
         let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
         let status = vec![NodeStatus::Idle; nodes.len()];
-        Ok(Self { nodes, values, status, catalog: known.catalog, ports: known.ports, crc: bt_link::image_crc(&image) })
+        Ok(Self { nodes, values, status, catalog: known.catalog, crc: bt_link::image_crc(&image) })
     }
 
     /// A Groot2 replay log of this tree, its clock starting at `usec`.
     fn log(&self, usec: i64) -> anyhow::Result<Groot> {
-        let ports: &dyn btcpp::xml::Ports = match &self.ports {
-            Some(p) => p.as_ref(),
-            None => &btcpp::xml::NoPorts,
-        };
-        let tree = LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref(), ports)
+        let tree = LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref())
             .map_err(|e| anyhow::anyhow!("--btlog: image {:08x}: {e}; record it with --trace instead", self.crc))?;
         let mut uid = vec![None; self.nodes.len()];
         for n in &tree.nodes {

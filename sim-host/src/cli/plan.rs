@@ -5,12 +5,11 @@ use std::sync::Arc;
 
 use anyhow::{Context as _, bail};
 use bt_core::{Catalog, Node};
+use bt_formats::{Names, ascii, dot, image::Image, tokens};
 use planner::duplo::Task;
-use planner::names::NameTable;
-use planner::{Expansion, Method, NoPorts, Options, PddlCatalog, PlanError, Ports, Refinement};
+use planner::{Expansion, Method, Options, PddlCatalog, PlanError, Refinement};
 
 use super::output::{self, Content, Target, out};
-use planner::output as notation;
 use sim_host::text::count;
 
 /// What to write the tree as.
@@ -22,7 +21,7 @@ pub enum Format {
     Dot,
     /// BehaviorTree.CPP v4 XML, with a TreeNodesModel for Groot2.
     Xml,
-    /// The token notation of seed 003: `s( f( 0 on 1? put 0 on 1! ) )`.
+    /// The token notation of Styrud et al.: `s( f( 0 on 1? put 0 on 1! ) )`.
     Tokens,
     /// The deployable image (binary; needs --out).
     Image,
@@ -144,20 +143,19 @@ pub struct Args {
     pub close_backchained: bool,
 }
 
-fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
+fn render<C: Catalog + ?Sized>(
     format: Format,
     nodes: &[Node],
     values: &[u16],
     catalog: &C,
-    ports: &P,
-    names: Option<&NameTable>,
+    names: Option<&Names>,
 ) -> anyhow::Result<Vec<u8>> {
     Ok(match format {
-        Format::Ascii => notation::to_ascii_with(nodes, values, catalog)?.into_bytes(),
-        Format::Dot => notation::to_dot_with(nodes, values, catalog).into_bytes(),
+        Format::Ascii => ascii::to_ascii_with(nodes, values, catalog)?.into_bytes(),
+        Format::Dot => dot::to_dot_with(nodes, values, catalog).into_bytes(),
         Format::Xml => {
-            let options = notation::XmlOptions { values, ..notation::XmlOptions::default() };
-            notation::to_xml_with(nodes, catalog, ports, &options)?.into_bytes()
+            let options = btcpp::xml::XmlOptions { values, ..btcpp::xml::XmlOptions::default() };
+            btcpp::xml::to_xml_with(nodes, catalog, &options)?.into_bytes()
         }
         Format::Tokens if !values.is_empty() => {
             bail!(
@@ -166,13 +164,19 @@ fn render<C: Catalog + ?Sized, P: Ports + ?Sized>(
             )
         }
         Format::Tokens => {
-            let mut t = planner::tokens::to_string(nodes, catalog).map_err(|e| {
+            let mut t = tokens::to_string(nodes, catalog).map_err(|e| {
                 anyhow::anyhow!("--format tokens: {e}; write it with --format ascii, dot, xml or image")
             })?;
             t.push('\n');
             t.into_bytes()
         }
-        Format::Image => notation::to_image_parts(nodes, values, catalog, names)?,
+        Format::Image => {
+            let image = Image::new(nodes).values(values);
+            match names {
+                Some(n) => image.names(n).encode(catalog.fingerprint())?,
+                None => image.encode(catalog.fingerprint())?,
+            }
+        }
     })
 }
 
@@ -194,8 +198,8 @@ fn numbered(expansions: &[Expansion]) -> String {
 
 /// A tree as indented ascii lines, each prefixed by `indent`.
 fn indented<C: Catalog + ?Sized>(nodes: &[Node], values: &[u16], catalog: &C, indent: &str) -> String {
-    let text = notation::to_ascii_with(nodes, values, catalog)
-        .unwrap_or_else(|e| format!("(the tree cannot be shown: {e})\n"));
+    let text =
+        ascii::to_ascii_with(nodes, values, catalog).unwrap_or_else(|e| format!("(the tree cannot be shown: {e})\n"));
     text.lines().map(|l| format!("{indent}{l}\n")).collect()
 }
 
@@ -246,7 +250,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         );
         // A brick task's behavior set and names are fixed by its fingerprint: no names
         // section needed.
-        let bytes = render(args.format, &plan.nodes, &plan.values, plan.catalog.as_ref(), &NoPorts, None);
+        let bytes = render(args.format, &plan.nodes, &plan.values, plan.catalog.as_ref(), None);
         (bytes, summary(&plan.expansions, plan.nodes.len(), &verdict))
     } else {
         let (Some(dpath), Some(ppath)) = (&args.domain, &args.problem) else {
@@ -314,8 +318,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         // The problem's own names travel with the image: another problem of the same
         // domain has the same fingerprint but other objects.
         let title = format!("PDDL problem `{}` of domain `{}`", problem.name, domain.name);
-        let names = NameTable::of_pddl(&title, &catalog);
-        let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), catalog.as_ref(), Some(&names));
+        let names = Names::of(&title, catalog.as_ref(), catalog.objects());
+        let bytes = render(args.format, &plan.nodes, &plan.values, catalog.as_ref(), Some(&names));
         (bytes, summary(&plan.expansions, offline_nodes, &verdict))
     };
     let bytes = match bytes {

@@ -131,7 +131,7 @@ fn read_tree(path: &Path, spec: &Spec) -> anyhow::Result<Vec<Node>> {
     }
     let text = input::text(path, bytes)
         .map_err(|e| anyhow!("{e}; neither a tree image (no `BTIM` at the start) nor token text"))?;
-    planner::tokens::parse(&text, spec).map_err(|e| match e.at() {
+    bt_formats::tokens::parse(&text, spec).map_err(|e| match e.at() {
         Some(_) => anyhow!("{}:{e}", path.display()),
         None => anyhow!("{}: {e}", path.display()),
     })
@@ -167,7 +167,7 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
     let (trace, calls) = rec;
     let log = match &args.btlog {
         Some(_) => {
-            let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec, &btcpp::xml::NoPorts)
+            let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec)
                 .map_err(|err| anyhow!("{source}: no replay log: {err}"))?;
             let mut log = btcpp::btlog::RunLog::new(&log_tree, 0);
             // The episode gives bt-core `now` = k x TICK_MS on its tick k (from 0).

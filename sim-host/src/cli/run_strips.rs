@@ -59,7 +59,7 @@ fn read_tree(p: &StripsProblem, path: &Path) -> anyhow::Result<Vec<Node>> {
     let text = std::str::from_utf8(&bytes).map_err(|_| {
         anyhow!("{}: neither a tree image (no `BTIM` magic) nor token text (not UTF-8)", path.display())
     })?;
-    planner::tokens::parse(text, p.catalog()).map_err(|e| anyhow!("{}: {e}", path.display()))
+    bt_formats::tokens::parse(text, p.catalog()).map_err(|e| anyhow!("{}: {e}", path.display()))
 }
 
 pub fn run(args: &Args, tree: Option<&Path>) -> anyhow::Result<()> {

@@ -111,7 +111,7 @@ fn btlog(run: &scenario::Run) -> anyhow::Result<(Vec<u8>, u32, u32)> {
     let record = &run.record;
     let Some(last) = record.snapshots.last() else { anyhow::bail!("the run made no tree") };
     let from = record.expansions.last().map_or(0, |(t, _)| *t);
-    let tree = btcpp::btlog::LogTree::new(&last.nodes, run.catalog.as_ref(), &btcpp::xml::NoPorts)
+    let tree = btcpp::btlog::LogTree::new(&last.nodes, run.catalog.as_ref())
         .map_err(|e| anyhow::anyhow!("no replay log: {e}"))?;
     let mut log = btcpp::btlog::RunLog::new(&tree, i64::from((from + 1).saturating_mul(TICK_MS)) * 1000);
     let mut ticks = 0;

@@ -22,9 +22,11 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail};
+use bt_core::Catalog as _;
+use bt_formats::{Names, ascii, image::Image};
+use btcpp::xml::to_xml;
 use gp::{GenerationLog, Variant};
 use planner::duplo::Task;
-use planner::{NoPorts, output};
 
 use super::{RunOutcome, Subject, bricks, strips::StripsFitnessParams};
 use crate::text::count;
@@ -68,7 +70,7 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
     line("generations_run", &run.log.len());
     line("goal_sequence", &spec.goal_sequence);
     let catalog = spec.subject.catalog();
-    let mut tokens = planner::tokens::to_string(&best, catalog.as_ref())?;
+    let mut tokens = bt_formats::tokens::to_string(&best, catalog.as_ref())?;
     tokens.push('\n');
     match &spec.subject {
         Subject::Brick { task, world } => {
@@ -79,9 +81,9 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
             }
             record.push_str(&text);
             let spec = task.spec();
-            files.push(("best.bt", output::to_image(&best, &spec)?));
-            files.push(("best.txt", output::to_ascii(&best, &spec)?.into_bytes()));
-            files.push(("best.xml", output::to_xml(&best, &spec, &NoPorts)?.into_bytes()));
+            files.push(("best.bt", Image::new(&best).encode(spec.fingerprint())?));
+            files.push(("best.txt", ascii::to_ascii(&best, &spec)?.into_bytes()));
+            files.push(("best.xml", to_xml(&best, &spec)?.into_bytes()));
         }
         Subject::Strips { problem, tick_limit, disturbance } => {
             let f = StripsFitnessParams::default();
@@ -106,10 +108,10 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
             // The problem's own names travel with the image (another problem of the
             // same domain has the same fingerprint but other objects).
             let title = format!("PDDL problem `{}` of domain `{}`", problem.name(), problem.domain_name());
-            let names = planner::names::NameTable::of_pddl(&title, pddl);
-            files.push(("best.bt", output::to_image_named(&nodes, pddl, &names)?));
-            files.push(("best.txt", output::to_ascii(&nodes, pddl)?.into_bytes()));
-            files.push(("best.xml", output::to_xml(&nodes, pddl, pddl)?.into_bytes()));
+            let names = Names::of(&title, pddl, pddl.objects());
+            files.push(("best.bt", Image::new(&nodes).names(&names).encode(pddl.fingerprint())?));
+            files.push(("best.txt", ascii::to_ascii(&nodes, pddl)?.into_bytes()));
+            files.push(("best.xml", to_xml(&nodes, pddl)?.into_bytes()));
             files.push(("domain.pddl", problem.domain_text.clone().into_bytes()));
             files.push(("problem.pddl", problem.problem_text.clone().into_bytes()));
         }

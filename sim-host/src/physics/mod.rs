@@ -19,7 +19,7 @@
 //! use worlds::World;
 //!
 //! let spec = Task::Tower.spec();
-//! let nodes = planner::tokens::parse("pick 0!", &spec)?;
+//! let nodes = bt_formats::tokens::parse("pick 0!", &spec)?;
 //! let tree: Tree<'_, 8> = Tree::validate(&nodes, &spec)?;
 //! let mut state = vec![NodeState::IDLE; nodes.len()];
 //! let mut exec = Executor::new(tree, &mut state)?;

@@ -399,7 +399,7 @@ mod tests {
     #[test]
     fn draws_paths_goals_heights_and_the_tree() {
         let spec = Task::Tower.spec();
-        let nodes = planner::tokens::parse("s( pick 1! place on 0! apply force 1! )", &spec).unwrap();
+        let nodes = bt_formats::tokens::parse("s( pick 1! place on 0! apply force 1! )", &spec).unwrap();
         let tree: bt_core::Tree<'_, 8> = bt_core::Tree::validate(&nodes, &spec).unwrap();
         let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
         let mut trace = Trace::default();

@@ -10,7 +10,7 @@
 //! use sim_host::symbolic::SymbolicBrickWorld;
 //!
 //! let spec = Task::Tower.spec();
-//! let nodes = planner::tokens::parse(
+//! let nodes = bt_formats::tokens::parse(
 //!     "s( f( 0 at pos (0.0, 0.05, 0.0)? s( pick 0! place at (0.0, 0.05, 0.0)! ) ) )",
 //!     &spec,
 //! )?;

@@ -7,7 +7,7 @@ use sim_host::world::BrickWorld;
 
 /// Parses `text` against the task's behaviors.
 pub fn nodes(spec: &Spec, text: &str) -> Vec<Node> {
-    planner::tokens::parse(text, spec).unwrap_or_else(|e| panic!("{text}: {e}"))
+    bt_formats::tokens::parse(text, spec).unwrap_or_else(|e| panic!("{text}: {e}"))
 }
 
 /// How an episode ended.

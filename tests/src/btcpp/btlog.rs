@@ -14,7 +14,7 @@ use std::path::Path;
 
 use bt_core::{BehaviorId, BehaviorInfo, Catalog};
 use btcpp::btlog::{Log, LogTree, RunLog, Ticking, replay::status};
-use btcpp::xml::{ImportOptions, NoPorts, import_text};
+use btcpp::xml::{ImportOptions, import_text};
 
 use super::case::{Recorded, Tick};
 use super::run::{self, Comparison};
@@ -272,7 +272,7 @@ pub fn compare(rec: &Recorded, theirs: &[u8], diff: &Comparison) -> Result<Compa
     let nodes = run::build(&rec.case.spec)?;
     let image_xml_compared = canonical(rec);
     if image_xml_compared {
-        let mut image = LogTree::new(&nodes, &CaseLeaves::new(rec), &NoPorts).map_err(|e| format!("{name}: {e}"))?;
+        let mut image = LogTree::new(&nodes, &CaseLeaves::new(rec)).map_err(|e| format!("{name}: {e}"))?;
         // An image does not keep the tree's ID (its logs say `MainTree`).
         image.main.clone_from(&tree.main);
         if image.xml() != theirs.xml {
@@ -285,7 +285,7 @@ pub fn compare(rec: &Recorded, theirs: &[u8], diff: &Comparison) -> Result<Compa
     // What `sim-host export` writes for the same nodes numbers them as BehaviorTree.CPP
     // numbered the case's XML in its log.
     let exported = if !has_scripts(rec) {
-        btcpp::xml::to_xml(&nodes, run::catalog().as_slice(), &NoPorts).map_err(|e| format!("{name}: {e}"))?
+        btcpp::xml::to_xml(&nodes, run::catalog().as_slice()).map_err(|e| format!("{name}: {e}"))?
     } else {
         // Not exported from an image: the scripts' text is not in it.
         theirs.xml.clone()

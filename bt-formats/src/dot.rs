@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use bt_core::{Catalog, Node, NodeKind};
 
-use super::leaf_text;
+use crate::ascii::leaf_text;
 
 fn escape(s: &str) -> String {
     s.replace('\\', "\\\\").replace('"', "\\\"")

@@ -1,4 +1,4 @@
-//! The token notation of seed 003: a tree as one line of pre-order tokens.
+//! The token notation of Styrud et al.: a tree as one line of pre-order tokens.
 //!
 //! `s(` opens a reactive Sequence, `f(` a reactive Fallback, `)` closes the innermost
 //! open one, and a leaf is written by its name, which ends in `?` for a condition and
@@ -14,13 +14,17 @@
 //! other node kinds are refused with [`TokenError::NotExpressible`].
 //!
 //! ```
-//! use planner::duplo::Task;
-//! use planner::tokens;
+//! use bt_core::BehaviorInfo;
+//! use bt_formats::tokens;
 //!
-//! let spec = Task::Tower.spec();
-//! let nodes = tokens::parse("s( f( picked 0? pick 0! ) apply force 0! )", &spec)?;
+//! const SET: [BehaviorInfo<'static>; 3] = [
+//!     BehaviorInfo::condition("picked 0?", 0),
+//!     BehaviorInfo::action("pick 0!", 0),
+//!     BehaviorInfo::action("apply force 0!", 0),
+//! ];
+//! let nodes = tokens::parse("s( f( picked 0? pick 0! ) apply force 0! )", &SET[..])?;
 //! assert_eq!(nodes.len(), 5);
-//! assert_eq!(tokens::to_string(&nodes, &spec)?, "s( f( picked 0? pick 0! ) apply force 0! )");
+//! assert_eq!(tokens::to_string(&nodes, &SET[..])?, "s( f( picked 0? pick 0! ) apply force 0! )");
 //! # Ok::<(), tokens::TokenError>(())
 //! ```
 
@@ -55,6 +59,17 @@ fn quoted(text: &str) -> String {
     }
 }
 
+/// `n` and the noun, singular for 1: `1 control node`, `3 control nodes`.
+fn count(n: usize, noun: &str) -> String {
+    if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
+}
+
+/// `a` or `an` and the word, by its first letter's sound: `an Inverter`, `a Sequence`.
+fn article(word: &str) -> String {
+    let vowel = word.chars().next().is_some_and(|c| "aeiouAEIOU".contains(c));
+    format!("{} {word}", if vowel { "an" } else { "a" })
+}
+
 /// Why a tree could not be written as, or read from, tokens. Reading errors start with
 /// the `line:column` of the fault.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -62,7 +77,7 @@ pub enum TokenError {
     /// A node kind the notation has no token for.
     #[error(
         "the token notation cannot express this tree: node {node} is {}; it has only s( f( ) and leaves",
-        crate::wording::article(kind)
+        article(kind)
     )]
     NotExpressible {
         /// Index of the node.
@@ -101,7 +116,7 @@ pub enum TokenError {
         at: Location,
     },
     /// The text ended with control nodes still open.
-    #[error("{at}: the text ends with {} not closed", crate::wording::count(*open, "control node"))]
+    #[error("{at}: the text ends with {} not closed", count(*open, "control node"))]
     Unclosed {
         /// The end of the text.
         at: Location,
@@ -325,92 +340,26 @@ pub fn parse_with(text: &str, mut resolve: impl FnMut(&str) -> Option<NodeKind>)
 
 #[cfg(test)]
 mod tests {
+    use bt_core::BehaviorInfo;
+
     use super::*;
-    use crate::duplo::Task;
+
+    const SET: [BehaviorInfo<'static>; 3] = [
+        BehaviorInfo::condition("0 at pos (0.0, 0.05, 0.0)?", 0),
+        BehaviorInfo::action("pick 0!", 0),
+        BehaviorInfo::action("MoveTo", 0),
+    ];
 
     #[test]
-    fn round_trips_every_brick_behavior() {
-        for task in Task::ALL {
-            let spec = task.spec();
-            let leaves: Vec<&str> = spec.names.iter().map(String::as_str).collect();
-            let text = format!("f( s( {} ) )", leaves.join(" "));
-            let nodes = parse(&text, &spec).unwrap();
-            assert_eq!(nodes.len(), leaves.len() + 2);
-            assert_eq!(to_string(&nodes, &spec).unwrap(), text);
-        }
-    }
-
-    #[test]
-    fn nested_controls_and_sizes() {
-        let spec = Task::Tower.spec();
-        let nodes = parse("s( f( 0 on 1? s( pick 0! place on 1! ) ) apply force 0! )", &spec).unwrap();
-        let sizes: Vec<u16> = nodes.iter().map(Node::size).collect();
-        assert_eq!(sizes, [7, 5, 1, 3, 1, 1, 1]);
-        assert_eq!(nodes[2].kind(), &NodeKind::Condition(Leaf::new(spec.id_by_name("0 on 1?").unwrap())));
-    }
-
-    fn at(line: usize, column: usize) -> Location {
-        Location { line, column }
-    }
-
-    #[test]
-    fn errors_name_the_line_and_column() {
-        let spec = Task::Tower.spec();
-        assert_eq!(parse("s( pick 9! )", &spec), Err(TokenError::UnknownLeaf { at: at(1, 4), name: "pick 9!".into() }));
-        assert_eq!(parse("s( pick 0! ) )", &spec), Err(TokenError::SecondTree { at: at(1, 14) }));
-        assert_eq!(parse("pick 0! )", &spec), Err(TokenError::SecondTree { at: at(1, 9) }));
-        assert_eq!(parse(")", &spec), Err(TokenError::UnbalancedClose { at: at(1, 1) }));
-        assert_eq!(parse("s( f( )", &spec), Err(TokenError::EmptyControl { at: at(1, 7) }));
-        assert_eq!(parse("s( pick 0!", &spec), Err(TokenError::Unclosed { at: at(1, 11), open: 1 }));
-        assert_eq!(parse("s( hello )", &spec), Err(TokenError::BadToken { at: at(1, 4), text: "hello".into() }));
-        assert_eq!(parse("   ", &spec), Err(TokenError::Empty));
-        // A condition name written as an action is unknown.
-        assert!(matches!(
-            parse("picked 0!", &spec),
-            Err(TokenError::UnknownLeaf { at: Location { line: 1, column: 1 }, .. })
-        ));
-        // Lines and columns, in characters, after line breaks and non-ASCII text.
-        let text = "s(\n  f( picked 0? pick 0! )\n  pick 9!\n)";
-        assert_eq!(parse(text, &spec), Err(TokenError::UnknownLeaf { at: at(3, 3), name: "pick 9!".into() }));
-        assert_eq!(parse("s( é\n  bad )", &spec), Err(TokenError::BadToken { at: at(1, 4), text: "é".into() }));
-        assert_eq!(parse("s(\n\n      x", &spec), Err(TokenError::BadToken { at: at(3, 7), text: "x".into() }));
+    fn names_with_spaces_and_without_marks_read_back() {
+        let text = "f( 0 at pos (0.0, 0.05, 0.0)? s( pick 0! MoveTo! ) )";
+        let nodes = parse(text, &SET[..]).unwrap();
+        assert_eq!(nodes.iter().map(Node::size).collect::<Vec<_>>(), [5, 1, 3, 1, 1]);
+        assert_eq!(to_string(&nodes, &SET[..]).unwrap(), text);
         assert_eq!(
-            parse("s( pick 0!\n", &spec).map_err(|e| e.to_string()),
-            Err("2:1: the text ends with 1 control node not closed".into())
+            parse("s(\n  MoveTo", &SET[..]).map_err(|e| e.to_string()),
+            Err("2:3: `MoveTo` is not a token (leaves end in `?` or `!` on the same line, controls are `s(`, `f(`, `)`)"
+                .into())
         );
-    }
-
-    #[test]
-    fn long_names_are_cut_in_messages() {
-        let spec = Task::Tower.spec();
-        let long = format!("s( {}! )", "x".repeat(1_000_000));
-        let e = parse(&long, &spec).unwrap_err().to_string();
-        assert!(e.len() < 200, "{e}");
-        assert!(e.starts_with("1:4: unknown behavior `xxxx") && e.ends_with("... (1000001 characters)`"), "{e}");
-    }
-
-    #[test]
-    fn the_largest_tree_a_u16_count_allows_is_read() {
-        let spec = Task::Tower.spec();
-        let most = usize::from(u16::MAX);
-        let text = format!("s( {})", "pick 0! ".repeat(most - 1));
-        let nodes = parse(&text, &spec).unwrap();
-        assert_eq!(nodes.len(), most);
-        assert_eq!(nodes[0].size(), u16::MAX);
-        let over = format!("s( {})", "pick 0! ".repeat(most));
-        assert_eq!(parse(&over, &spec), Err(TokenError::TooLong { at: at(1, 4 + 8 * (most - 1)) }));
-    }
-
-    #[test]
-    fn other_kinds_are_refused() {
-        let spec = Task::Tower.spec();
-        let nodes = [Node::new(NodeKind::Inverter, 2), Node::new(NodeKind::Condition(Leaf::new(0)), 1)];
-        assert_eq!(to_string(&nodes, &spec), Err(TokenError::NotExpressible { node: 0, kind: "Inverter" }));
-        assert_eq!(
-            to_string(&nodes, &spec).unwrap_err().to_string(),
-            "the token notation cannot express this tree: node 0 is an Inverter; it has only s( f( ) and leaves"
-        );
-        let bad = [Node::new(NodeKind::Sequence, 3), Node::new(NodeKind::Condition(Leaf::new(0)), 1)];
-        assert_eq!(to_string(&bad, &spec), Err(TokenError::Malformed { node: 0, size: 3 }));
     }
 }
