@@ -3,15 +3,12 @@
 //! summed up per domain. `sim-host bench-pddl` drives it, one process per instance.
 //!
 //! **Disturbances** are the external agents of Problem 1 in seed 000, acting at random
-//! ticks (seeded): one *undoes* the robot's last completed action (the world goes
-//! back to the state before it), the other *helps* by doing an action the tree
-//! contains that is applicable at that moment (the world jumps to its result). Both
-//! leave the world in a state the domain can produce. During disturbed episodes an
-//! action whose preconditions were changed under it fails instead of completing
-//! ([`StripsWorld::set_checked_completion`]). The tree is run as planned, without
-//! expanding it at run time, and ticked on after a root Failure as a robot would: an
-//! episode ends at the goal, at [`Settings::failures`] Failures in a row (2 by
-//! default), or at its tick budget ([`episode_ticks`]).
+//! ticks (seeded): one *undoes* the robot's last completed action, the other *helps* by
+//! doing an action the tree contains ([`crate::strips::disturb`], the model learning
+//! uses too). The tree is run as planned, without expanding it at run time, and ticked
+//! on after a root Failure as a robot would: an episode ends at the goal, at
+//! [`Settings::failures`] Failures in a row (2 by default), or at its tick budget
+//! ([`episode_ticks`]).
 //!
 //! Some domains have actions that cannot be undone (a peg jumped in peg solitaire, a
 //! tile painted in floortile, fuel burnt in nomystery): a disturbance there can leave
@@ -25,12 +22,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use bt_core::{Catalog, Node, NodeKind};
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use bt_core::{Catalog, Node};
 
-use crate::ground::{ActionId, Grounding, Limits};
+use crate::ground::{Grounding, Limits};
 use crate::state::State;
+use crate::strips::disturb::{Disturbance, tree_actions};
 use crate::strips::{self, StripsWorld};
 use crate::{Made, Options, PddlCatalog, PlanError, pddl};
 
@@ -114,6 +110,14 @@ pub struct Settings {
     pub close_backchained: bool,
     /// Plan with this [`Options::close_nodes`].
     pub close_nodes: usize,
+}
+
+impl Settings {
+    /// The agents of the disturbed episodes.
+    #[must_use]
+    pub fn disturbance(&self) -> Disturbance {
+        Disturbance { rate: self.rate, max: self.max_disturbances, seed: self.seed }
+    }
 }
 
 impl Default for Settings {
@@ -278,23 +282,6 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
     out
 }
 
-/// The ground actions of a tree's action leaves.
-fn tree_actions(nodes: &[Node], values: &[u16], g: &Grounding) -> Vec<ActionId> {
-    let mut out = Vec::new();
-    let mut buf = Vec::new();
-    for n in nodes {
-        if let NodeKind::Action(leaf) = n.kind() {
-            g.leaf_actions_of(leaf, leaf.args_in(values), &mut buf);
-            for &a in &buf {
-                if !out.contains(&a) {
-                    out.push(a);
-                }
-            }
-        }
-    }
-    out
-}
-
 /// What the disturbed episodes of a tree came to.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Disturbed {
@@ -418,7 +405,7 @@ pub fn disturbed<C: Catalog + ?Sized>(
             let mut w = StripsWorld::new(g.clone());
             w.set_state(s.clone());
             let ends = strips::Ends { on_loop: false, failures: settings.failures };
-            Ok(strips::run_to_goal((nodes, values), catalog, &mut w, budget, ends, |_, _| {}, &mut states)?.reached())
+            Ok(strips::run_to_goal((nodes, values), catalog, &mut w, budget, ends, (), &mut states)?.reached())
         };
         for (before, after) in &changes {
             if solvable.from(after) == Some(false) && (tree_reaches(before)? || solvable.from(before) == Some(true)) {
@@ -447,57 +434,22 @@ pub(crate) fn episodes<C: Catalog + ?Sized>(
 ) -> Result<Vec<Episode>, PlanError> {
     let helpers = tree_actions(nodes, values, g);
     let budget = episode_ticks(undisturbed_ticks);
+    let agents = settings.disturbance();
     let mut out = Vec::new();
     let mut states = Vec::new();
     for e in 0..settings.episodes {
-        let mut rng = ChaCha8Rng::seed_from_u64(settings.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ u64::from(e));
         let mut world = StripsWorld::new(g.clone());
-        world.set_checked_completion(true);
-        let mut history: Vec<(State, usize)> = Vec::new();
-        // The state before and after each disturbance.
-        let mut changes: Vec<(State, State)> = Vec::new();
+        let mut agents = agents.agents(helpers.clone(), e);
         let verdict = strips::run_to_goal(
             (nodes, values),
             catalog,
             &mut world,
             budget,
             strips::Ends { on_loop: false, failures: settings.failures },
-            |_, w| {
-                history.push((w.state().clone(), w.executed().len()));
-                if changes.len() as u32 >= settings.max_disturbances
-                    || w.goal_reached()
-                    || !rng.random_bool(settings.rate)
-                {
-                    return;
-                }
-                let done = w.executed().len();
-                let before = w.state().clone();
-                if rng.random_bool(0.5) {
-                    // Undo: back to the state before the last completed action.
-                    if let Some((earlier, _)) = history.iter().rev().find(|h| h.1 < done) {
-                        w.set_state(earlier.clone());
-                        changes.push((before, w.state().clone()));
-                    }
-                } else {
-                    let options: Vec<ActionId> = helpers
-                        .iter()
-                        .copied()
-                        .filter(|&a| g.action(a).is_some_and(|x| x.applicable(w.state())))
-                        .collect();
-                    if !options.is_empty() {
-                        let a = options[rng.random_range(0..options.len())];
-                        let mut s = w.state().clone();
-                        if let Some(x) = g.action(a) {
-                            x.apply(&mut s);
-                        }
-                        w.set_state(s);
-                        changes.push((before, w.state().clone()));
-                    }
-                }
-            },
+            &mut agents,
             &mut states,
         )?;
-        out.push((verdict.reached(), changes));
+        out.push((verdict.reached(), agents.into_changes()));
     }
     Ok(out)
 }

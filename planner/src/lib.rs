@@ -21,7 +21,7 @@
 //! let mut storage = vec![bt_core::Node::EMPTY; p.nodes.len()];
 //! let tree: bt_core::Tree<'_, 32> = bt_core::load(&image, catalog.as_ref(), &mut storage)?;
 //! let mut world = StripsWorld::new(g);
-//! let out = strips::run(tree.nodes(), catalog.as_ref(), &mut world, 100, |_, _| {}, &mut Vec::new())?;
+//! let out = strips::run((tree.nodes(), &[]), catalog.as_ref(), &mut world, 100, (), &mut Vec::new())?;
 //! assert_eq!(out.status, bt_core::Status::Success);
 //! assert!(world.holds_named("at", &["cube", "goal"]));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -63,9 +63,9 @@ mod wording;
 pub use catalog::PddlCatalog;
 pub use error::PlanError;
 pub use offline::{GaveUp, Made, Plan, covered_line, plan, variables_line};
-pub use planner::{Blended, ConflictStep, Expansion, Method, Options, Planner, run_blended};
+pub use planner::{ConflictStep, Expansion, Method, Options, Planner};
 pub use refine::Refinement;
-pub use run_time::{AtRunTime, Change, ChangeError, expand_at, parse_changes};
+pub use run_time::{AtRunTime, Belief, Blended, Change, ChangeError, Expanding, expand_at, parse_changes, run_blended};
 pub use tree::DEPTH;
 
 /// Plans a brick task with explicit [`Options`] (see [`duplo::plan`]).

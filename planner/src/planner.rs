@@ -5,7 +5,7 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use bt_core::{Catalog, Node, NodeState, Status};
+use bt_core::{Node, NodeState};
 
 use crate::PlanError;
 use crate::algorithm::{self, Move};
@@ -13,7 +13,6 @@ use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;
 use crate::refine::Refinement;
 use crate::state::State;
-use crate::strips::{self, StripsWorld};
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
 use crate::variables::{Choice, Variables};
 
@@ -576,54 +575,5 @@ impl Planner {
             Kind::Action(a) => Some(a),
             _ => None,
         }
-    }
-}
-
-/// How a blended run ended.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Blended {
-    /// The root's last status (Running when the tick budget ran out).
-    pub status: Status,
-    /// Ticks made, in total.
-    pub ticks: u32,
-    /// The expansions made on the way, with the tick of the failure that caused each.
-    pub expansions: Vec<(u32, Expansion)>,
-}
-
-/// Blended planning and acting (Section V, Example 2) in the symbolic world: ticks the
-/// planner's tree in `world`; whenever the root returns Failure, asks the planner to
-/// expand the tree in place ([`Planner::on_failure`], with the world's state as belief)
-/// and goes on with the new tree from the world as it is. `script(tick, world)` runs
-/// before every tick (tick numbers continue across expansions), for external agents.
-///
-/// # Errors
-/// Those of [`Planner::on_failure`] and [`strips::run`].
-pub fn run_blended<C: Catalog + ?Sized>(
-    planner: &mut Planner,
-    catalog: &C,
-    world: &mut StripsWorld,
-    max_ticks: u32,
-    mut script: impl FnMut(u32, &mut StripsWorld),
-) -> Result<Blended, PlanError> {
-    let mut states = Vec::new();
-    let mut ticks = 0;
-    let mut expansions = Vec::new();
-    loop {
-        let base = ticks;
-        let out = strips::run_with(
-            planner.nodes(),
-            planner.values(),
-            catalog,
-            world,
-            max_ticks - ticks,
-            |t, w| script(base + t, w),
-            &mut states,
-        )?;
-        ticks += out.ticks;
-        if out.status != Status::Failure || ticks >= max_ticks {
-            return Ok(Blended { status: out.status, ticks, expansions });
-        }
-        let belief = world.state().clone();
-        expansions.push((ticks, planner.on_failure(&states, &belief)?));
     }
 }

@@ -26,7 +26,9 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use bt_core::Catalog;
+use bt_core::{Catalog, LoadError, NodeState, Status, Tree};
+use worlds::end::{Failures, Finished, GoalReached, Loops};
+use worlds::{Agent, Clock, RunError, RunErrorKind, Runner, Settings, Stop, Trees};
 
 use crate::PlanError;
 use crate::ground::{ActionId, AtomId, Grounding};
@@ -186,6 +188,124 @@ pub struct AtRunTime {
     pub goal_ticks_initial: u32,
 }
 
+/// What the planner believes about a world: the state its expansions start from.
+pub trait Belief {
+    /// Each ground atom of `g`, as the world has it now.
+    fn belief(&mut self, g: &Grounding) -> State;
+}
+
+impl Belief for StripsWorld {
+    fn belief(&mut self, _: &Grounding) -> State {
+        self.state().clone()
+    }
+}
+
+/// The planner's tree as the tree of an episode that grows at run time
+/// ([`worlds::Runner::run_growing`]): whenever the root fails, Algorithm 1 expands it in
+/// place ([`Planner::on_failure`], lines 9-12, with the world's [`Belief`]), and the
+/// episode goes on with the grown tree from the world as it is.
+#[derive(Debug)]
+pub struct Expanding<'a, C: ?Sized> {
+    /// The planner that grows the tree.
+    pub planner: &'a mut Planner,
+    catalog: &'a C,
+    until: u32,
+    /// The expansions made, with the tick of the failure that caused each.
+    pub expansions: Vec<(u32, Expansion)>,
+    /// With [`crate::Options::record_steps`]: the tree after each expansion.
+    pub steps: Vec<Vec<bt_core::Node>>,
+}
+
+impl<'a, C: Catalog + ?Sized> Expanding<'a, C> {
+    /// The planner's tree, validated against `catalog`, expanded at every root Failure.
+    pub fn new(planner: &'a mut Planner, catalog: &'a C) -> Self {
+        Self { planner, catalog, until: u32::MAX, expansions: Vec::new(), steps: Vec::new() }
+    }
+
+    /// Expands only at Failures before tick `tick`; a later one ends the episode.
+    #[must_use]
+    pub fn until(mut self, tick: u32) -> Self {
+        self.until = tick;
+        self
+    }
+}
+
+impl<W: Belief + ?Sized, C: Catalog + ?Sized> Trees<W> for Expanding<'_, C> {
+    type Growth = Expansion;
+    type Error = PlanError;
+
+    fn tree<const D: usize>(&self) -> Result<Tree<'_, D>, LoadError> {
+        Tree::validate_with(self.planner.nodes(), self.planner.values(), self.catalog)
+    }
+
+    fn grow(&mut self, tick: u32, states: &[NodeState], world: &mut W) -> Result<Option<Expansion>, PlanError> {
+        if tick >= self.until {
+            return Ok(None);
+        }
+        let belief = world.belief(self.planner.grounding());
+        let e = self.planner.on_failure(states, &belief)?;
+        self.expansions.push((tick, e.clone()));
+        if self.planner.options().record_steps {
+            self.steps.push(self.planner.nodes().to_vec());
+        }
+        Ok(Some(e))
+    }
+}
+
+/// The planner's settings of a run in the symbolic world (as [`strips::run`]'s).
+fn symbolic(limit: u32) -> Settings {
+    Settings {
+        limit,
+        clock: Clock { ms_per_tick: 1, first: 1 },
+        moves_on_at_limit: false,
+        moves_on_at_stop: false,
+        halt_at_limit: true,
+    }
+}
+
+/// A [`RunError`] of the symbolic world as the planner's error.
+fn plan_error(e: RunError<PlanError>) -> PlanError {
+    match e.kind {
+        RunErrorKind::Invalid(e) => PlanError::InvalidTree(e.to_string()),
+        RunErrorKind::Tick(e) => PlanError::Tick(e),
+        RunErrorKind::Grow(e) => e,
+    }
+}
+
+/// How a blended run ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Blended {
+    /// The root's last status (Running when the tick budget ran out).
+    pub status: Status,
+    /// Ticks made, in total.
+    pub ticks: u32,
+    /// The expansions made on the way, with the tick of the failure that caused each.
+    pub expansions: Vec<(u32, Expansion)>,
+}
+
+/// Blended planning and acting (Section V, Example 2) in the symbolic world: ticks the
+/// planner's tree in `world`; whenever the root returns Failure, asks the planner to
+/// expand the tree in place ([`Planner::on_failure`], with the world's state as belief)
+/// and goes on with the new tree from the world as it is, until the root succeeds or
+/// the tick budget runs out (a Failure on its last tick is not expanded). `agents` act
+/// before every tick (tick numbers continue across expansions).
+///
+/// # Errors
+/// Those of [`Planner::on_failure`] and [`strips::run`].
+pub fn run_blended<C: Catalog + ?Sized>(
+    planner: &mut Planner,
+    catalog: &C,
+    world: &mut StripsWorld,
+    max_ticks: u32,
+    mut agents: impl Agent<StripsWorld>,
+) -> Result<Blended, PlanError> {
+    let mut trees = Expanding::new(planner, catalog).until(max_ticks);
+    let out = Runner::new(symbolic(max_ticks))
+        .run_growing::<{ crate::DEPTH }, _, _, _, _, _>(&mut trees, world, &mut Finished, &mut agents, &mut ())
+        .map_err(plan_error)?;
+    Ok(Blended { status: out.root, ticks: out.ticks, expansions: trees.expansions })
+}
+
 /// Runs the planner's tree in the symbolic world from the initial state with
 /// `changes` applied, as a robot would at run time (Example 2 of seed 000): whenever
 /// the root fails, expands the tree in place ([`Planner::on_failure`], Algorithm 1
@@ -210,46 +330,31 @@ pub fn expand_at<C: Catalog + ?Sized>(
     let start = state_with(&g, changes);
     let mut world = StripsWorld::new(g.clone());
     world.set_state(start.clone());
-    let mut states = Vec::new();
-    let mut expansions = Vec::new();
-    let mut steps = Vec::new();
-    let mut ticks: u32 = 0;
-    loop {
-        let tree = (planner.nodes(), planner.values());
-        let verdict = strips::run_to_goal(
-            tree,
-            catalog,
-            &mut world,
-            max_ticks - ticks,
-            strips::Ends::DETERMINISTIC,
-            |_, _| {},
-            &mut states,
-        )?;
-        match verdict {
-            Verdict::Reached { ticks: t } => {
-                ticks += t;
-                break;
-            }
-            Verdict::Failed { ticks: t } => {
-                ticks += t;
-                let belief = world.state().clone();
-                match planner.on_failure(&states, &belief) {
-                    Ok(e) => expansions.push(e),
-                    Err(e) => return Err(stuck(e, planner, GIVEN)),
-                }
-                if planner.options().record_steps {
-                    steps.push(planner.nodes().to_vec());
-                }
-                if ticks >= max_ticks {
-                    return Err(stuck(PlanError::NoProgress { ticks }, planner, GIVEN));
-                }
-            }
-            Verdict::Oscillates { actions } => return Err(oscillates(&g, &actions, planner, GIVEN)),
-            Verdict::OutOfTicks { .. } => {
-                return Err(stuck(PlanError::NoProgress { ticks: max_ticks }, planner, GIVEN));
-            }
+    let mut loops = Loops::default();
+    let mut trees = Expanding::new(planner, catalog);
+    let mut ends = (Failures::first(), GoalReached, &mut loops);
+    let out = Runner::new(symbolic(max_ticks)).run_growing::<{ crate::DEPTH }, _, _, _, _, _>(
+        &mut trees,
+        &mut world,
+        &mut ends,
+        &mut (),
+        &mut (),
+    );
+    let Expanding { expansions, steps, .. } = trees;
+    let out = out.map_err(|e| match e.kind {
+        RunErrorKind::Grow(e) => stuck(e, planner, GIVEN),
+        kind => plan_error(RunError { tick: e.tick, kind }),
+    })?;
+    match out.stop {
+        Stop::Goal => {}
+        Stop::Loop => {
+            let actions = world.executed().get(loops.repeats_from().unwrap_or(0)..).unwrap_or(&[]);
+            return Err(oscillates(&g, actions, planner, GIVEN));
         }
+        _ => return Err(stuck(PlanError::NoProgress { ticks: max_ticks }, planner, GIVEN)),
     }
+    let ticks = out.ticks;
+    let expansions = expansions.into_iter().map(|(_, e)| e).collect();
     let goal_ticks_given = afresh(planner, catalog, Some(start), max_ticks, GIVEN)?;
     let goal_ticks_initial = afresh(planner, catalog, None, max_ticks, "the initial state")?;
     Ok(AtRunTime { expansions, steps, ticks, goal_ticks_given, goal_ticks_initial })
@@ -269,15 +374,7 @@ fn afresh<C: Catalog + ?Sized>(
         world.set_state(s);
     }
     let tree = (planner.nodes(), planner.values());
-    match strips::run_to_goal(
-        tree,
-        catalog,
-        &mut world,
-        max_ticks,
-        strips::Ends::DETERMINISTIC,
-        |_, _| {},
-        &mut Vec::new(),
-    )? {
+    match strips::run_to_goal(tree, catalog, &mut world, max_ticks, strips::Ends::DETERMINISTIC, (), &mut Vec::new())? {
         Verdict::Reached { ticks } => Ok(ticks),
         Verdict::Failed { ticks } => Err(not_reached(planner, from, format!("the root fails at tick {ticks}"))),
         Verdict::Oscillates { actions } => Err(oscillates(&g, &actions, planner, from)),

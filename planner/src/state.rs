@@ -3,9 +3,20 @@
 use crate::ground::AtomId;
 
 /// The atoms that hold, one bit each.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Debug, Default, PartialEq, Eq, Hash)]
 pub struct State {
     words: Vec<u64>,
+}
+
+impl Clone for State {
+    fn clone(&self) -> Self {
+        Self { words: self.words.clone() }
+    }
+
+    /// Reuses the storage: an episode that resets its world allocates nothing.
+    fn clone_from(&mut self, source: &Self) {
+        self.words.clone_from(&source.words);
+    }
 }
 
 impl State {

@@ -156,7 +156,7 @@ fn the_factored_tree_starts_the_first_rule_that_holds() {
             &mut world,
             1,
             strips::Ends::RANDOM,
-            |_, _| {},
+            (),
             &mut states,
         )
         .unwrap();
@@ -309,7 +309,7 @@ fn a_closed_backchained_tree_reaches_the_goal_wherever_one_disturbance_leads() {
                     &mut world,
                     coverage::episode_ticks(p.goal_ticks.unwrap()),
                     strips::Ends::DETERMINISTIC,
-                    |_, _| {},
+                    (),
                     &mut states,
                 )
                 .unwrap();
@@ -508,7 +508,7 @@ fn a_guided_tree_redoes_the_step_behind_a_condition_it_only_checked() {
             &mut world,
             100,
             strips::Ends::DETERMINISTIC,
-            |_, _| {},
+            (),
             &mut states,
         )
         .unwrap();

@@ -10,6 +10,7 @@ use btcpp::xml::to_xml;
 use planner::ground::Grounding;
 use planner::strips::{self, StripsWorld};
 use planner::{Options, PddlCatalog, domains, plan};
+use worlds::agent::BeforeTicks;
 
 fn plan_load_run(g: Grounding) -> (Vec<Node>, Arc<PddlCatalog>, u32) {
     let g = Arc::new(g);
@@ -20,7 +21,7 @@ fn plan_load_run(g: Grounding) -> (Vec<Node>, Arc<PddlCatalog>, u32) {
     let tree: Tree<'_, 64> = bt_core::load(&image, c.as_ref(), &mut storage).unwrap();
     assert_eq!(tree.nodes(), &p.nodes[..]);
     let mut world = StripsWorld::new(g);
-    let out = strips::run(tree.nodes(), c.as_ref(), &mut world, 1000, |_, _| {}, &mut Vec::new()).unwrap();
+    let out = strips::run((tree.nodes(), &[]), c.as_ref(), &mut world, 1000, (), &mut Vec::new()).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(world.goal_reached());
     assert_eq!(Some(out.ticks), p.goal_ticks);
@@ -115,14 +116,14 @@ fn refinement_all_keeps_every_grounding_and_still_reaches_the_goal() {
     let mut planner = p.planner;
     let mut world = StripsWorld::new(g);
     let mut given = false;
-    let out = planner::run_blended(&mut planner, c.as_ref(), &mut world, 200, |_, w| {
+    let script = BeforeTicks(|_, w: &mut StripsWorld| {
         if !given && w.holds_named("near", &["sphere"]) {
             w.set_named("holding", &["cube"], true);
             w.set_named("hand-empty", &[], false);
             given = true;
         }
-    })
-    .unwrap();
+    });
+    let out = planner::run_blended(&mut planner, c.as_ref(), &mut world, 200, script).unwrap();
     assert_eq!(out.status, Status::Success);
     let hand = out.expansions.iter().find(|e| e.1.condition == "hand-empty").unwrap();
     assert_eq!(hand.1.actions, ["place(cube, goal)", "place(sphere, goal)", "drop(cube)", "drop(sphere)"]);

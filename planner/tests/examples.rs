@@ -8,6 +8,7 @@ use bt_formats::tokens;
 use planner::algorithm::Move;
 use planner::strips::StripsWorld;
 use planner::{Options, PddlCatalog, domains, plan, run_blended};
+use worlds::agent::BeforeTicks;
 
 fn toks(nodes: &[bt_core::Node], c: &PddlCatalog) -> String {
     tokens::to_string(nodes, c).unwrap()
@@ -64,7 +65,7 @@ fn example_2_offline_resolves_the_conflict_into_fig_4() {
     assert_eq!(rest, ["near(sphere)"]);
     assert!(p.goal_ticks.is_some());
     let mut world = StripsWorld::new(g);
-    let out = planner::strips::run(&p.nodes, c.as_ref(), &mut world, 100, |_, _| {}, &mut Vec::new()).unwrap();
+    let out = planner::strips::run((&p.nodes, &[]), c.as_ref(), &mut world, 100, (), &mut Vec::new()).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(world.holds_named("at", &["cube", "goal"]));
 }
@@ -78,14 +79,14 @@ fn example_2_at_run_time_expands_once_into_fig_4_then_reaches_the_goal() {
     let mut world = StripsWorld::new(g.clone());
     let move_goal = action(&g, "move-to(goal)");
     let mut blocked_at = None;
-    let out = run_blended(&mut planner, c.as_ref(), &mut world, 200, |t, w| {
+    let script = BeforeTicks(|t, w: &mut StripsWorld| {
         // The sphere rolls into the path while the robot carries the cube to the goal.
         if blocked_at.is_none() && w.starts(move_goal) == 1 && w.holds_named("holding", &["cube"]) {
             w.set_named("path-free", &["goal"], false);
             blocked_at = Some(t);
         }
-    })
-    .unwrap();
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 200, script).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(blocked_at.is_some());
     let first = &out.expansions[0].1;
@@ -105,20 +106,20 @@ fn example_2_first_expansion_is_exactly_fig_4() {
     let mut world = StripsWorld::new(g.clone());
     // Carry the cube: run until holding, then block the path and tick once.
     let out = planner::strips::run(
-        planner.nodes(),
+        (planner.nodes(), &[]),
         c.as_ref(),
         &mut world,
         100,
-        |_, w| {
+        BeforeTicks(|_, w: &mut StripsWorld| {
             if w.holds_named("holding", &["cube"]) {
                 w.set_named("path-free", &["goal"], false);
             }
-        },
+        }),
         &mut Vec::new(),
     );
     assert_eq!(out.unwrap().status, Status::Failure);
     let mut states = Vec::new();
-    let again = planner::strips::run(planner.nodes(), c.as_ref(), &mut world, 1, |_, _| {}, &mut states).unwrap();
+    let again = planner::strips::run((planner.nodes(), &[]), c.as_ref(), &mut world, 1, (), &mut states).unwrap();
     assert_eq!(again.status, Status::Failure);
     let e = planner.on_failure(&states, world.state()).unwrap();
     assert_eq!(e.condition, "path-free(goal)");

@@ -62,8 +62,7 @@ fn leaves_with_four_and_five_arguments_plan_encode_load_and_run() {
     assert_eq!(tree.values(), &plan.values[..]);
 
     let mut world = StripsWorld::new(g);
-    let out =
-        strips::run_with(&plan.nodes, &plan.values, c.as_ref(), &mut world, 100, |_, _| {}, &mut Vec::new()).unwrap();
+    let out = strips::run((&plan.nodes, &plan.values), c.as_ref(), &mut world, 100, (), &mut Vec::new()).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(world.goal_reached());
     assert_eq!(world.executed(), &plan.executed[..]);

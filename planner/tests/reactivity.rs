@@ -9,6 +9,7 @@ use planner::ground::Grounding;
 use planner::model::{DomainBuilder, ProblemBuilder};
 use planner::strips::StripsWorld;
 use planner::{Options, PddlCatalog, Planner, domains, plan, run_blended};
+use worlds::agent::BeforeTicks;
 
 fn action(g: &Grounding, name: &str) -> u32 {
     (0..g.actions().len() as u32).find(|&a| g.action_name(a) == name).unwrap()
@@ -27,15 +28,15 @@ fn an_undone_action_is_redone_without_expanding() {
     let pick = action(&g, "pick(cube)");
     let mut world = StripsWorld::new(g);
     let mut undone = false;
-    let out = run_blended(&mut planner, c.as_ref(), &mut world, 100, |_, w| {
+    let script = BeforeTicks(|_, w: &mut StripsWorld| {
         // An external agent takes the cube out of the hand once it has been picked.
         if !undone && w.completions(pick) == 1 {
             w.set_named("holding", &["cube"], false);
             w.set_named("hand-empty", &[], true);
             undone = true;
         }
-    })
-    .unwrap();
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 100, script).unwrap();
     assert!(undone);
     assert_eq!(out.status, Status::Success);
     assert!(out.expansions.is_empty());
@@ -48,14 +49,14 @@ fn a_helped_action_is_skipped_without_expanding() {
     let pick = action(&g, "pick(cube)");
     let reach = action(&g, "move-to(cube)");
     let mut world = StripsWorld::new(g);
-    let out = run_blended(&mut planner, c.as_ref(), &mut world, 100, |t, w| {
+    let script = BeforeTicks(|t, w: &mut StripsWorld| {
         // An external agent hands the cube to the robot before it moves.
         if t == 1 {
             w.set_named("holding", &["cube"], true);
             w.set_named("hand-empty", &[], false);
         }
-    })
-    .unwrap();
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 100, script).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(out.expansions.is_empty());
     assert_eq!((world.starts(reach), world.starts(pick)), (0, 0));
@@ -119,12 +120,12 @@ fn with_two_achieving_actions_the_second_is_used_when_the_first_fails() {
     let mut world = StripsWorld::new(g);
     // Someone latches the door before the robot pushes it: pushing cannot work any
     // more, unlocking it with the key still does.
-    let out = run_blended(&mut planner, c.as_ref(), &mut world, 50, |t, w| {
+    let script = BeforeTicks(|t, w: &mut StripsWorld| {
         if t == 1 {
             w.set_named("unlatched", &["front"], false);
         }
-    })
-    .unwrap();
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 50, script).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(out.expansions.is_empty());
     assert_eq!((world.starts(push), world.completions(unlock)), (0, 1));
@@ -136,13 +137,13 @@ fn a_condition_assumed_true_that_turns_false_is_expanded_on_the_fly() {
     let (g, c, mut planner) = cube();
     let before = planner.nodes().len();
     let mut world = StripsWorld::new(g);
-    let out = run_blended(&mut planner, c.as_ref(), &mut world, 200, |t, w| {
+    let script = BeforeTicks(|t, w: &mut StripsWorld| {
         // The path to the cube, free when the tree was planned, is blocked at run time.
         if t == 1 {
             w.set_named("path-free", &["cube"], false);
         }
-    })
-    .unwrap();
+    });
+    let out = run_blended(&mut planner, c.as_ref(), &mut world, 200, script).unwrap();
     assert_eq!(out.status, Status::Success);
     assert_eq!(out.expansions[0].1.condition, "path-free(cube)");
     assert_eq!(out.expansions[0].1.actions, ["clear-path(sphere, cube)"]);
@@ -169,7 +170,7 @@ fn a_run_can_tick_on_after_a_failed_tick() {
             &mut world,
             100,
             ends,
-            |t, w| match blocked {
+            BeforeTicks(|t, w: &mut StripsWorld| match blocked {
                 // The sphere rolls into the path while the robot moves to the goal, and
                 // out of it again at the next tick.
                 None if w.starts(go) == 1 && w.completions(go) == 0 => {
@@ -180,7 +181,7 @@ fn a_run_can_tick_on_after_a_failed_tick() {
                     w.set_named("path-free", &["goal"], true);
                 }
                 _ => {}
-            },
+            }),
             &mut Vec::new(),
         )
         .unwrap();

@@ -41,7 +41,7 @@ fn reaches(g: &Arc<Grounding>, c: &PddlCatalog, nodes: &[bt_core::Node], values:
     let mut world = StripsWorld::new(g.clone());
     world.set_state(s.clone());
     let mut states = Vec::new();
-    strips::run_to_goal((nodes, values), c, &mut world, 500, strips::Ends::DETERMINISTIC, |_, _| {}, &mut states)
+    strips::run_to_goal((nodes, values), c, &mut world, 500, strips::Ends::DETERMINISTIC, (), &mut states)
         .unwrap()
         .reached()
 }

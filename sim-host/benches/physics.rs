@@ -8,7 +8,7 @@ use bt_core::{Executor, NodeState, Status, Tree};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use planner::duplo::Task;
 use sim_host::physics::PhysicsBrickWorld;
-use sim_host::world::BrickWorld;
+use worlds::World;
 
 const TOWER: &str = "s( \
     f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \

@@ -30,7 +30,7 @@ use gp::islands::{self, IslandParams};
 use gp::{Alphabet, Params, Variant};
 use planner::duplo::Task;
 use sim_host::learn;
-use sim_host::scenario::WorldKind;
+use worlds::WorldKind;
 
 /// The solved level of each task: better than this fitness.
 fn solved_level(task: Task) -> f64 {

@@ -24,12 +24,18 @@
 //!
 //! # Cost
 //!
-//! [`Runner`] keeps the world (reset in place), the per-node state and the goals between
-//! episodes: an episode allocates nothing. A [`Recorder`] sees every tick; the default
-//! `()` records nothing and compiles to nothing.
+//! [`Runner`] runs episodes on the one runner of [`worlds`], with the end rules above
+//! ([`Failures::first`], [`SuccessTwice`]); the world moves on after every tick, the
+//! last one too, before it is scored. It keeps the world (reset in place), the per-node
+//! state and the goals between episodes: an episode allocates nothing. A
+//! [`worlds::Recorder`] sees every tick ([`Trace`] for pictures); `()` records nothing
+//! and compiles to nothing.
 
-use bt_core::{Executor, LoadError, Node, NodeId, NodeState, NodeStatus, Status, TickError, Tree};
+use bt_core::{LoadError, Node, NodeState, NodeStatus, Status, TickError, Tree};
 use planner::duplo::Task;
+use worlds::agent::TreeState;
+use worlds::end::{Failures, SuccessTwice};
+use worlds::{Clock, Recorder, Settings, Stop};
 
 use crate::world::{BrickWorld, MAX_BRICKS};
 
@@ -37,12 +43,12 @@ use crate::world::{BrickWorld, MAX_BRICKS};
 /// [`planner::DEPTH`].
 pub const DEPTH: usize = planner::DEPTH;
 
-/// Milliseconds of simulated time per tick: the `now` bt-core gets on tick `k` is
-/// `k * TICK_MS`. Ten ticks a second, the rate of the worlds and of the example
-/// firmware, so that an imported BehaviorTree.CPP tree's `Timeout`, `Delay` and
-/// `RateController` (milliseconds) last what they say. The kinds of seed 003 count
-/// ticks and never read `now`.
-pub const TICK_MS: u32 = 100;
+/// Milliseconds of simulated time per tick: the `now` bt-core gets on tick `k` (from
+/// 0) is `k * TICK_MS` ([`Clock::TENTHS`]). Ten ticks a second, the rate of the worlds
+/// and of the example firmware, so that an imported BehaviorTree.CPP tree's `Timeout`,
+/// `Delay` and `RateController` (milliseconds) last what they say. The kinds of seed
+/// 003 count ticks and never read `now`.
+pub const TICK_MS: u32 = Clock::TENTHS.ms_per_tick;
 
 /// The constants of Eq. (1) and (2), Table I of seed 003.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,6 +144,24 @@ impl Fitness {
     pub fn value(&self) -> f64 {
         -self.cost()
     }
+
+    /// The terms by name, in the order they are summed (the distances as one).
+    #[must_use]
+    pub fn terms(&self) -> [(&'static str, f64); 5] {
+        [
+            ("length", self.length),
+            ("distance", self.distance_total()),
+            ("failure", self.failure),
+            ("timeout", self.timeout),
+            ("held", self.held),
+        ]
+    }
+
+    /// The terms as `length 0.400`, ... joined by `sep`.
+    #[must_use]
+    pub fn terms_text(&self, sep: &str) -> String {
+        self.terms().iter().map(|(name, v)| format!("{name} {v:.3}")).collect::<Vec<_>>().join(sep)
+    }
 }
 
 /// Everything one episode produced. `Copy`, no heap.
@@ -169,61 +193,6 @@ impl Episode {
     }
 }
 
-/// Sees an episode tick by tick: for pictures, narration, traces. `()` sees nothing and
-/// costs nothing.
-pub trait Recorder {
-    /// False for recorders that ignore everything; the runner then skips the calls.
-    const ENABLED: bool = true;
-
-    /// The episode starts: the world is in its start state, the tree has `nodes` nodes.
-    fn start<W: BrickWorld + ?Sized>(&mut self, world: &W, nodes: usize);
-
-    /// Tick `tick` (0-based) returned `root`; `states` are the nodes' statuses after it
-    /// and `world` is stepped past it.
-    fn tick<W: BrickWorld + ?Sized>(&mut self, tick: u32, root: Status, states: &[NodeState], world: &W);
-
-    /// During a tick, leaf `node` was ticked and returned `status` (in tick order; for
-    /// replay logs). Ignored by default.
-    fn leaf(&mut self, node: NodeId, status: Status) {
-        let _ = (node, status);
-    }
-}
-
-/// The world as the executor sees it during a recorded tick: every leaf call is also
-/// shown to the recorder.
-struct Spy<'a, W, R> {
-    world: &'a mut W,
-    recorder: &'a mut R,
-}
-
-impl<W: BrickWorld, R: Recorder> bt_core::BehaviorSet for Spy<'_, W, R> {
-    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
-        let s = self.world.condition(leaf, ctx);
-        self.recorder.leaf(ctx.node, s);
-        s
-    }
-
-    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
-        let s = self.world.action(leaf, ctx);
-        self.recorder.leaf(ctx.node, s);
-        s
-    }
-
-    fn halt(&mut self, leaf: &bt_core::Leaf, node: NodeId) {
-        self.world.halt(leaf, node);
-    }
-}
-
-impl Recorder for () {
-    const ENABLED: bool = false;
-
-    #[inline(always)]
-    fn start<W: BrickWorld + ?Sized>(&mut self, _: &W, _: usize) {}
-
-    #[inline(always)]
-    fn tick<W: BrickWorld + ?Sized>(&mut self, _: u32, _: Status, _: &[NodeState], _: &W) {}
-}
-
 /// The world and the tree after one tick.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TickRecord {
@@ -253,13 +222,13 @@ impl Trace {
     }
 }
 
-impl Recorder for Trace {
-    fn start<W: BrickWorld + ?Sized>(&mut self, world: &W, _: usize) {
+impl<W: BrickWorld + ?Sized> Recorder<W> for Trace {
+    fn start(&mut self, world: &W, _: &TreeState<'_>) {
         self.ticks.clear();
         self.start = (0..world.spec().bricks.len()).map(|b| world.position(b)).collect();
     }
 
-    fn tick<W: BrickWorld + ?Sized>(&mut self, _: u32, root: Status, states: &[NodeState], world: &W) {
+    fn stepped(&mut self, _: u32, root: Status, states: &[NodeState], world: &W) {
         self.ticks.push(TickRecord {
             root,
             nodes: states.iter().map(NodeState::status).collect(),
@@ -319,11 +288,16 @@ pub enum EpisodeError {
 #[derive(Clone, Debug)]
 pub struct Runner<W> {
     world: W,
-    states: Vec<NodeState>,
+    runner: worlds::Runner,
     params: FitnessParams,
     goals: [Option<[f32; 3]>; MAX_BRICKS],
     bricks: usize,
-    tick_limit: u32,
+}
+
+/// Styrud et al.'s episodes: tick `k` (from 0) at `k * TICK_MS`, the world steps after
+/// every tick, the last one too, and nothing is halted at the end.
+fn settings(tick_limit: u32) -> Settings {
+    Settings::new(tick_limit, Clock::TENTHS)
 }
 
 impl<W: BrickWorld> Runner<W> {
@@ -342,8 +316,8 @@ impl<W: BrickWorld> Runner<W> {
             *slot = *g;
         }
         let params = FitnessParams::for_task(spec.task);
-        let tick_limit = world.tick_limit();
-        Ok(Self { world, states: Vec::new(), params, goals, bricks, tick_limit })
+        let runner = worlds::Runner::new(settings(world.tick_limit()));
+        Ok(Self { world, runner, params, goals, bricks })
     }
 
     /// Uses other fitness constants.
@@ -356,7 +330,7 @@ impl<W: BrickWorld> Runner<W> {
     /// Uses another tick limit (at least 1).
     #[must_use]
     pub fn with_tick_limit(mut self, ticks: u32) -> Self {
-        self.tick_limit = ticks.max(1);
+        self.runner.settings_mut().limit = ticks.max(1);
         self
     }
 
@@ -377,13 +351,13 @@ impl<W: BrickWorld> Runner<W> {
 
     /// Ticks an episode may last.
     pub fn tick_limit(&self) -> u32 {
-        self.tick_limit
+        self.runner.settings().limit
     }
 
     /// Each node's state after the last tick of the last episode (parallel to its tree's
     /// nodes; entries past them are left over from larger trees).
     pub fn states(&self) -> &[NodeState] {
-        &self.states
+        self.runner.states()
     }
 
     /// Validates `nodes` against the task (at most [`DEPTH`] levels) and runs one
@@ -411,61 +385,27 @@ impl<W: BrickWorld> Runner<W> {
     ///
     /// # Errors
     /// As [`Runner::run`].
-    pub fn run_recorded<const D: usize, R: Recorder>(
+    #[inline]
+    pub fn run_recorded<const D: usize, R: Recorder<W>>(
         &mut self,
         tree: Tree<'_, D>,
         recorder: &mut R,
     ) -> Result<Episode, TickError> {
-        let n = tree.len();
-        if self.states.len() < n {
-            self.states.resize(n, NodeState::IDLE);
-        }
-        let Self { world, states, tick_limit, .. } = self;
-        world.reset();
-        if R::ENABLED {
-            recorder.start(&*world, n);
-        }
-        let limit = *tick_limit;
-        let mut exec = match Executor::new(tree, &mut states[..n]) {
-            Ok(exec) => exec,
-            // The slice holds exactly one state per node.
-            Err(_) => return Err(TickError::OutOfRange { node: n }),
+        self.world.reset();
+        let mut ends = (Failures::first(), SuccessTwice::default());
+        let out = self.runner.run(tree, &mut self.world, &mut ends, &mut (), recorder)?;
+        let end = match out.stop {
+            Stop::Failure => End::Failure,
+            Stop::Success => End::Success,
+            _ => End::Timeout,
         };
-        let mut end = End::Timeout;
-        let mut ticks = 0;
-        let mut succeeded = false;
-        while ticks < limit {
-            let root = if R::ENABLED {
-                exec.tick(&mut Spy { world: &mut *world, recorder: &mut *recorder }, ticks.saturating_mul(TICK_MS))?
-            } else {
-                exec.tick(&mut *world, ticks.saturating_mul(TICK_MS))?
-            };
-            world.step();
-            if R::ENABLED {
-                recorder.tick(ticks, root, exec.states(), &*world);
-            }
-            ticks += 1;
-            match root {
-                Status::Failure => {
-                    end = End::Failure;
-                    break;
-                }
-                Status::Success if succeeded => {
-                    end = End::Success;
-                    break;
-                }
-                Status::Success => succeeded = true,
-                // A skipped root did nothing this tick: like Running, not done.
-                Status::Running | Status::Skipped => succeeded = false,
-            }
-        }
-        Ok(self.score(n, end, ticks))
+        Ok(self.score(tree.len(), end, out.ticks))
     }
 
     /// The fitness terms of the world as it is now.
     fn score(&self, nodes: usize, end: End, ticks: u32) -> Episode {
         let p = &self.params;
-        let timed_out = ticks >= self.tick_limit;
+        let timed_out = ticks >= self.tick_limit();
         let mut final_positions = [[0.0; 3]; MAX_BRICKS];
         let mut distance = [0.0; MAX_BRICKS];
         for b in 0..self.bricks {

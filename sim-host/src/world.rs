@@ -1,12 +1,11 @@
-//! What every brick world offers, symbolic or physics: the task's behaviors (as a
-//! [`BehaviorSet`] whose behavior ids index [`Spec::behaviors`]) over a state that
-//! advances one tick at a time.
+//! What every brick world offers, symbolic or physics: a [`worlds::World`] whose
+//! behavior ids index the task's [`Spec::behaviors`], with bricks at positions.
 //!
-//! An episode alternates `exec.tick(&mut world, t)` and `world.step()`: the tree ticks
+//! An episode alternates ticking the tree and [`worlds::World::step`]: the tree ticks
 //! the behaviors, then the world advances by one tick (0.1 s at 10 Hz).
-//! [`crate::episode::Runner`] runs episodes under seed 003's rules over any `BrickWorld`.
+//! [`crate::episode::Runner`] runs episodes under Styrud et al.'s rules over any
+//! `BrickWorld`.
 
-use bt_core::BehaviorSet;
 use planner::duplo::Spec;
 
 /// Ticks in an episode of a physics world: 20 s at 10 Hz (seed 003, Section IV).
@@ -22,18 +21,11 @@ pub const ACTION_TICK_LIMIT: u32 = 50;
 /// arrays of this size, so that an episode allocates nothing.
 pub const MAX_BRICKS: usize = 4;
 
-/// A world for one brick task (`planner::duplo`).
-pub trait BrickWorld: BehaviorSet {
+/// A world for one brick task (`planner::duplo`). Its [`worlds::World::reset`] puts
+/// the bricks at their start positions, the hand empty, no action under way.
+pub trait BrickWorld: worlds::World {
     /// The task this world plays.
     fn spec(&self) -> &Spec;
-
-    /// Puts the world back in the task's start state, in place: the bricks at their
-    /// start positions, the hand empty, no action under way. An episode starts with it,
-    /// so one world serves any number of episodes.
-    fn reset(&mut self);
-
-    /// Advances the world by one tick, after the tree was ticked.
-    fn step(&mut self);
 
     /// Position (x, y, z) in metres of brick `brick`, by index into `spec().bricks`.
     fn position(&self, brick: usize) -> [f32; 3];

@@ -138,22 +138,16 @@ struct Calls {
     current: Vec<(usize, bt_core::Status)>,
 }
 
-impl sim_host::episode::Recorder for Calls {
-    fn start<W: sim_host::world::BrickWorld + ?Sized>(&mut self, _: &W, _: usize) {}
+impl<W: sim_host::world::BrickWorld + ?Sized> worlds::Recorder<W> for Calls {
+    const LEAVES: bool = true;
 
-    fn tick<W: sim_host::world::BrickWorld + ?Sized>(
-        &mut self,
-        _: u32,
-        _: bt_core::Status,
-        states: &[bt_core::NodeState],
-        _: &W,
-    ) {
-        let running = states.iter().map(|s| s.status() == bt_core::NodeStatus::Running).collect();
-        self.ticks.push((std::mem::take(&mut self.current), running));
+    fn ticked(&mut self, tick: &worlds::record::Ticked<'_>, _: &W) {
+        self.current = tick.calls.iter().map(|&(node, status)| (usize::from(node), status)).collect();
     }
 
-    fn leaf(&mut self, node: bt_core::NodeId, status: bt_core::Status) {
-        self.current.push((usize::from(node), status));
+    fn stepped(&mut self, _: u32, _: bt_core::Status, states: &[bt_core::NodeState], _: &W) {
+        let running = states.iter().map(|s| s.status() == bt_core::NodeStatus::Running).collect();
+        self.ticks.push((std::mem::take(&mut self.current), running));
     }
 }
 

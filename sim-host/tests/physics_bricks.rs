@@ -9,6 +9,7 @@ use physics_common::{dist, episode, until_done};
 use planner::duplo::Task;
 use sim_host::physics::PhysicsBrickWorld;
 use sim_host::world::BrickWorld;
+use worlds::World;
 
 fn world(task: Task) -> PhysicsBrickWorld {
     PhysicsBrickWorld::new(&task.spec()).unwrap()

@@ -9,6 +9,7 @@ use planner::duplo::Task;
 use rayon::prelude::*;
 use sim_host::physics::PhysicsBrickWorld;
 use sim_host::world::BrickWorld;
+use worlds::World;
 
 const TOWER: &str = "s( \
     f( 0 at pos (0.0, 0.05, 0.0)? s( f( picked 0? pick 0! ) place at (0.0, 0.05, 0.0)! ) ) \

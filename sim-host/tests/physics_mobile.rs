@@ -2,8 +2,12 @@
 //! path-free by shape cast, and the external agents.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use bt_core::{Builder, Catalog, Context, Executor, Leaf, Node, NodeState, Status, Tree};
+use bt_core::{Builder, Catalog, Context, Leaf, Node, Status, Tree};
 use sim_host::physics::mobile::{Agent, CATALOG, CUBE, GOAL_OBJECT, MobileWorld, SPHERE};
+use sim_host::scenario::agents::{ByTicks, Random};
+use worlds::agent::TreeState;
+use worlds::end::Finished;
+use worlds::{Agent as _, Clock, Runner, Settings};
 
 const AT: u16 = 0;
 const HOLDING: u16 = 1;
@@ -60,6 +64,12 @@ fn run(w: &mut MobileWorld, behavior: u16, args: &[u16], limit: u32) -> (Status,
     (s, t)
 }
 
+/// Agents act, then the world steps into its next tick.
+fn step(w: &mut MobileWorld, agents: &mut ByTicks) {
+    agents.act(w.tick() + 1, w, &TreeState { nodes: &[], states: &[] });
+    w.step();
+}
+
 fn cond(w: &mut MobileWorld, behavior: u16, args: &[u16]) -> bool {
     use bt_core::BehaviorSet;
     w.condition(&Leaf::with_args(behavior, args).unwrap(), ctx(1, true)) == Status::Success
@@ -85,8 +95,8 @@ fn move_to_reaches_pick_and_place_work() {
 
 #[test]
 fn a_sphere_in_the_path_makes_path_free_fail_and_clear_path_clears_it() {
-    let mut w = MobileWorld::new().with_script(&[(1, Agent::BlockPath)]);
-    w.step();
+    let mut w = MobileWorld::new();
+    step(&mut w, &mut ByTicks::new(&[(1, Agent::BlockPath)]));
     assert!(w.events().iter().any(|e| e.to_string() == "tick 1: an agent rolls the sphere into the path to the goal"));
     assert!(!cond(&mut w, PATH_FREE, &[GOAL_OBJECT]), "sphere at {:?}", w.item(SPHERE));
     // Driving there anyway stops at the sphere.
@@ -101,28 +111,29 @@ fn a_sphere_in_the_path_makes_path_free_fail_and_clear_path_clears_it() {
 
 #[test]
 fn each_scripted_agent_event_happens() {
-    let mut w = MobileWorld::new().with_script(&[
+    let mut w = MobileWorld::new();
+    let mut agents = ByTicks::new(&[
         (1, Agent::HandCube),
         (3, Agent::TakeCube),
         (5, Agent::BlockPath),
         (7, Agent::UnblockPath),
         (9, Agent::CubeToGoal),
     ]);
-    w.step();
+    step(&mut w, &mut agents);
     assert_eq!(w.held(), Some(CUBE));
-    w.step();
-    w.step();
+    step(&mut w, &mut agents);
+    step(&mut w, &mut agents);
     assert_eq!(w.held(), None);
     for _ in 0..2 {
-        w.step();
+        step(&mut w, &mut agents);
     }
     assert!(!cond(&mut w, PATH_FREE, &[GOAL_OBJECT]));
     for _ in 0..2 {
-        w.step();
+        step(&mut w, &mut agents);
     }
     assert!(cond(&mut w, PATH_FREE, &[GOAL_OBJECT]));
     for _ in 0..4 {
-        w.step();
+        step(&mut w, &mut agents);
     }
     assert!(cond(&mut w, AT, &[CUBE, GOAL_OBJECT]));
     let lines: Vec<String> = w.events().iter().map(ToString::to_string).collect();
@@ -175,29 +186,21 @@ fn example_tree(storage: &mut [Node; 32]) -> &[Node] {
     b.finish().unwrap()
 }
 
-fn episode(mut w: MobileWorld) -> (Status, MobileWorld, u32) {
+/// The example tree in `w` with `agents`, until the root is done or 400 ticks (tick k
+/// at `now` k - 1).
+fn episode(mut w: MobileWorld, mut agents: impl worlds::Agent<MobileWorld>) -> (Status, MobileWorld, u32) {
     let mut storage = [Node::EMPTY; 32];
     let nodes = example_tree(&mut storage).to_vec();
     let tree: Tree<'_, 8> = Tree::validate(&nodes, &CATALOG).unwrap();
-    let mut state = vec![NodeState::IDLE; nodes.len()];
-    let mut exec = Executor::new(tree, &mut state).unwrap();
-    let mut s = Status::Running;
-    let mut t = 0;
-    while t < 400 {
-        s = exec.tick(&mut w, t).unwrap();
-        t += 1;
-        if s != Status::Running {
-            break;
-        }
-        w.step();
-    }
-    (s, w, t)
+    let settings = Settings { moves_on_at_stop: false, ..Settings::new(400, Clock { ms_per_tick: 1, first: 0 }) };
+    let out = Runner::new(settings).run(tree, &mut w, &mut Finished, &mut agents, &mut ()).unwrap();
+    (out.root, w, out.ticks)
 }
 
 #[test]
 fn the_example_tree_copes_with_agents_that_undo_and_block() {
-    let w = MobileWorld::new().with_script(&[(12, Agent::BlockPath), (20, Agent::TakeCube), (60, Agent::UnblockPath)]);
-    let (s, w, t) = episode(w);
+    let agents = ByTicks::new(&[(12, Agent::BlockPath), (20, Agent::TakeCube), (60, Agent::UnblockPath)]);
+    let (s, w, t) = episode(MobileWorld::new(), agents);
     assert_eq!(s, Status::Success, "after {t} ticks: {:?}", w.events());
     assert!(w.events().len() >= 3);
 }
@@ -205,7 +208,7 @@ fn the_example_tree_copes_with_agents_that_undo_and_block() {
 #[test]
 fn random_agents_are_deterministic_per_seed() {
     let trace = |seed| {
-        let (s, w, t) = episode(MobileWorld::new().with_random_agents(seed, 0.05));
+        let (s, w, t) = episode(MobileWorld::new(), Random::new(seed, 0.05));
         (s, t, w.events().to_vec(), w.base().map(f32::to_bits), w.item(CUBE).map(|p| p.map(f32::to_bits)))
     };
     assert_eq!(trace(7), trace(7));

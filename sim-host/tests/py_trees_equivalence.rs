@@ -17,6 +17,7 @@ use planner::duplo::Task;
 use sim_host::episode::{End, Runner};
 use sim_host::symbolic::{HaltRule, SymbolicBrickWorld};
 use sim_host::world::BrickWorld;
+use worlds::World;
 
 #[path = "fixtures/random_trees.rs"]
 mod random_trees;

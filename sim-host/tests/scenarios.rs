@@ -7,7 +7,8 @@ use std::process::Output;
 
 use bt_core::Status;
 use planner::duplo::Task;
-use sim_host::scenario::{self, Scenario, WorldKind, is_external};
+use sim_host::scenario::{self, Scenario, is_external};
+use worlds::WorldKind;
 
 mod cli_common;
 use cli_common::sim_host;
@@ -251,7 +252,7 @@ fn the_top_views_labels_do_not_overlap() {
     // numbers over each other and over the goal region's label.
     for seed in [None, Some(7), Some(27)] {
         let run = scenario::run(Scenario::Cube, WorldKind::Physics, seed).unwrap();
-        let svg = scenario::svg::svg(&run, "test");
+        let svg = sim_host::picture::scenario::svg(&run, "test");
         let labels = top_view_labels(&svg);
         assert!(labels.iter().any(|l| l.2 == "goal region"), "{seed:?}");
         let marks: usize = labels.iter().filter(|l| l.2 != "goal region").map(|l| l.2.split(", ").count()).sum();

@@ -54,7 +54,7 @@ fn the_cube_plan_loads_on_a_controller_that_only_knows_the_contract() {
     assert_eq!(controller.fingerprint(), catalog.fingerprint());
     let nodes = load(&image, controller);
     let mut world = StripsWorld::new(g);
-    let out = strips::run(&nodes, catalog.as_ref(), &mut world, 200, |_, _| {}, &mut Vec::new()).unwrap();
+    let out = strips::run((&nodes, &[]), catalog.as_ref(), &mut world, 200, (), &mut Vec::new()).unwrap();
     assert_eq!(out.status, Status::Success);
     assert!(world.holds_named("at", &["cube", "goal"]));
 }

@@ -12,30 +12,14 @@ use sim_host::physics::PhysicsBrickWorld;
 use sim_host::picture;
 use sim_host::symbolic::SymbolicBrickWorld;
 use sim_host::world::BrickWorld;
+use worlds::WorldKind;
+use worlds::record::LeafCalls;
 
 use sim_host::input::{self, Limit};
 use sim_host::text::count;
 
 use super::catalogs;
 use super::output::{self, Content, Target};
-
-/// Which world plays the episode.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WorldKind {
-    /// The fast symbolic world of seed 003: exact, 30 ticks, microseconds per episode.
-    Symbolic,
-    /// The rapier3d physics world: 200 ticks at 10 Hz.
-    Physics,
-}
-
-impl WorldKind {
-    fn name(self) -> &'static str {
-        match self {
-            Self::Symbolic => "symbolic",
-            Self::Physics => "physics",
-        }
-    }
-}
 
 /// The long help of `sim-host run` (set on the subcommand in `cli/mod.rs`).
 pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the four brick tasks of \
@@ -64,7 +48,7 @@ pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the 
     With --domain D.pddl --problem P.pddl instead of --task: runs the tree (the planner's, \
     or a FILE that `learn` wrote: best.bt or best.tokens) in the problem's symbolic STRIPS \
     world, once, or with --disturb RATE over --episodes seeded episodes in which external \
-    agents do or undo actions, and prints how often it reached the goal, its ticks and its \
+    agents undo the robot's last action or do one of the tree's actions (as in bench-pddl), and prints how often it reached the goal, its ticks and its \
     fitness (the fitness `learn` uses for PDDL problems).";
 
 #[derive(clap::Args, Debug)]
@@ -77,7 +61,10 @@ pub struct Args {
     #[command(flatten)]
     pub strips: super::run_strips::Args,
     /// The world that plays the episode.
-    #[arg(long, value_enum, default_value_t = WorldKind::Symbolic)]
+    #[arg(long, default_value_t = WorldKind::Symbolic, value_parser = super::scenario::world_parser(
+        "The fast symbolic world of seed 003: exact, 30 ticks, microseconds per episode",
+        "The rapier3d physics world: 200 ticks at 10 Hz",
+    ))]
     pub world: WorldKind,
     /// The tree: an image file or token text [default: the planner's tree for the task].
     #[arg(long, value_name = "FILE")]
@@ -91,36 +78,6 @@ pub struct Args {
     /// tick k at k x 100 ms of simulated time).
     #[arg(long, value_name = "FILE.btlog")]
     pub btlog: Option<PathBuf>,
-}
-
-/// The trace for pictures, and the leaf calls of every tick for the replay log.
-#[derive(Default)]
-struct Recording {
-    trace: Trace,
-    calls: Vec<Vec<(usize, u8)>>,
-    current: Vec<(usize, u8)>,
-}
-
-impl sim_host::episode::Recorder for Recording {
-    fn start<W: BrickWorld + ?Sized>(&mut self, world: &W, nodes: usize) {
-        self.trace.start(world, nodes);
-        self.calls.clear();
-    }
-
-    fn tick<W: BrickWorld + ?Sized>(
-        &mut self,
-        tick: u32,
-        root: bt_core::Status,
-        states: &[bt_core::NodeState],
-        world: &W,
-    ) {
-        self.trace.tick(tick, root, states, world);
-        self.calls.push(std::mem::take(&mut self.current));
-    }
-
-    fn leaf(&mut self, node: bt_core::NodeId, status: bt_core::Status) {
-        self.current.push((usize::from(node), btcpp::btlog::status_of(status)));
-    }
 }
 
 /// Microseconds of simulated time per tick (10 Hz) in replay logs.
@@ -204,18 +161,21 @@ fn foreign(fingerprint: u64, spec: &Spec) -> String {
 fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &Args) -> anyhow::Result<()> {
     let spec = world.spec().clone();
     let mut runner = Runner::new(world)?;
-    let mut rec = Recording::default();
+    // The trace for pictures, and the leaf calls of every tick for the replay log.
+    let mut rec = (Trace::default(), LeafCalls::default());
     let e = runner.run_recorded(tree, &mut rec).map_err(|err| anyhow!("{source}: {err}"))?;
-    let trace = rec.trace;
+    let (trace, calls) = rec;
     let log = match &args.btlog {
         Some(_) => {
             let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec)
                 .map_err(|err| anyhow!("{source}: no replay log: {err}"))?;
             let mut log = btcpp::btlog::RunLog::new(&log_tree, 0);
-            // The episode gives bt-core `now` = tick x TICK_MS.
-            for (k, calls) in rec.calls.iter().enumerate() {
+            // The episode gives bt-core `now` = k x TICK_MS on its tick k (from 0).
+            for (k, (_, calls)) in calls.ticks.iter().enumerate() {
                 let k = u32::try_from(k).unwrap_or(u32::MAX);
-                log.tick(k, i64::from(k) * TICK_USEC, k.saturating_mul(TICK_MS), calls)
+                let calls: Vec<(usize, u8)> =
+                    calls.iter().map(|&(n, s)| (usize::from(n), btcpp::btlog::status_of(s))).collect();
+                log.tick(k, i64::from(k) * TICK_USEC, k.saturating_mul(TICK_MS), &calls)
                     .map_err(|err| anyhow!("{source}: replay log: {err}"))?;
             }
             Some(log.into_bytes())
@@ -289,17 +249,7 @@ fn report(out: &mut String, spec: &Spec, e: &Episode, limit: u32) {
     }
     let held = e.held.map_or_else(|| "nothing".to_string(), |b| format!("brick {b}"));
     let _ = writeln!(out, "held     {held}");
-    let f = &e.fitness;
-    let _ = writeln!(
-        out,
-        "fitness  {:.3}  length {:.3}  distance {:.3}  failure {:.3}  timeout {:.3}  held {:.3}",
-        f.value(),
-        f.length,
-        f.distance_total(),
-        f.failure,
-        f.timeout,
-        f.held
-    );
+    let _ = writeln!(out, "fitness  {:.3}  {}", e.fitness.value(), e.fitness.terms_text("  "));
 }
 
 fn fmt_pos(p: [f32; 3]) -> String {

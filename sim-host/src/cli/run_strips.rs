@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use anyhow::{Context as _, anyhow, bail};
 use bt_core::Node;
-use sim_host::learn::StripsProblem;
 use sim_host::learn::strips::{StripsEnd, StripsRunner};
+use sim_host::learn::{Disturbance, StripsProblem};
 use sim_host::text::count;
 
 /// Most episodes one command runs.
@@ -23,7 +23,8 @@ pub struct Args {
     /// The PDDL problem.
     #[arg(long, value_name = "P.pddl", requires = "domain")]
     pub problem: Option<PathBuf>,
-    /// PDDL: external agents do or undo an action before a tick with this chance.
+    /// PDDL: before a tick, with this chance, an external agent undoes the robot's last
+    /// action or does one of the tree's actions (at most 3 times an episode).
     #[arg(long, value_name = "RATE", requires = "domain")]
     pub disturb: Option<f64>,
     /// PDDL with --disturb: the seed of the agents (episode k uses the agents of seed
@@ -75,13 +76,17 @@ pub fn run(args: &Args, tree: Option<&Path>) -> anyhow::Result<()> {
     if tick_limit == 0 {
         bail!("--ticks must be at least 1");
     }
-    let episodes: Vec<Option<(f64, u64, u32)>> = match args.disturb {
-        None => vec![None],
+    let disturbance = match args.disturb {
+        None => None,
         Some(rate) if !(0.0..=1.0).contains(&rate) => bail!("--disturb {rate}: give a chance per tick between 0 and 1"),
         Some(_) if args.episodes == 0 || args.episodes > MAX_EPISODES => {
             bail!("--episodes {}: give 1 to {MAX_EPISODES}", args.episodes)
         }
-        Some(rate) => (0..args.episodes).map(|k| Some((rate, args.disturb_seed, k))).collect(),
+        Some(rate) => Some(Disturbance { rate, seed: args.disturb_seed, episodes: args.episodes }),
+    };
+    let episodes: Vec<Option<(&Disturbance, u32)>> = match &disturbance {
+        None => vec![None],
+        Some(d) => (0..d.episodes).map(|k| Some((d, k))).collect(),
     };
     let mut runner = StripsRunner::new(Arc::new(p), tick_limit);
     let mut out = String::new();
@@ -99,15 +104,17 @@ pub fn run(args: &Args, tree: Option<&Path>) -> anyhow::Result<()> {
     let fitness = results.iter().map(|e| e.fitness).sum::<f64>() / n as f64;
     let _ = writeln!(out, "problem  {} (domain {})", pp.display(), d.display());
     let _ = writeln!(out, "tree     {source}: {} as learned (a negative condition is one)", count(nodes.len(), "node"));
-    match args.disturb {
+    match &disturbance {
         None => {
             let _ = writeln!(out, "episodes 1, undisturbed, at most {}", count(tick_limit, "tick"));
         }
-        Some(rate) => {
+        Some(d) => {
             let _ = writeln!(
                 out,
-                "episodes {n}, agents act before a tick with chance {rate} (seed {}): {}; at most {}",
-                args.disturb_seed,
+                "episodes {n}, agents act before a tick with chance {}, at most {} (seed {}): {}; at most {}",
+                d.rate,
+                count(d.model().max, "time"),
+                d.seed,
                 count(acts, "act"),
                 count(tick_limit, "tick")
             );

@@ -5,27 +5,27 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 use sim_host::episode::TICK_MS;
-use sim_host::scenario::{self, Scenario, WorldKind};
+use sim_host::scenario::{self, Scenario};
+use worlds::WorldKind;
 
 use super::output::{self, Content, Target, out};
 
-/// The world to run in.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum World {
-    /// Exact and fast: STRIPS semantics, or the reference's brick world.
-    Symbolic,
-    /// rapier3d rigid bodies.
-    Physics,
+/// A `--world` argument: `symbolic` or `physics`, each with its help line.
+pub fn world_parser(
+    symbolic: &'static str,
+    physics: &'static str,
+) -> impl clap::builder::TypedValueParser<Value = WorldKind> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser as _};
+    PossibleValuesParser::new([
+        PossibleValue::new(WorldKind::Symbolic.name()).help(symbolic),
+        PossibleValue::new(WorldKind::Physics.name()).help(physics),
+    ])
+    .map(|name| WorldKind::from_name(&name).unwrap_or(WorldKind::Symbolic))
 }
 
-impl From<World> for WorldKind {
-    fn from(w: World) -> Self {
-        match w {
-            World::Symbolic => WorldKind::Symbolic,
-            World::Physics => WorldKind::Physics,
-        }
-    }
-}
+/// The help of each world, for `scenario` and `learn`.
+pub const WORLDS: (&str, &str) =
+    ("Exact and fast: STRIPS semantics, or the reference's brick world", "rapier3d rigid bodies");
 
 pub const LONG_ABOUT: &str = "Runs one of the papers' scenarios and narrates it tick by tick: \
 what happens in the world, which actions the tree starts, finishes or halts, and each \
@@ -52,8 +52,8 @@ pub struct Args {
     #[arg(long)]
     pub list: bool,
     /// The world: symbolic or physics (default: physics where the scenario has it).
-    #[arg(long, value_enum)]
-    pub world: Option<World>,
+    #[arg(long, value_parser = world_parser(WORLDS.0, WORLDS.1))]
+    pub world: Option<WorldKind>,
     /// Random external agents from this seed (cube scenario) instead of the scripted story.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -85,10 +85,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if args.seed.is_some() && scenario != Scenario::Cube {
         bail!("--seed applies to the cube scenario only (its agents); `{name}` is scripted");
     }
-    let world = args.world.map_or_else(
-        || if scenario.worlds().contains(&WorldKind::Physics) { WorldKind::Physics } else { WorldKind::Symbolic },
-        WorldKind::from,
-    );
+    let world = args.world.unwrap_or(if scenario.worlds().contains(&WorldKind::Physics) {
+        WorldKind::Physics
+    } else {
+        WorldKind::Symbolic
+    });
     show(scenario, world, args.seed, args.svg.as_ref(), args.btlog.as_ref())
 }
 
@@ -147,7 +148,7 @@ fn show(
     let mut text = run.narration.clone();
     if let Some(target) = svg {
         let title = format!("sim-host scenario {} ({} world)", scenario.name(), world.name());
-        output::write(target, scenario::svg::svg(&run, &title).as_bytes(), Content::Text)?;
+        output::write(target, sim_host::picture::scenario::svg(&run, &title).as_bytes(), Content::Text)?;
         if let Target::File(path) = target {
             text.push_str(&format!("picture: {}\n", path.display()));
         }

@@ -4,6 +4,7 @@
 use super::*;
 use bt_core::{BehaviorSet, Context, Leaf, NodeId, NodeKind};
 use planner::duplo::Spec;
+use worlds::World;
 
 use Status::{Failure, Running, Success};
 
@@ -36,16 +37,19 @@ impl BehaviorSet for Scripted {
     fn halt(&mut self, _: &Leaf, _: NodeId) {}
 }
 
-impl BrickWorld for Scripted {
-    fn spec(&self) -> &Spec {
-        &self.spec
-    }
+impl World for Scripted {
     fn reset(&mut self) {
         self.tick = 0;
         self.resets += 1;
     }
     fn step(&mut self) {
         self.tick += 1;
+    }
+}
+
+impl BrickWorld for Scripted {
+    fn spec(&self) -> &Spec {
+        &self.spec
     }
     fn position(&self, brick: usize) -> [f32; 3] {
         self.positions[brick]
@@ -215,12 +219,13 @@ fn a_condition_returning_running_is_a_tick_error() {
         }
         fn halt(&mut self, _: &Leaf, _: NodeId) {}
     }
+    impl World for Broken {
+        fn reset(&mut self) {}
+    }
     impl BrickWorld for Broken {
         fn spec(&self) -> &Spec {
             &self.0.spec
         }
-        fn reset(&mut self) {}
-        fn step(&mut self) {}
         fn position(&self, b: usize) -> [f32; 3] {
             self.0.position(b)
         }

@@ -11,9 +11,9 @@ use planner::duplo::Task;
 
 use crate::episode::Runner;
 use crate::physics::{BrickParams, PhysicsBrickWorld};
-use crate::scenario::WorldKind;
 use crate::symbolic::SymbolicBrickWorld;
 use crate::world::BrickWorld;
+use worlds::WorldKind;
 
 /// One episode per fitness call, in a world made by `make`. Runners are pooled, so
 /// parallel evaluation reuses them and a sequential run uses one.

@@ -75,7 +75,7 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
     match &spec.subject {
         Subject::Brick { task, world } => {
             let mut text = String::new();
-            if *world == crate::scenario::WorldKind::Physics {
+            if *world == worlds::WorldKind::Physics {
                 // The world's own settings: the episodes of a physics run depend on them.
                 text.push_str(&bricks::physics_record());
             }

@@ -23,7 +23,7 @@ pub use bricks::{EpisodeFitness, default_generations, physics, planner_tree, sym
 pub use folder::{Folder, Recorded, Skipped, folder_files, read_folder};
 pub use strips::{Disturbance, StripsFitness, StripsProblem};
 
-use crate::scenario::WorldKind;
+use worlds::WorldKind;
 
 /// What a run learns.
 #[derive(Clone, Debug)]

@@ -16,6 +16,7 @@
 //! use planner::duplo::Task;
 //! use sim_host::physics::PhysicsBrickWorld;
 //! use sim_host::world::BrickWorld;
+//! use worlds::World;
 //!
 //! let spec = Task::Tower.spec();
 //! let nodes = bt_formats::tokens::parse("pick 0!", &spec)?;

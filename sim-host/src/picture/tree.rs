@@ -1,12 +1,16 @@
-//! The tree panel: one row per node, its status after each chosen tick.
+//! Trees in pictures: the panel of a brick episode (one row per node, its status after
+//! each chosen tick) and a scenario's snapshot (the tree at one moment, each node
+//! coloured by its status then).
 
 use std::fmt::Write as _;
 
-use bt_core::{NodeKind, NodeStatus, Status};
+use bt_core::{Catalog, NodeKind, NodeState, NodeStatus, Status, Tree};
 use planner::duplo::Spec;
 
-use super::{CELL_W, MARGIN, MAX_COLUMNS, ROW_H, Run, color, esc};
+use super::bricks::{CELL_W, MARGIN, MAX_COLUMNS, ROW_H, Run, color};
+use super::writer::{control_label, esc, status_style};
 use crate::episode::Trace;
+use crate::scenario::driver::{DEPTH, leaf_name};
 
 /// The ticks (0-based indices into the trace) the tree panel shows: all of them when
 /// they fit; else the first and the last, the ticks where the root's status changed,
@@ -36,12 +40,10 @@ pub(super) fn chosen_ticks(trace: &Trace) -> Vec<usize> {
 
 fn node_label(spec: &Spec, kind: &NodeKind) -> String {
     match kind {
-        NodeKind::Sequence => "→ Sequence".to_string(),
-        NodeKind::Fallback => "? Fallback".to_string(),
         NodeKind::Condition(l) | NodeKind::Action(l) => {
             spec.names.get(usize::from(l.behavior())).cloned().unwrap_or_else(|| format!("#{}", l.behavior()))
         }
-        other => other.name().to_string(),
+        other => control_label(other).unwrap_or_default(),
     }
 }
 
@@ -211,11 +213,47 @@ fn cell(s: &mut String, x: f64, y: f64, st: NodeStatus) {
     s.push('\n');
 }
 
-fn status_style(s: NodeStatus) -> (&'static str, &'static str) {
-    match s {
-        NodeStatus::Idle => ("#eeeeee", ""),
-        NodeStatus::Success => ("#2e9e44", "✓"),
-        NodeStatus::Failure => ("#d62828", "✕"),
-        NodeStatus::Running => ("#f4b400", "▶"),
+/// Line height of a snapshot, pixels.
+pub(super) const LINE: f32 = 15.0;
+
+/// The tree at one moment, titled `label`, from (`x0`, `y0`): one line per node,
+/// indented by depth, coloured by its status in `states` (none: all grey).
+pub(super) fn snapshot<C: Catalog + ?Sized>(
+    out: &mut String,
+    catalog: &C,
+    tree: Tree<'_, DEPTH>,
+    states: &[NodeState],
+    (x0, y0): (f32, f32),
+    label: &str,
+) {
+    let _ = writeln!(out, r#"<text x="{x0}" y="{y0}" font-size="13" font-weight="bold">{}</text>"#, esc(label));
+    let mut ends: Vec<usize> = Vec::new();
+    for (i, node) in tree.nodes().iter().enumerate() {
+        while ends.last().is_some_and(|&e| e <= i) {
+            ends.pop();
+        }
+        let depth = ends.len() as f32;
+        let (fill, mark) = match states.get(i).map(NodeState::status) {
+            None | Some(NodeStatus::Idle) => ("#333", String::new()),
+            Some(s) => {
+                let (fill, glyph) = status_style(s);
+                (fill, format!(" {glyph}"))
+            }
+        };
+        let text = match node.kind() {
+            NodeKind::Condition(l) => format!("({})", leaf_name(catalog, l)),
+            NodeKind::Action(l) => format!("[{}]", leaf_name(catalog, l)),
+            other => control_label(other).unwrap_or_default(),
+        };
+        let _ = writeln!(
+            out,
+            r#"<text x="{:.1}" y="{:.1}" font-size="12" fill="{fill}">{}{mark}</text>"#,
+            x0 + 14.0 * depth,
+            y0 + LINE * (i as f32 + 1.2),
+            esc(&text)
+        );
+        if node.kind().arity() != bt_core::Arity::Leaf {
+            ends.push(i + usize::from(node.size()));
+        }
     }
 }

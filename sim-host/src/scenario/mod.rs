@@ -2,16 +2,21 @@
 //! (cube and sphere, Examples 1-2), the two-armed cellphone assembly (seed 000,
 //! Section VI), and the four brick tasks of seed 003 with the planner's tree.
 //!
+//! Every run goes through the one episode runner of [`worlds`] ([`driver`]): the world
+//! is a [`driver::Scene`], the agents are [`worlds::Agent`]s ([`agents`]), the
+//! narration is a [`worlds::Recorder`] ([`narrate`]).
+//!
 //! ```
-//! use sim_host::scenario::{self, Scenario, WorldKind};
+//! use sim_host::scenario::{self, Scenario};
+//! use worlds::WorldKind;
 //! let run = scenario::run(Scenario::Cube, WorldKind::Symbolic, None)?;
 //! assert_eq!(run.record.status, Some(bt_core::Status::Success));
 //! assert!(run.narration.contains("IncreasePriority"));
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
-/// Implements `bt_core::BehaviorSet` for a scenario by handing every call to its
-/// `world` field: the scenario adds agents and narration, the world does the behaviors.
+/// Implements `bt_core::BehaviorSet` for a scenario's world by handing every call to its
+/// `world` field: the scenario's world adds what the behaviors' world does not know.
 macro_rules! forward_behaviors {
     ($t:ty $(where $g:ident: $bound:path)?) => {
         impl$(<$g: $bound>)? bt_core::BehaviorSet for $t {
@@ -29,10 +34,12 @@ macro_rules! forward_behaviors {
 }
 pub(crate) use forward_behaviors;
 
+pub mod agents;
 pub mod cellphone;
 pub mod cube;
 pub mod driver;
-pub mod svg;
+pub mod narrate;
+pub mod strips;
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -40,33 +47,16 @@ use std::sync::Arc;
 use anyhow::Context as _;
 use bt_core::Status;
 use planner::duplo::{Spec, Task};
-use planner::{Options, PddlCatalog, Planner, domains};
+use planner::{Expanding, Options, PddlCatalog, Planner, domains};
+use worlds::{Fixed, WorldKind};
 
 use crate::physics::PhysicsBrickWorld;
+use crate::physics::mobile::MobileWorld;
 use crate::symbolic::SymbolicBrickWorld;
 use crate::text::count;
 use crate::world::BrickWorld;
-use driver::{Live, Record, Source};
-
-/// Which kind of world a scenario runs in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum WorldKind {
-    /// Exact and fast: STRIPS semantics or the reference's brick world.
-    Symbolic,
-    /// rapier3d.
-    Physics,
-}
-
-impl WorldKind {
-    /// `symbolic` or `physics`.
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            Self::Symbolic => "symbolic",
-            Self::Physics => "physics",
-        }
-    }
-}
+use agents::{ActionNames, CubeAgents, Random, Story};
+use driver::{Points, Record, Scene};
 
 /// A scenario of the papers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -199,30 +189,33 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let g = Arc::new(domains::cube_sphere().context("loading the cube/sphere domain")?);
             let catalog = Arc::new(PddlCatalog::new(g.problem()));
             let mut planner = Planner::new(g.clone(), Options::default())?;
-            let agents = match seed {
+            let mut agents = match seed {
                 Some(s) => {
                     let _ = writeln!(out, "agents: random, seed {s}");
-                    cube::Agents::random(s)
+                    CubeAgents::Random(Box::new(Random::new(s, cube::RANDOM_RATE)))
                 }
-                None => cube::Agents::story(if world == WorldKind::Physics { 5 } else { 1 }),
+                None => {
+                    let patience = if world == WorldKind::Physics { 5 } else { 1 };
+                    CubeAgents::Story(Story::new(patience, ActionNames(catalog.clone())))
+                }
             };
             let _ = writeln!(
                 out,
                 "goal: at(cube, goal). The tree starts as the goal condition alone (Fig. 3a) and is \
                  expanded whenever it fails (Algorithm 1, at run time).\n"
             );
+            let mut trees = Expanding::new(&mut planner, catalog.as_ref());
             let record = match world {
                 WorldKind::Symbolic => {
-                    let mut w = cube::SymbolicCube::new(g, agents);
-                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
-                        .map_err(|e| interrupted(&out, e))?
+                    let mut w = cube::SymbolicCube::new(g);
+                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
                 }
                 WorldKind::Physics => {
-                    let mut w = cube::PhysicsCube::new(agents);
-                    driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
-                        .map_err(|e| interrupted(&out, e))?
+                    let mut w = MobileWorld::new();
+                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
                 }
-            };
+            }
+            .map_err(|e| interrupted(&out, e))?;
             summary(&mut out, &record);
             let goal = crate::physics::mobile::GOAL;
             let half = crate::physics::mobile::GOAL_SIZE / 2.0;
@@ -238,8 +231,10 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                 "goal: every part mounted. The tree starts as the goal conditions in a Sequence and is \
                  expanded whenever it fails.\n"
             );
-            let mut w = cellphone::Cellphone::new(g);
-            let record = driver::run(&mut w, Source::Planner(&mut planner), catalog.as_ref(), MAX_TICKS, &mut out)
+            let mut w = strips::StripsScene::new(g);
+            let mut trees = Expanding::new(&mut planner, catalog.as_ref());
+            let mut agents = cellphone::Disturbances::new(ActionNames(catalog.clone()));
+            let record = driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
                 .map_err(|e| interrupted(&out, e))?;
             summary(&mut out, &record);
             Ok(Run { narration: out, record, catalog, goal_region: None })
@@ -254,20 +249,20 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                 count(plan.nodes.len(), "node"),
                 world.name()
             );
+            let mut tree = Fixed { nodes: &plan.nodes, values: &[], catalog: &spec };
             let record = match world {
                 WorldKind::Symbolic => {
                     let mut w = Bricks::new(SymbolicBrickWorld::new(&spec)?);
-                    let limit = w.world.tick_limit();
-                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)
-                        .map_err(|e| interrupted(&out, e))?
+                    let limit = w.0.tick_limit();
+                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out)
                 }
                 WorldKind::Physics => {
                     let mut w = Bricks::new(PhysicsBrickWorld::new(&spec)?);
-                    let limit = w.world.tick_limit();
-                    driver::run(&mut w, Source::Fixed(&plan.nodes), &spec, limit, &mut out)
-                        .map_err(|e| interrupted(&out, e))?
+                    let limit = w.0.tick_limit();
+                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out)
                 }
-            };
+            }
+            .map_err(|e| interrupted(&out, e))?;
             brick_summary(&mut out, &spec, &record);
             Ok(Run { narration: out, record, catalog: Arc::new(spec), goal_region: None })
         }
@@ -331,34 +326,48 @@ fn brick_summary(out: &mut String, spec: &Spec, r: &Record) {
 /// Names of bricks for the top view.
 const BRICK_NAMES: [&str; 4] = ["brick 0", "brick 1", "brick 2", "brick 3"];
 
-/// A brick world as a live world: no agents, the tick is the world's step.
+/// A brick world as a scene: no events, the bricks in the top view.
 #[derive(Debug)]
-struct Bricks<W> {
-    world: W,
-}
+struct Bricks<W>(W);
 
 impl<W: BrickWorld> Bricks<W> {
     fn new(mut world: W) -> Self {
         world.reset();
-        Self { world }
+        Self(world)
     }
 }
 
-forward_behaviors!(Bricks<W> where W: BrickWorld);
+impl<W: BrickWorld> bt_core::BehaviorSet for Bricks<W> {
+    fn condition(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
+        self.0.condition(leaf, ctx)
+    }
+    fn action(&mut self, leaf: &bt_core::Leaf, ctx: bt_core::Context<'_>) -> Status {
+        self.0.action(leaf, ctx)
+    }
+    fn halt(&mut self, leaf: &bt_core::Leaf, node: bt_core::NodeId) {
+        self.0.halt(leaf, node);
+    }
+}
 
-impl<W: BrickWorld> Live for Bricks<W> {
-    fn advance(&mut self, _tick: u32, _running: Option<&str>) {
-        self.world.step();
+impl<W: BrickWorld> worlds::World for Bricks<W> {
+    fn reset(&mut self) {
+        self.0.reset();
     }
 
-    fn drain_events(&mut self) -> Vec<String> {
-        Vec::new()
+    fn step(&mut self) {
+        self.0.step();
+    }
+}
+
+impl<W: BrickWorld> Scene for Bricks<W> {
+    fn event(&self, _: usize) -> Option<&str> {
+        None
     }
 
-    fn points(&self) -> driver::Points {
-        (0..self.world.spec().bricks.len())
+    fn points(&self) -> Points {
+        (0..self.0.spec().bricks.len())
             .filter_map(|i| {
-                let p = self.world.position(i);
+                let p = self.0.position(i);
                 BRICK_NAMES.get(i).map(|&n| (n, [p[0], p[1]]))
             })
             .collect()

@@ -126,7 +126,7 @@ pub enum SymbolicError {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum HaltRule {
     /// An action halted and started again within the same tick (before the next
-    /// [`BrickWorld::step`]) carries on: the reference's outcomes.
+    /// [`worlds::World::step`]) carries on: the reference's outcomes.
     #[default]
     ResumeWithinTick,
     /// A halted action always starts afresh: bt-core's semantics taken literally.
@@ -156,7 +156,7 @@ enum Op {
     Put(u8, Target),
 }
 
-/// The symbolic brick world of one task. Built once; [`BrickWorld::reset`] restores the
+/// The symbolic brick world of one task. Built once; [`worlds::World::reset`] restores the
 /// start state in place without allocating, so one world runs any number of episodes.
 #[derive(Clone, Debug)]
 pub struct SymbolicBrickWorld {
@@ -457,11 +457,7 @@ impl BehaviorSet for SymbolicBrickWorld {
     }
 }
 
-impl BrickWorld for SymbolicBrickWorld {
-    fn spec(&self) -> &Spec {
-        &self.spec
-    }
-
+impl worlds::World for SymbolicBrickWorld {
     fn reset(&mut self) {
         self.pos = self.start;
         self.held = None;
@@ -475,6 +471,12 @@ impl BrickWorld for SymbolicBrickWorld {
     fn step(&mut self) {
         self.ticks = self.ticks.wrapping_add(1);
         self.halted_len = 0;
+    }
+}
+
+impl BrickWorld for SymbolicBrickWorld {
+    fn spec(&self) -> &Spec {
+        &self.spec
     }
 
     fn position(&self, brick: usize) -> [f32; 3] {

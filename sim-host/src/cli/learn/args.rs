@@ -8,10 +8,10 @@ use gp::Variant;
 use gp::islands::IslandParams;
 use planner::duplo::Task;
 use sim_host::learn::{self, Disturbance, RunSpec, StripsProblem, Subject};
-use sim_host::scenario::WorldKind;
 use sim_host::text::count;
+use worlds::WorldKind;
 
-use crate::cli::scenario::World;
+use crate::cli::scenario::{WORLDS, world_parser};
 
 /// Most generations a run may ask for: 100,000 generations keep about 2.7 million
 /// trees in the fitness cache (some hundreds of MB).
@@ -44,8 +44,8 @@ pub struct Args {
     #[arg(long = "variant", alias = "variants", value_name = "VARIANTS", default_value = "baseline", value_parser = parse_variants)]
     pub variants: VariantList,
     /// Where episodes run (brick tasks; PDDL problems run in the STRIPS world).
-    #[arg(long, value_enum)]
-    pub world: Option<World>,
+    #[arg(long, value_parser = world_parser(WORLDS.0, WORLDS.1))]
+    pub world: Option<WorldKind>,
     /// Seeds: `1..5` (inclusive), `3`, or `1,4,7`.
     #[arg(long, default_value = "1..5", value_parser = parse_seeds)]
     pub seeds: SeedList,
@@ -78,7 +78,8 @@ pub struct Args {
     /// root for a single goal (balance: 11 nodes instead of 10).
     #[arg(long)]
     pub goal_sequence: bool,
-    /// PDDL: external agents do or undo an action before a tick with this chance.
+    /// PDDL: before a tick, with this chance, an external agent undoes the robot's last
+    /// action or does one of the tree's actions (at most 3 times an episode).
     #[arg(long, value_name = "RATE", requires = "domain")]
     pub disturb: Option<f64>,
     /// PDDL with --disturb: the seed of the agents.
@@ -202,7 +203,7 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
     };
     let subjects: Vec<(Subject, u32)> = match (&args.tasks, &args.domain, &args.problem) {
         (Some(tasks), _, _) => {
-            let world = WorldKind::from(args.world.unwrap_or(World::Symbolic));
+            let world = args.world.unwrap_or(WorldKind::Symbolic);
             tasks
                 .0
                 .iter()
@@ -213,7 +214,7 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
                 .collect()
         }
         (None, Some(d), Some(p)) => {
-            if args.world.is_some_and(|w| w != World::Symbolic) {
+            if args.world.is_some_and(|w| w != WorldKind::Symbolic) {
                 bail!("--world physics is for the brick tasks; PDDL problems learn in the symbolic STRIPS world");
             }
             let disturbance = match args.disturb {

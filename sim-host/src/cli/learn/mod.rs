@@ -29,7 +29,8 @@ P.pddl), in the symbolic STRIPS world: the leaves are the problem's grounded con
 actions, and the fitness is\n  \
 F = -(100 per goal literal not holding at the end + 0.1 per node + 0.1 per tick\n        \
 + 50 if the root failed + 10 at the tick limit).\n\
-With --disturb RATE, external agents do or undo an action before a tick with that chance, and \
+With --disturb RATE, before a tick and with that chance (at most 3 times an episode), an \
+external agent undoes the robot's last action or does one of the tree's actions (as in bench-pddl), and \
 a tree's fitness is its mean over --disturb-episodes seeded episodes (the same ones for every \
 tree), so that the learned tree is reactive rather than a lucky plan.\n\n\
 Variants: none (no baseline), baseline (inserted and kept), boost-crossover and boost-all \

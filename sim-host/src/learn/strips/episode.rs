@@ -1,14 +1,16 @@
 //! Episodes of a tree in GP's leaves in the STRIPS world, with or without external
 //! agents, and the fitness (see the [parent module](super)).
 
+use std::borrow::{Borrow, BorrowMut};
 use std::sync::{Arc, Mutex};
 
 use anyhow::anyhow;
-use bt_core::{BehaviorSet, Context, Executor, Leaf, Node, NodeId, NodeState, Status, Tree};
+use bt_core::{BehaviorSet, Context, Leaf, Node, NodeId, NodeKind, Status, Tree};
 use planner::ground::ActionId;
 use planner::strips::StripsWorld;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use planner::strips::disturb::Agents;
+use worlds::end::{Failures, SuccessTwice};
+use worlds::{Clock, Runner, Settings, Stop, World};
 
 use super::{DEPTH, Disturbance, Letter, StripsFitnessParams, StripsProblem};
 
@@ -46,97 +48,65 @@ impl StripsEpisode {
     }
 }
 
-/// The world of one episode, as the tree's behavior set: the STRIPS state and the
-/// actions the tree has running.
-struct Behaviors<'a> {
+/// The STRIPS world with GP's leaves: each leaf is one grounded literal or action
+/// ([`Letter`]), run with the world's own semantics ([`StripsWorld::check`],
+/// [`StripsWorld::act`]).
+struct Letters<'a> {
     p: &'a StripsProblem,
     world: &'a mut StripsWorld,
-    running: &'a mut Vec<(NodeId, ActionId)>,
 }
 
-impl BehaviorSet for Behaviors<'_> {
+impl BehaviorSet for Letters<'_> {
     fn condition(&mut self, leaf: &Leaf, _: Context<'_>) -> Status {
         match self.p.letter(leaf.behavior()) {
-            Some(Letter::Condition(l)) if self.world.holds(l.atom) == l.positive => Status::Success,
+            Some(Letter::Condition(l)) => self.world.check(l),
             _ => Status::Failure,
         }
     }
 
     fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
-        if !ctx.starting
-            && let Some(i) = self.running.iter().position(|r| r.0 == ctx.node)
-        {
-            let (_, a) = self.running.swap_remove(i);
-            if let Some(ga) = self.p.g.action(a) {
-                for &d in &ga.del {
-                    self.world.set(d, false);
-                }
-                for &x in &ga.add {
-                    self.world.set(x, true);
-                }
-            }
-            return Status::Success;
-        }
-        let Some(Letter::Action(a)) = self.p.letter(leaf.behavior()) else { return Status::Failure };
-        match self.p.g.action(a) {
-            Some(ga) if ga.applicable(self.world.state()) => {
-                self.running.retain(|r| r.0 != ctx.node);
-                self.running.push((ctx.node, a));
-                Status::Running
-            }
+        match self.p.letter(leaf.behavior()) {
+            Some(Letter::Action(a)) => self.world.act(ctx.node, ctx.starting, &[a]),
             _ => Status::Failure,
         }
     }
 
     fn halt(&mut self, _: &Leaf, node: NodeId) {
-        self.running.retain(|r| r.0 != node);
+        self.world.stop(node);
     }
 }
 
-/// The generator of episode `k`'s agents.
-fn agents(seed: u64, k: u32) -> ChaCha8Rng {
-    ChaCha8Rng::seed_from_u64(gp::islands::island_seed(seed, 1 + k as usize, 0))
+impl World for Letters<'_> {
+    fn reset(&mut self) {
+        self.world.reset();
+    }
 }
 
-/// An external agent's act, maybe: see the module docs.
-fn disturb(
-    p: &StripsProblem,
-    world: &mut StripsWorld,
-    rate: f64,
-    rng: &mut ChaCha8Rng,
-    scratch: &mut Vec<ActionId>,
-) -> bool {
-    if rng.random::<f64>() >= rate {
-        return false;
+impl Borrow<StripsWorld> for Letters<'_> {
+    fn borrow(&self) -> &StripsWorld {
+        self.world
     }
-    let undo = rng.random_range(0..2u32) == 1;
-    scratch.clear();
-    let state = world.state();
-    for (i, a) in p.g.actions().iter().enumerate() {
-        let ok = if undo {
-            a.add.iter().all(|&x| state.holds(x))
-                && a.del.iter().all(|&x| !state.holds(x))
-                && !(a.add.is_empty() && a.del.is_empty())
-        } else {
-            a.applicable(state) && (a.add.iter().any(|&x| !state.holds(x)) || a.del.iter().any(|&x| state.holds(x)))
-        };
-        if ok {
-            scratch.push(i as ActionId);
+}
+
+impl BorrowMut<StripsWorld> for Letters<'_> {
+    fn borrow_mut(&mut self) -> &mut StripsWorld {
+        self.world
+    }
+}
+
+/// The ground actions of a tree's action leaves, in pre-order, each once: what the
+/// helping agents may do ([`planner::strips::disturb`]).
+fn tree_actions(p: &StripsProblem, nodes: &[Node]) -> Vec<ActionId> {
+    let mut out = Vec::new();
+    for n in nodes {
+        if let NodeKind::Action(l) = n.kind()
+            && let Some(Letter::Action(a)) = p.letter(l.behavior())
+            && !out.contains(&a)
+        {
+            out.push(a);
         }
     }
-    if scratch.is_empty() {
-        return false;
-    }
-    let pick = scratch[rng.random_range(0..scratch.len() as u32) as usize];
-    let Some(a) = p.g.action(pick) else { return false };
-    let (on, off) = if undo { (&a.del, &a.add) } else { (&a.add, &a.del) };
-    for &x in off {
-        world.set(x, false);
-    }
-    for &x in on {
-        world.set(x, true);
-    }
-    true
+    out
 }
 
 /// Runs episodes of trees in GP's leaves.
@@ -144,81 +114,56 @@ fn disturb(
 pub struct StripsRunner {
     p: Arc<StripsProblem>,
     world: StripsWorld,
-    running: Vec<(NodeId, ActionId)>,
-    states: Vec<NodeState>,
-    scratch: Vec<ActionId>,
+    runner: Runner,
     params: StripsFitnessParams,
-    tick_limit: u32,
 }
 
 impl StripsRunner {
     /// A runner with the default fitness constants and tick limit `tick_limit`.
     #[must_use]
     pub fn new(p: Arc<StripsProblem>, tick_limit: u32) -> Self {
-        let world = StripsWorld::new(p.g.clone());
-        Self {
-            p,
-            world,
-            running: Vec::new(),
-            states: Vec::new(),
-            scratch: Vec::new(),
-            params: StripsFitnessParams::default(),
-            tick_limit: tick_limit.max(1),
-        }
+        let world = StripsWorld::new(p.grounding().clone());
+        // Tick k (from 1) at k * 100 ms; agents act before ticks, so the world does
+        // not move on after the last; what still runs at the limit is halted.
+        let settings = Settings {
+            moves_on_at_limit: false,
+            moves_on_at_stop: false,
+            halt_at_limit: true,
+            ..Settings::new(tick_limit.max(1), Clock { ms_per_tick: crate::episode::TICK_MS, first: 1 })
+        };
+        Self { p, world, runner: Runner::new(settings), params: StripsFitnessParams::default() }
     }
 
-    /// One episode: undisturbed with `agents = None`, else disturbed with that rate by
-    /// the agents of episode `k` of `seed`.
+    /// One episode: undisturbed with `agents_of = None`, else disturbed by the agents of
+    /// episode `k` of `d`.
     ///
     /// # Errors
     /// A tree that does not validate against GP's leaves within [`DEPTH`] levels.
-    pub fn episode(&mut self, nodes: &[Node], agents_of: Option<(f64, u64, u32)>) -> anyhow::Result<StripsEpisode> {
+    pub fn episode(&mut self, nodes: &[Node], agents_of: Option<(&Disturbance, u32)>) -> anyhow::Result<StripsEpisode> {
         let tree: Tree<'_, DEPTH> = Tree::validate(nodes, &self.p.catalog).map_err(|e| anyhow!("{e}"))?;
-        let length = nodes.len();
-        let Self { p, world, running, states, scratch, params, tick_limit } = self;
+        let Self { p, world, runner, params } = self;
         world.reset();
-        running.clear();
-        states.clear();
-        states.resize(nodes.len(), NodeState::IDLE);
-        let mut exec = Executor::new(tree, states).map_err(|_| anyhow!("no room for the tree's state"))?;
-        let mut rng = agents_of.map(|(_, seed, k)| agents(seed, k));
-        let rate = agents_of.map_or(0.0, |a| a.0);
-        let (mut end, mut ticks, mut acts, mut succeeded) = (StripsEnd::Timeout, 0, 0, false);
-        while ticks < *tick_limit {
-            ticks += 1;
-            if let Some(rng) = rng.as_mut() {
-                acts += u32::from(disturb(p, world, rate, rng, scratch));
-            }
-            let mut b = Behaviors { p, world, running };
-            let root = exec.tick(&mut b, ticks.saturating_mul(crate::episode::TICK_MS)).map_err(|e| anyhow!("{e}"))?;
-            match root {
-                Status::Failure => {
-                    end = StripsEnd::Failure;
-                    break;
-                }
-                Status::Success if succeeded => {
-                    end = StripsEnd::Success;
-                    break;
-                }
-                Status::Success => succeeded = true,
-                // (A learned tree has no node that skips; a skipped tick has no result.)
-                Status::Running | Status::Skipped => succeeded = false,
-            }
-        }
-        if end == StripsEnd::Timeout {
-            exec.halt_all(&mut Behaviors { p, world, running });
-        }
-        let unmet = p.g.goal().iter().filter(|l| world.holds(l.atom) != l.positive).count();
+        let mut agents: Option<Agents> = agents_of.map(|(d, k)| d.model().agents(tree_actions(p, nodes), k));
+        let mut letters = Letters { p, world };
+        let mut ends = (Failures::first(), SuccessTwice::default());
+        let out = runner.run(tree, &mut letters, &mut ends, &mut agents, &mut ()).map_err(|e| anyhow!("{e}"))?;
+        let end = match out.stop {
+            Stop::Failure => StripsEnd::Failure,
+            Stop::Success => StripsEnd::Success,
+            _ => StripsEnd::Timeout,
+        };
+        let unmet = p.grounding().goal().iter().filter(|l| world.holds(l.atom) != l.positive).count();
         let mut cost = params.unmet_goal * unmet as f64;
-        cost += params.length * length as f64;
-        cost += params.tick * f64::from(ticks);
+        cost += params.length * nodes.len() as f64;
+        cost += params.tick * f64::from(out.ticks);
         if end == StripsEnd::Failure {
             cost += params.failure;
         }
         if end == StripsEnd::Timeout {
             cost += params.timeout;
         }
-        Ok(StripsEpisode { end, ticks, unmet, disturbances: acts, fitness: -cost })
+        let disturbances = agents.map_or(0, |a| u32::try_from(a.acts()).unwrap_or(u32::MAX));
+        Ok(StripsEpisode { end, ticks: out.ticks, unmet, disturbances, fitness: -cost })
     }
 }
 
@@ -256,7 +201,7 @@ impl StripsFitness {
         let mut runner = runner.unwrap_or_else(|| StripsRunner::new(self.p.clone(), self.tick_limit));
         let result = match self.disturbance {
             None => runner.episode(tree, None).map(|e| vec![e]),
-            Some(d) => (0..d.episodes).map(|k| runner.episode(tree, Some((d.rate, d.seed, k)))).collect(),
+            Some(d) => (0..d.episodes).map(|k| runner.episode(tree, Some((&d, k)))).collect(),
         };
         if let Ok(mut p) = self.pool.lock() {
             p.push(runner);

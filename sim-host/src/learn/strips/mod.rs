@@ -6,28 +6,28 @@
 //!
 //! GP draws argument-less leaves ([`gp::Alphabet`]), so each grounded literal and each
 //! ground action is one leaf of a [`FlatCatalog`]: the conditions are the literals that
-//! some ground action needs or the goal asks for (`holding(cube)`, and
-//! `not hand-empty` for a negative one), then every ground action
-//! (`move-to(goal)`). Trees are converted both ways to the PDDL leaf contract
-//! (predicate or action id with object arguments; a negative condition is an
+//! some ground action needs, that a conditional effect's `when` asks for, or that the
+//! goal asks for (`holding(cube)`, and `not hand-empty` for a negative one), then every
+//! ground action (`move-to(goal)`). Trees are converted both ways to the PDDL leaf
+//! contract (predicate or action id with object arguments; a negative condition is an
 //! `Inverter` over the condition), which is what images, XML and ASCII output use.
 //!
 //! # Episodes
 //!
-//! An action leaf runs its ground action as [`planner::strips::StripsWorld`] does: it
-//! fails if its preconditions do not hold when it starts, else returns Running, and on
-//! its next tick applies its effects and succeeds; a halted action has no effect. An
-//! episode ticks the tree from the initial state until the root fails, succeeds on two
-//! ticks in a row, or the tick limit is reached (a timeout).
+//! Episodes run on the one runner of [`worlds`], in the planner's STRIPS world
+//! ([`planner::strips::StripsWorld`]): a condition leaf holds when its literal does; an
+//! action leaf fails if its preconditions do not hold when it starts, else returns
+//! Running, and on its next tick applies its effects (conditional ones included) and
+//! succeeds; a halted action has no effect. An episode ticks the tree from the initial
+//! state until the root fails, succeeds on two ticks in a row, or the tick limit is
+//! reached (a timeout).
 //!
-//! With disturbances (seed 000, Problem 1), before every tick an external agent acts
-//! with probability `rate`: with even odds it *does* a ground action whose
-//! preconditions hold (a helper: the tree should skip what is done), or *undoes* one
-//! whose effects all hold (its add effects become false and its delete effects true:
-//! the cube taken from the hand, the sphere rolled back into the path), each drawn
-//! uniformly among those that change the state. The agents of episode `k` draw from a
-//! generator seeded by the disturbance seed and `k`, so a tree always meets the same
-//! `episodes` disturbed episodes and its fitness is a function of the tree.
+//! With disturbances, external agents act before ticks as in the IPC benchmark
+//! ([`planner::strips::disturb`]: with chance `rate` per tick, at most three times an
+//! episode, they undo the robot's last completed action or do one of the tree's actions
+//! for it). The agents of episode `k` draw from a generator seeded by the disturbance
+//! seed and `k`, so a tree always meets the same `episodes` disturbed episodes and its
+//! fitness is a function of the tree.
 //!
 //! # Fitness
 //!
@@ -114,6 +114,18 @@ pub struct Disturbance {
     pub episodes: u32,
 }
 
+impl Disturbance {
+    /// The agents' model: the IPC benchmark's, with this rate and seed.
+    #[must_use]
+    pub fn model(&self) -> planner::strips::disturb::Disturbance {
+        planner::strips::disturb::Disturbance {
+            rate: self.rate,
+            seed: self.seed,
+            ..planner::strips::disturb::Disturbance::default()
+        }
+    }
+}
+
 /// A PDDL problem ready to learn on: grounded, with its leaves and the planner's tree.
 #[derive(Debug)]
 pub struct StripsProblem {
@@ -155,6 +167,7 @@ impl StripsProblem {
         let mut conditions: BTreeSet<Lit> = g.goal().iter().copied().collect();
         for a in g.actions() {
             conditions.extend(a.pre.iter().copied());
+            conditions.extend(a.cond.iter().flat_map(|c| c.when.iter().copied()));
         }
         let mut letters: Vec<Letter> = conditions.into_iter().map(Letter::Condition).collect();
         letters.extend((0..g.actions().len() as ActionId).map(Letter::Action));
@@ -338,7 +351,10 @@ impl StripsProblem {
                     let negated = i > 0 && nodes.get(i - 1).is_some_and(inverter);
                     let lit = Lit { atom, positive: !negated };
                     let id = self.letter_of(Letter::Condition(lit)).ok_or_else(|| {
-                        anyhow!("node {i}: `{}` is not a precondition or goal of this problem", self.g.lit_name(lit))
+                        anyhow!(
+                            "node {i}: `{}` is not a precondition, effect condition or goal of this problem",
+                            self.g.lit_name(lit)
+                        )
                     })?;
                     NodeKind::Condition(Leaf::new(id))
                 }

@@ -4,6 +4,7 @@
 use super::*;
 use bt_core::{Context, Leaf, Status};
 use planner::duplo::Task;
+use worlds::World as _;
 
 use Status::{Failure, Running, Success};
 

@@ -5,19 +5,16 @@
 
 use std::fmt::Write as _;
 
-use bt_core::{Catalog, NodeKind, NodeStatus, Tree};
+use bt_core::Tree;
 
-use super::Run;
-use super::driver::{DEPTH, leaf_name};
+use super::tree::{LINE, snapshot};
+use super::writer::{Boxes, document, esc};
+use crate::scenario::Run;
+use crate::scenario::driver::DEPTH;
 
 const PALETTE: [&str; 6] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
 const VIEW: f32 = 520.0;
 const MARGIN: f32 = 40.0;
-const LINE: f32 = 15.0;
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
-}
 
 /// The picture of `run`, titled `title`.
 #[must_use]
@@ -54,21 +51,13 @@ pub fn svg(run: &Run, title: &str) -> String {
             row_h = 0.0;
         }
         let label = format!("tick {}: {}", snap.tick, snap.label);
-        draw_tree(&mut body, run.catalog.as_ref(), tree, &snap.states, x, y, &label);
+        snapshot(&mut body, run.catalog.as_ref(), tree, &snap.states, (x, y), &label);
         row_h = row_h.max(h);
         x += col_w;
         width = width.max(x);
     }
     y += row_h + MARGIN;
-    let mut doc = String::new();
-    let _ = writeln!(
-        doc,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{y:.0}" viewBox="0 0 {width:.0} {y:.0}" font-family="sans-serif">"#
-    );
-    let _ = writeln!(doc, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    doc.push_str(&body);
-    doc.push_str("</svg>\n");
-    doc
+    document(f64::from(width), f64::from(y), r#"font-family="sans-serif""#, "", &body)
 }
 
 /// Marks closer than this (pixels) share one ring and one label.
@@ -176,21 +165,21 @@ fn top_view(out: &mut String, run: &Run, x0: f32, y0: f32) {
             None => spots.push(Spot { x, y, colour, numbers: vec![n + 1] }),
         }
     }
-    // Boxes already taken (left, top, right, bottom): the rings, the goal region's label.
-    let mut taken: Vec<[f32; 4]> = spots.iter().map(|s| [s.x - 8.0, s.y - 8.0, s.x + 8.0, s.y + 8.0]).collect();
+    // Boxes already taken: the rings, the goal region's label.
+    let mut taken = Boxes::default();
+    for s in &spots {
+        taken.take(wide([s.x - 8.0, s.y - 8.0, s.x + 8.0, s.y + 8.0]));
+    }
     if let Some((corner, size)) = run.goal_region {
         let (ax, ay) = map([corner[0], corner[1] + size[1]]);
-        taken.push([ax, ay - 15.0, ax + 70.0, ay - 2.0]);
+        taken.take(wide([ax, ay - 15.0, ax + 70.0, ay - 2.0]));
     }
     for spot in &spots {
         let text: Vec<String> = spot.numbers.iter().map(ToString::to_string).collect();
         let text = text.join(", ");
         let width = 7.0 * text.len() as f32;
         // A label's box from its text's start and baseline.
-        let boxed = |lx: f32, ly: f32| [lx, ly - 10.0, lx + width, ly + 2.0];
-        let free = |b: [f32; 4], taken: &[[f32; 4]]| {
-            !taken.iter().any(|t| b[0] < t[2] && t[0] < b[2] && b[1] < t[3] && t[1] < b[3])
-        };
+        let boxed = |lx: f32, ly: f32| wide([lx, ly - 10.0, lx + width, ly + 2.0]);
         // Right of the ring, above or below; left of it; then further down the right.
         let (x, y) = (spot.x, spot.y);
         let candidates =
@@ -198,9 +187,9 @@ fn top_view(out: &mut String, run: &Run, x0: f32, y0: f32) {
         let (lx, ly) = candidates
             .into_iter()
             .chain((1..40).map(|k| (x + 9.0, y + 14.0 + 12.0 * k as f32)))
-            .find(|&(lx, ly)| free(boxed(lx, ly), &taken))
+            .find(|&(lx, ly)| taken.free(boxed(lx, ly)))
             .unwrap_or((x + 9.0, y - 6.0));
-        taken.push(boxed(lx, ly));
+        taken.take(boxed(lx, ly));
         let _ = writeln!(
             out,
             r#"<circle cx="{:.1}" cy="{:.1}" r="7" fill="none" stroke="{}" stroke-width="2"/><text x="{lx:.1}" y="{ly:.1}" font-size="11" font-weight="bold" fill="{}">{text}</text>"#,
@@ -245,45 +234,7 @@ fn timeline(out: &mut String, run: &Run, x0: f32, mut y: f32) -> f32 {
     y + 10.0
 }
 
-fn draw_tree<C: Catalog + ?Sized>(
-    out: &mut String,
-    catalog: &C,
-    tree: Tree<'_, DEPTH>,
-    states: &[bt_core::NodeState],
-    x0: f32,
-    y0: f32,
-    label: &str,
-) {
-    let _ = writeln!(out, r#"<text x="{x0}" y="{y0}" font-size="13" font-weight="bold">{}</text>"#, esc(label));
-    let mut ends: Vec<usize> = Vec::new();
-    for (i, node) in tree.nodes().iter().enumerate() {
-        while ends.last().is_some_and(|&e| e <= i) {
-            ends.pop();
-        }
-        let depth = ends.len() as f32;
-        let (fill, mark) = match states.get(i).map(|s| s.status()) {
-            Some(NodeStatus::Success) => ("#2e7d32", " ✓"),
-            Some(NodeStatus::Failure) => ("#c62828", " ✕"),
-            Some(NodeStatus::Running) => ("#ef6c00", " …"),
-            _ => ("#333", ""),
-        };
-        let text = match node.kind() {
-            NodeKind::Sequence => "→ Sequence".to_string(),
-            NodeKind::Fallback => "? Fallback".to_string(),
-            NodeKind::Inverter => "¬ Inverter".to_string(),
-            NodeKind::Condition(l) => format!("({})", leaf_name(catalog, l)),
-            NodeKind::Action(l) => format!("[{}]", leaf_name(catalog, l)),
-            other => other.name().to_string(),
-        };
-        let _ = writeln!(
-            out,
-            r#"<text x="{:.1}" y="{:.1}" font-size="12" fill="{fill}">{}{mark}</text>"#,
-            x0 + 14.0 * depth,
-            y0 + LINE * (i as f32 + 1.2),
-            esc(&text)
-        );
-        if node.kind().arity() != bt_core::Arity::Leaf {
-            ends.push(i + usize::from(node.size()));
-        }
-    }
+/// A box in the writer's units (exact: every `f32` is an `f64`).
+fn wide(b: [f32; 4]) -> [f64; 4] {
+    b.map(f64::from)
 }

@@ -41,15 +41,14 @@
 //!
 //! # External agents
 //!
-//! [`Agent`] events happen at the start of a tick, before the tree is ticked: taking the
-//! cube from the hand, rolling the sphere into the path to the goal and away again,
-//! handing the cube to the robot, putting the cube on the goal. They come from a script
-//! ([`MobileWorld::with_script`]) or from a seeded generator
-//! ([`MobileWorld::with_random_agents`]); [`MobileWorld::events`] is the narration.
+//! [`Agent`] acts happen between ticks, before the world steps into the next tick
+//! ([`MobileWorld::apply`], whose event carries that tick): taking the cube from the
+//! hand, rolling the sphere into the path to the goal and away again, handing the cube
+//! to the robot, putting the cube on the goal. Who acts when is a [`worlds::Agent`]: a
+//! script, a story or a seeded generator ([`crate::scenario::agents`]);
+//! [`MobileWorld::events`] is the narration.
 
 use bt_core::{BehaviorInfo, BehaviorSet, Context, Leaf, NodeId, Status};
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use rapier3d::parry::shape::Cuboid;
 use rapier3d::prelude::{
     ColliderBuilder, FixedJointBuilder, ImpulseJointHandle, PhysicsWorld, Pose, RigidBodyBuilder, RigidBodyHandle,
@@ -57,6 +56,10 @@ use rapier3d::prelude::{
 };
 
 use super::engine;
+
+mod acts;
+
+pub use acts::{Agent, MobileEvent};
 
 /// The behavior set, in the contract's order: predicates, then actions.
 pub const CATALOG: [BehaviorInfo<'static>; 11] = [
@@ -110,52 +113,6 @@ pub const MOVE_MARGIN_TICKS: u32 = 10;
 /// A move-to has arrived when it is this close to its stopping distance, m.
 const ARRIVED: f32 = 1e-4;
 
-/// What an external agent does.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Agent {
-    /// Takes the cube out of the gripper and puts it on the floor beside the robot.
-    TakeCube,
-    /// Rolls the sphere into the straight path from the robot to the goal.
-    BlockPath,
-    /// Rolls the sphere away, out of every path.
-    UnblockPath,
-    /// Puts the cube into the empty gripper.
-    HandCube,
-    /// Puts the cube on the goal region.
-    CubeToGoal,
-}
-
-impl Agent {
-    /// Every agent act.
-    pub const ALL: [Agent; 5] =
-        [Agent::TakeCube, Agent::BlockPath, Agent::UnblockPath, Agent::HandCube, Agent::CubeToGoal];
-
-    fn describe(self) -> &'static str {
-        match self {
-            Self::TakeCube => "an agent takes the cube from the gripper",
-            Self::BlockPath => "an agent rolls the sphere into the path to the goal",
-            Self::UnblockPath => "an agent rolls the sphere out of the way",
-            Self::HandCube => "an agent puts the cube into the gripper",
-            Self::CubeToGoal => "an agent puts the cube on the goal",
-        }
-    }
-}
-
-/// A line of narration: what happened at which tick.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct MobileEvent {
-    /// The tick.
-    pub tick: u32,
-    /// What happened, in plain words.
-    pub text: String,
-}
-
-impl core::fmt::Display for MobileEvent {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "tick {}: {}", self.tick, self.text)
-    }
-}
-
 #[derive(Clone, Copy, Debug)]
 enum Job {
     MoveTo(u16),
@@ -183,8 +140,6 @@ pub struct MobileWorld {
     grasp: Option<(u16, ImpulseJointHandle)>,
     running: Option<Running>,
     tick: u32,
-    script: Vec<(u32, Agent)>,
-    random: Option<(ChaCha8Rng, f32)>,
     events: Vec<MobileEvent>,
 }
 
@@ -238,26 +193,8 @@ impl MobileWorld {
             grasp: None,
             running: None,
             tick: 0,
-            script: Vec::new(),
-            random: None,
             events: Vec::new(),
         }
-    }
-
-    /// With agents acting at the given ticks.
-    #[must_use]
-    pub fn with_script(mut self, script: &[(u32, Agent)]) -> Self {
-        self.script = script.to_vec();
-        self.script.sort_by_key(|&(t, _)| t);
-        self
-    }
-
-    /// With agents acting at random: each tick, with probability `rate`, one of the
-    /// agent actions that makes sense now, drawn from a generator seeded with `seed`.
-    #[must_use]
-    pub fn with_random_agents(mut self, seed: u64, rate: f32) -> Self {
-        self.random = Some((ChaCha8Rng::seed_from_u64(seed), rate));
-        self
     }
 
     /// Ticks stepped so far.
@@ -393,48 +330,6 @@ impl MobileWorld {
             b.set_linvel(Vector::ZERO, true);
             b.set_angvel(Vector::ZERO, true);
         }
-    }
-
-    /// Makes an agent act now, between ticks (a scenario's own triggers); returns
-    /// whether the act made sense in the current state (then it is in the event log).
-    pub fn apply(&mut self, agent: Agent) -> bool {
-        self.act(agent)
-    }
-
-    fn act(&mut self, agent: Agent) -> bool {
-        let ok = match agent {
-            Agent::TakeCube if self.held() == Some(CUBE) => {
-                self.release(None);
-                let at = self.beside();
-                self.put(CUBE, at);
-                true
-            }
-            Agent::BlockPath => {
-                let mid = [(self.base_at[0] + GOAL[0]) / 2.0, (self.base_at[1] + GOAL[1]) / 2.0];
-                if self.held() == Some(SPHERE) {
-                    self.release(None);
-                }
-                self.put(SPHERE, mid);
-                true
-            }
-            Agent::UnblockPath if self.held() != Some(SPHERE) => {
-                self.put(SPHERE, [1.5, 2.5]);
-                true
-            }
-            Agent::HandCube if self.held().is_none() => {
-                self.attach(CUBE);
-                true
-            }
-            Agent::CubeToGoal if self.held() != Some(CUBE) => {
-                self.put(CUBE, GOAL);
-                true
-            }
-            _ => false,
-        };
-        if ok {
-            self.say(agent.describe());
-        }
-        ok
     }
 
     fn condition_of(&self, id: u16, args: &[u16]) -> bool {
@@ -587,25 +482,9 @@ impl MobileWorld {
         self.running = Some(r);
     }
 
-    /// Advances the world by one tick: agents act, the running action moves, physics
-    /// runs.
+    /// Advances the world by one tick: the running action moves, physics runs.
     pub fn step(&mut self) {
         self.tick = self.tick.saturating_add(1);
-        while let Some(&(t, agent)) = self.script.first() {
-            if t > self.tick {
-                break;
-            }
-            self.script.remove(0);
-            let _ = self.act(agent);
-        }
-        if let Some((rng, rate)) = self.random.as_mut()
-            && rng.random::<f32>() < *rate
-        {
-            let pick = rng.random_range(0..Agent::ALL.len());
-            if let Some(&agent) = Agent::ALL.get(pick) {
-                let _ = self.act(agent);
-            }
-        }
         self.advance();
         if let Some(b) = self.world.bodies.get_mut(self.base) {
             b.set_next_kinematic_translation(Vector::new(self.base_at[0], self.base_at[1], 0.0));
@@ -618,6 +497,17 @@ impl MobileWorld {
 
 fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+impl worlds::World for MobileWorld {
+    /// Back to the start of Example 1 (a rapier world has no cheaper exact reset).
+    fn reset(&mut self) {
+        *self = Self::new();
+    }
+
+    fn step(&mut self) {
+        MobileWorld::step(self);
+    }
 }
 
 impl BehaviorSet for MobileWorld {

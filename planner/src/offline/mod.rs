@@ -15,6 +15,9 @@ use crate::search::{self, SearchOptions};
 use crate::strips::{self, StripsWorld, Verdict};
 use crate::tree::PlanTree;
 
+mod behind;
+use behind::Behind;
+
 /// Where offline runs start ([`PlanError::GoalNotReached`]).
 const INITIAL: &str = "the initial state";
 
@@ -389,99 +392,6 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     }
 }
 
-/// A backchained tree behind a closure's rules, run by the bt-core executor in the
-/// symbolic world ([`crate::regress::Closable`]).
-struct Behind<'a, C: ?Sized> {
-    g: Arc<Grounding>,
-    catalog: &'a C,
-    base: &'a PlanTree,
-    base_actions: Vec<ActionId>,
-    base_nodes: usize,
-    max_ticks: u32,
-    /// The whole tree for the rules it was built with.
-    built: Option<(RulesKey, crate::tree::Flat)>,
-    states: Vec<bt_core::NodeState>,
-}
-
-/// The rules and undo rules a [`Behind`] tree was built with.
-type RulesKey = (Vec<crate::regress::Rule>, Vec<crate::regress::Rule>);
-
-impl<'a, C: Catalog + ?Sized> Behind<'a, C> {
-    fn new(g: Arc<Grounding>, catalog: &'a C, base: &'a PlanTree, max_ticks: u32) -> Self {
-        let order = base.preorder(base.root());
-        let mut base_actions = Vec::new();
-        for &n in &order {
-            if let crate::tree::Kind::Action(a) = base.kind(n)
-                && !base_actions.contains(&a)
-            {
-                base_actions.push(a);
-            }
-        }
-        Self { g, catalog, base, base_actions, base_nodes: order.len(), max_ticks, built: None, states: Vec::new() }
-    }
-}
-
-impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
-    fn run(
-        &mut self,
-        g: &Grounding,
-        policy: &crate::regress::Policy,
-        s: &crate::state::State,
-    ) -> Result<(Vec<crate::state::State>, bool), PlanError> {
-        let flat = match &mut self.built {
-            Some(((rules, undo), flat))
-                if rules.as_slice() == policy.rules() && undo.as_slice() == policy.undo_rules() =>
-            {
-                flat
-            }
-            built => {
-                let key = (policy.rules().to_vec(), policy.undo_rules().to_vec());
-                &built.insert((key, policy.tree_before(g, self.base).flatten(g)?)).1
-            }
-        };
-        let mut world = StripsWorld::new(self.g.clone());
-        world.set_state(s.clone());
-        let mut path = vec![s.clone()];
-        let mut done = 0;
-        let verdict = strips::run_to_goal(
-            (&flat.nodes, &flat.values),
-            self.catalog,
-            &mut world,
-            self.max_ticks,
-            strips::Ends::DETERMINISTIC,
-            |_, w| {
-                if w.executed().len() != done {
-                    done = w.executed().len();
-                    path.push(w.state().clone());
-                }
-            },
-            &mut self.states,
-        )?;
-        if world.executed().len() != done {
-            path.push(world.state().clone());
-        }
-        Ok((path, verdict.reached()))
-    }
-
-    fn actions(&self, policy: &crate::regress::Policy) -> Vec<ActionId> {
-        let mut out = self.base_actions.clone();
-        for a in policy.actions() {
-            if !out.contains(&a) {
-                out.push(a);
-            }
-        }
-        out
-    }
-
-    fn nodes(&self, g: &Grounding, policy: &crate::regress::Policy) -> usize {
-        if policy.rules().is_empty() && policy.undo_rules().is_empty() {
-            self.base_nodes
-        } else {
-            policy.nodes(g) + self.base_nodes
-        }
-    }
-}
-
 /// Errors after which another method may still make a tree.
 fn recoverable(e: &PlanError) -> bool {
     !matches!(
@@ -529,7 +439,7 @@ fn run_algorithm1<C: Catalog>(
             &mut world,
             options.max_ticks,
             strips::Ends::DETERMINISTIC,
-            |_, _| {},
+            (),
             &mut states,
         )?;
         match verdict {
@@ -583,7 +493,7 @@ fn finish<C: Catalog>(
         &mut fresh,
         options.max_ticks,
         strips::Ends::DETERMINISTIC,
-        |_, _| {},
+        (),
         &mut states,
     )?;
     let nodes = planner.nodes().to_vec();
