@@ -115,14 +115,6 @@ pub(super) struct Returned {
     pub(super) r: Status,
 }
 
-/// Where the ascent through the frames leads.
-pub(super) enum Next {
-    /// Tick this node next.
-    Tick(usize),
-    /// The tick is over, with the root's status.
-    Done(Status),
-}
-
 /// What entering a node decided.
 pub(super) enum Entered {
     /// Tick this child.

@@ -115,7 +115,7 @@
 
 // The tick loop and what it stands on.
 mod frame;
-mod halt;
+mod halting;
 mod run;
 mod tick;
 // The papers' kinds, one file per family (and Skipped in Sequence and Fallback).
@@ -146,7 +146,7 @@ mod sequences;
 mod timers;
 
 use self::frame::{Extra, Frame};
-use self::halt::Scan;
+use self::halting::Scan;
 use self::run::{Run, Side};
 use crate::behavior::{BehaviorSet, Observer, TickError};
 use crate::node::{NodeId, NodeKind};

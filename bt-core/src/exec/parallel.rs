@@ -3,11 +3,10 @@
 //! are totals of the activation, as BehaviorTree.CPP keeps them; with `count_skipped`,
 //! children that skip count towards success in that tick (rule 8, the full loop only).
 
+use super::BTCPP;
 use super::frame::{Ascent, Entered, Extra, Frame, FrameKind, Returned};
 use super::run::Run;
-use super::{BTCPP, oob};
 use crate::behavior::{BehaviorSet, Observer, TickError};
-use crate::node::NodeKind;
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, B, O, DEPTH, FULL> {
@@ -15,13 +14,12 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
     /// activation, and ticks the first that has not.
     pub(super) fn enter_parallel(
         &mut self,
-        kind: &NodeKind,
+        success_threshold: u16,
+        failure_threshold: u16,
+        count_skipped: bool,
         frame: &mut Frame,
         x: &mut Extra,
     ) -> Result<Entered, TickError> {
-        let NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } = *kind else {
-            return Err(oob(usize::from(frame.node)));
-        };
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
         let running = frame.running;

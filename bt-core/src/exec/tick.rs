@@ -13,13 +13,13 @@
 //! function in three parts: the node, the child loop of a reactive Sequence or Fallback,
 //! and the way up.
 
-use super::frame::{Ascent, Entered, Extra, Frame, FrameKind, Next, Returned};
+use super::frame::{Ascent, Entered, Extra, Frame, FrameKind, Returned};
 #[cfg(feature = "btcpp")]
-use super::halt::Scan;
+use super::halting::Scan;
 use super::run::Run;
-use super::{NodeState, oob};
+use super::{BTCPP, NodeState, oob};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
-use crate::node::{Family, Leaf, NodeId, NodeKind};
+use crate::node::{Leaf, NodeId, NodeKind};
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, B, O, DEPTH, FULL> {
@@ -59,6 +59,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                             self.behaviors.condition(leaf, Context { node: c as NodeId, now, starting: true, values });
                         // Running or Skipped.
                         if r as u8 >= Status::Running as u8 {
+                            if !BTCPP {
+                                return Err(leaf_error(c, leaf, r));
+                            }
                             match self.cold().leaf_odd(frames, extra, now, depth, c, leaf, r)? {
                                 Some(done) => return Ok(done),
                                 None => (Status::Skipped, c + 1),
@@ -79,6 +82,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                                 return Ok(r);
                             }
                         } else if !FULL && r == Status::Skipped {
+                            if !BTCPP {
+                                return Err(leaf_error(c, leaf, r));
+                            }
                             if let Some(done) = self.cold().leaf_odd(frames, extra, now, depth, c, leaf, r)? {
                                 return Ok(done);
                             }
@@ -110,6 +116,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                                         .condition(leaf, Context { node: k as NodeId, now, starting: true, values });
                                     // Running or Skipped: an error, or on under a frame.
                                     if r as u8 >= Status::Running as u8 {
+                                        if !BTCPP {
+                                            return Err(leaf_error(k, leaf, r));
+                                        }
                                         let odd = Odd { k, end, go_on, r };
                                         if let Some(done) =
                                             self.cold().child_odd(frames, extra, now, depth, leaf, odd)?
@@ -131,6 +140,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                                             return Ok(r);
                                         }
                                     } else if r == Status::Skipped {
+                                        if !BTCPP {
+                                            return Err(leaf_error(k, leaf, r));
+                                        }
                                         let odd = Odd { k, end, go_on, r };
                                         if let Some(done) =
                                             self.cold().child_odd(frames, extra, now, depth, leaf, odd)?
@@ -240,68 +252,64 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                     }
                 }
             };
-            let next = 'up: {
-                let mut r = r;
-                let mut child_end = child_end;
-                // Ascend: node `c` (ending at `child_end`) returned `r` to the frame at
-                // `depth - 1`.
-                while let Some(top) = depth.checked_sub(1) {
-                    let Some(f) = frames.get(top) else {
-                        return Err(oob(c));
-                    };
-                    if f.kind == FrameKind::Last {
-                        // Its subtree ends where its last child's does.
-                        let node = usize::from(f.node);
-                        if FULL && r == Status::Skipped {
-                            r = self.cold().last_skipped(node, c)?;
-                        } else {
-                            self.set_state(node, r.into(), c as u16);
-                        }
-                        c = node;
-                        depth = top;
-                        continue;
-                    }
-                    let f = *f;
-                    let more = child_end < usize::from(f.end);
-                    if f.kind.is_ordered() {
-                        // Sequence goes on after Success, Fallback after Failure.
-                        if r == f.kind.goes_on_after() && more {
-                            break 'up Next::Tick(child_end);
-                        }
-                        if FULL && r == Status::Skipped {
-                            match self.cold().ordered_skipped(&f, c, child_end)? {
-                                Ascent::Tick(next) => {
-                                    break 'up Next::Tick(next);
-                                }
-                                Ascent::Return(v) => r = v,
-                            }
-                        } else {
-                            if FULL && f.kind.is_memory() && r != Status::Running {
-                                self.cold().reset_running(usize::from(f.node) + 1, c);
-                            }
-                            self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
-                        }
+            let mut r = r;
+            let mut child_end = child_end;
+            // Ascend: node `c` (ending at `child_end`) returned `r` to the frame at
+            // `depth - 1`.
+            while let Some(top) = depth.checked_sub(1) {
+                let Some(f) = frames.get(top) else {
+                    return Err(oob(c));
+                };
+                if f.kind == FrameKind::Last {
+                    // Its subtree ends where its last child's does.
+                    let node = usize::from(f.node);
+                    if FULL && r == Status::Skipped {
+                        r = self.cold().last_skipped(node, c)?;
                     } else {
-                        let returned = Returned { node: c, end: child_end, r };
-                        match self.cold().ascend_other(frames, extra, top, returned, if FULL { now } else { 0 })? {
+                        self.set_state(node, r.into(), c as u16);
+                    }
+                    c = node;
+                    depth = top;
+                    continue;
+                }
+                let f = *f;
+                let more = child_end < usize::from(f.end);
+                if f.kind.is_ordered() {
+                    // Sequence goes on after Success, Fallback after Failure.
+                    if r == f.kind.goes_on_after() && more {
+                        c = child_end;
+                        continue 'descend;
+                    }
+                    if FULL && r == Status::Skipped {
+                        match self.cold().ordered_skipped(&f, c, child_end)? {
                             Ascent::Tick(next) => {
-                                break 'up Next::Tick(next);
+                                c = next;
+                                continue 'descend;
                             }
                             Ascent::Return(v) => r = v,
                         }
-                        self.set_returned(usize::from(f.node), r);
+                    } else {
+                        if FULL && f.kind.is_memory() && r != Status::Running {
+                            self.cold().reset_running(usize::from(f.node) + 1, c);
+                        }
+                        self.finish_ordered(usize::from(f.node), usize::from(f.end), c, child_end, r)?;
                     }
-                    // The frame's node returns `r` to the frame below.
-                    c = usize::from(f.node);
-                    child_end = usize::from(f.end);
-                    depth = top;
+                } else {
+                    match self.cold().ascend_other(frames, extra, top, c, child_end, r, if FULL { now } else { 0 })? {
+                        Ascent::Tick(next) => {
+                            c = next;
+                            continue 'descend;
+                        }
+                        Ascent::Return(v) => r = v,
+                    }
+                    self.set_returned(usize::from(f.node), r);
                 }
-                Next::Done(r)
-            };
-            match next {
-                Next::Tick(next) => c = next,
-                Next::Done(r) => return Ok(r),
+                // The frame's node returns `r` to the frame below.
+                c = usize::from(f.node);
+                child_end = usize::from(f.end);
+                depth = top;
             }
+            return Ok(r);
         }
     }
 
@@ -325,10 +333,10 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
     }
 
     /// Leaf `c`, under the frame at `depth - 1`, returned a status it may not: Running
-    /// from a condition breaks rule 1; Skipped (rule 8) leaves the leaf Idle, and its
-    /// parent goes on as the full loop says: `None` in the full loop (ascend with
-    /// Skipped), the tick's result in the plain one, which hands the rest of the tick to
-    /// the full loop. Without the `btcpp` feature, Skipped is an error.
+    /// from a condition breaks rule 1 ([`leaf_error`]); Skipped (rule 8) leaves the leaf
+    /// Idle, and its parent goes on as the full loop says: `None` in the full loop
+    /// (ascend with Skipped), the tick's result in the plain one, which hands the rest of
+    /// the tick to the full loop.
     #[cold]
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
@@ -342,14 +350,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         leaf: &Leaf,
         r: Status,
     ) -> Result<Option<Status>, TickError> {
-        let behavior = leaf.behavior();
-        if r == Status::Running {
-            return Err(TickError::ConditionRunning { node: c as NodeId, behavior });
+        if !BTCPP || r == Status::Running {
+            return Err(leaf_error(c, leaf, r));
         }
         #[cfg(not(feature = "btcpp"))]
         {
             let _ = (frames, extra, now, depth);
-            Err(TickError::LeafSkipped { node: c as NodeId, behavior })
+            Err(leaf_error(c, leaf, r))
         }
         #[cfg(feature = "btcpp")]
         {
@@ -378,10 +385,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         parent_mirrors: bool,
         now: u32,
     ) -> Result<Entered, TickError> {
-        match kind.family() {
-            Family::Ordered => Ok(self.enter_memory(kind, st, frame)),
-            Family::Parallel => self.enter_parallel(kind, frame, x),
-            Family::Decorators => Ok(self.enter_decorator(kind, st, frame, x)),
+        // The papers' families by kind: the lean dispatch a controller's flash wants.
+        match *kind {
+            NodeKind::SequenceWithMemory | NodeKind::FallbackWithMemory => Ok(self.enter_memory(kind, st, frame)),
+            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+                self.enter_parallel(success_threshold, failure_threshold, count_skipped, frame, x)
+            }
+            NodeKind::Inverter
+            | NodeKind::ForceSuccess
+            | NodeKind::ForceFailure
+            | NodeKind::Repeat(_)
+            | NodeKind::Retry(_)
+            | NodeKind::Timeout(_) => Ok(self.enter_decorator(kind, st, frame, x)),
             #[cfg(feature = "btcpp")]
             _ if FULL => self.full().enter_btcpp(kind, st, frame, x, parent_mirrors, now),
             // The plain loop runs no other kind; the tick loop handles leaves itself.
@@ -392,18 +407,23 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         }
     }
 
-    /// Child `returned.node` returned to the frame at `depth`, neither a Sequence nor a
-    /// Fallback: its family ticks another child, or says what the frame's node returns.
+    /// Child `c` (its subtree ending at `child_end`) returned `r` to the frame at
+    /// `depth`, neither a Sequence nor a Fallback: its family ticks another child, or says
+    /// what the frame's node returns.
     #[cold]
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn ascend_other(
         &mut self,
         frames: &mut [Frame; DEPTH],
         extra: &mut [Extra; DEPTH],
         depth: usize,
-        returned: Returned,
+        c: usize,
+        child_end: usize,
+        r: Status,
         now: u32,
     ) -> Result<Ascent, TickError> {
+        let returned = Returned { node: c, end: child_end, r };
         let (Some(top), Some(x)) = (frames.get_mut(depth), extra.get_mut(depth)) else {
             return Err(oob(returned.node));
         };
@@ -417,6 +437,20 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
             }
             _ => Ok(Ascent::Return(self.ascend_decorator(top, x, returned))),
         }
+    }
+}
+
+/// What a leaf that returned a status it may not is: a condition that returned Running
+/// (rule 1), or a leaf that returned Skipped in a build without the `btcpp` feature,
+/// which leaves Skipped out of the tick loop: its paths cost a controller's flash.
+#[cold]
+#[inline(never)]
+fn leaf_error(node: usize, leaf: &Leaf, r: Status) -> TickError {
+    let (node, behavior) = (node as NodeId, leaf.behavior());
+    if r == Status::Running {
+        TickError::ConditionRunning { node, behavior }
+    } else {
+        TickError::LeafSkipped { node, behavior }
     }
 }
 
