@@ -1,6 +1,8 @@
-//! Sequence and Fallback (rules 2 and 6), the hot path: a reactive one ticks its leaf
-//! children in place, pushing a frame only for a child that needs one; the with-memory
-//! ones resume at the child that was Running.
+//! Sequence and Fallback (rules 2 and 6). A reactive one is the hot path: the tick loop
+//! (`tick.rs`) ticks its leaf children in place, pushing a frame (here) only for a child
+//! that needs one; when it returns, the children it reached last time beyond the one it
+//! returned at are reset (here). The with-memory ones resume at the child that was
+//! Running.
 
 use super::frame::{Entered, Frame, FrameKind};
 use super::run::Run;

@@ -350,9 +350,6 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         leaf: &Leaf,
         r: Status,
     ) -> Result<Option<Status>, TickError> {
-        if !BTCPP || r == Status::Running {
-            return Err(leaf_error(c, leaf, r));
-        }
         #[cfg(not(feature = "btcpp"))]
         {
             let _ = (frames, extra, now, depth);
@@ -360,6 +357,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         }
         #[cfg(feature = "btcpp")]
         {
+            if r == Status::Running {
+                return Err(leaf_error(c, leaf, r));
+            }
             self.set_status(c, NodeStatus::Idle);
             if FULL {
                 return Ok(None);
