@@ -18,20 +18,20 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
         frame: &mut Frame,
         x: &mut Extra,
     ) -> Entered {
-        frame.kind = match *kind {
+        match *kind {
             NodeKind::Repeat(n) | NodeKind::Retry(n) | NodeKind::Timeout(n) => {
-                x.ok = n;
-                frame.a = if frame.running { st.aux } else { 0 };
-                match kind {
+                frame.kind = match kind {
                     NodeKind::Repeat(_) => FrameKind::Repeat,
                     NodeKind::Retry(_) => FrameKind::Retry,
                     _ => FrameKind::Timeout,
-                }
+                };
+                x.ok = n;
+                frame.a = if frame.running { st.aux } else { 0 };
             }
-            NodeKind::ForceSuccess => FrameKind::ForceSuccess,
-            NodeKind::ForceFailure => FrameKind::ForceFailure,
-            _ => FrameKind::Inverter,
-        };
+            NodeKind::ForceSuccess => frame.kind = FrameKind::ForceSuccess,
+            NodeKind::ForceFailure => frame.kind = FrameKind::ForceFailure,
+            _ => frame.kind = FrameKind::Inverter,
+        }
         Entered::Child(usize::from(frame.node) + 1)
     }
 

@@ -397,9 +397,13 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
             | NodeKind::Repeat(_)
             | NodeKind::Retry(_)
             | NodeKind::Timeout(_) => Ok(self.enter_decorator(kind, st, frame, x)),
+            // The tick loop's own.
+            NodeKind::Sequence | NodeKind::Fallback | NodeKind::Condition(_) | NodeKind::Action(_) => {
+                Err(oob(usize::from(frame.node)))
+            }
             #[cfg(feature = "btcpp")]
             _ if FULL => self.full().enter_btcpp(kind, st, frame, x, parent_mirrors, now),
-            // The plain loop runs no other kind; the tick loop handles leaves itself.
+            // The plain loop runs no other kind.
             _ => {
                 let _ = (parent_mirrors, now);
                 Err(oob(usize::from(frame.node)))
