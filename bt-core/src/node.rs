@@ -538,6 +538,34 @@ impl NodeKind {
         }
     }
 
+    /// The family of the executor that runs this kind.
+    #[must_use]
+    pub(crate) const fn family(&self) -> Family {
+        match self {
+            Self::Sequence | Self::Fallback | Self::SequenceWithMemory | Self::FallbackWithMemory => Family::Ordered,
+            Self::Parallel { .. } => Family::Parallel,
+            Self::Inverter
+            | Self::ForceSuccess
+            | Self::ForceFailure
+            | Self::Repeat(_)
+            | Self::Retry(_)
+            | Self::Timeout(_) => Family::Decorators,
+            Self::Condition(_) | Self::Action(_) => Family::Leaves,
+            Self::SequenceStar | Self::PipelineSequence | Self::RoundRobin => Family::Sequences,
+            Self::IfThenElse | Self::WhileDoElse | Self::Recovery { .. } => Family::Branches,
+            Self::ParallelAll { .. } => Family::ParallelAll,
+            Self::RepeatCycles(_)
+            | Self::RetryUntilSuccessful(_)
+            | Self::KeepRunningUntilFailure
+            | Self::RunOnce { .. } => Family::Counting,
+            Self::TimeLimit(_) | Self::Delay(_) | Self::RateController(_) | Self::Sleep(_) => Family::Timers,
+            Self::Guard(_) | Self::Precondition { .. } | Self::Gate(_) => Family::Guards,
+            Self::Loop { .. } => Family::Loops,
+            Self::ManualSelector { .. } => Family::ManualSelector,
+            Self::Script(_) | Self::ScriptCondition(_) | Self::AlwaysSuccess | Self::AlwaysFailure => Family::Scripts,
+        }
+    }
+
     /// The leaf and its kind, for leaves.
     #[must_use]
     pub const fn leaf(&self) -> Option<(LeafKind, Leaf)> {
@@ -546,6 +574,49 @@ impl NodeKind {
             Self::Action(l) => Some((LeafKind::Action, l)),
             _ => None,
         }
+    }
+}
+
+/// Which part of the executor runs a kind: each family enters and ascends its kinds in
+/// one file of `exec/`. The papers' families are the ones the plain tick loop runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Family {
+    /// Sequence and Fallback, with and without memory (`exec/ordered.rs`).
+    Ordered,
+    /// Parallel (`exec/parallel.rs`).
+    Parallel,
+    /// Inverter, ForceSuccess, ForceFailure, Repeat, Retry, Timeout
+    /// (`exec/decorators.rs`).
+    Decorators,
+    /// Condition and Action: the tick loop's own (`exec/tick.rs`).
+    Leaves,
+    /// SequenceStar, PipelineSequence, RoundRobin (`exec/sequences.rs`).
+    Sequences,
+    /// IfThenElse, WhileDoElse, Recovery (`exec/branches.rs`).
+    Branches,
+    /// ParallelAll (`exec/parallel_all.rs`).
+    ParallelAll,
+    /// RepeatCycles, RetryUntilSuccessful, KeepRunningUntilFailure, RunOnce
+    /// (`exec/counting.rs`).
+    Counting,
+    /// TimeLimit, Delay, RateController, Sleep (`exec/timers.rs`).
+    Timers,
+    /// Guard, Precondition, Gate (`exec/guards.rs`).
+    Guards,
+    /// Loop (`exec/loops.rs`).
+    Loops,
+    /// ManualSelector (`exec/manual_selector.rs`).
+    ManualSelector,
+    /// Script, ScriptCondition, AlwaysSuccess, AlwaysFailure (`exec/scripts.rs`).
+    Scripts,
+}
+
+impl Family {
+    /// One of the papers' families: what the plain tick loop runs, and all a build
+    /// without the `btcpp` feature has.
+    #[inline]
+    pub(crate) const fn is_papers(self) -> bool {
+        matches!(self, Self::Ordered | Self::Parallel | Self::Decorators | Self::Leaves)
     }
 }
 

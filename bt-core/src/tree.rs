@@ -196,28 +196,11 @@ pub(crate) const ROUND_ROBIN_CHILDREN: u16 = 255;
 #[cfg(feature = "btcpp")]
 pub(crate) const MANUAL_SELECTOR_CHILDREN: u16 = u8::MAX as u16;
 
-/// Whether this build runs `kind`: all kinds with the `btcpp` feature, without it those
-/// of [`NodeKind`] up to `Action` (a `Parallel` only if it does not count skipped
-/// children).
+/// Whether this build runs `kind`: all kinds with the `btcpp` feature, without it the
+/// papers' (a `Parallel` only if it does not count skipped children).
 #[inline(always)]
 fn supported(kind: &NodeKind) -> bool {
-    crate::exec::BTCPP
-        || matches!(
-            kind,
-            NodeKind::Sequence
-                | NodeKind::Fallback
-                | NodeKind::SequenceWithMemory
-                | NodeKind::FallbackWithMemory
-                | NodeKind::Parallel { count_skipped: false, .. }
-                | NodeKind::Inverter
-                | NodeKind::ForceSuccess
-                | NodeKind::ForceFailure
-                | NodeKind::Repeat(_)
-                | NodeKind::Retry(_)
-                | NodeKind::Timeout(_)
-                | NodeKind::Condition(_)
-                | NodeKind::Action(_)
-        )
+    crate::exec::BTCPP || (kind.family().is_papers() && !matches!(kind, NodeKind::Parallel { count_skipped: true, .. }))
 }
 
 /// What [`LoadError::UnsupportedKind`] calls a kind that a build without the `btcpp`

@@ -3,15 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{Node, NodeKind, Status};
-use common::{Scripted, act, build};
-
-fn over_action(kind: NodeKind) -> &'static [Node] {
-    build(|b| {
-        b.open(kind)?.action(act(0), &[])?.end()?;
-        Ok(())
-    })
-}
+use bt_core::{NodeKind, Status};
+use common::{Scripted, act, build, over_action};
 
 fn once(kind: NodeKind, child: Status) -> Status {
     executor!(exec, over_action(kind));

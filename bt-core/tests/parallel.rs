@@ -1,10 +1,15 @@
 //! Parallel (rule 6): finished children are not re-ticked within an activation; the
-//! node returns as soon as a threshold is reached and halts the children still Running.
+//! node returns as soon as a threshold is reached and halts the children still Running;
+//! with `count_skipped` (rule 8), children that skip count towards success, as in
+//! BehaviorTree.CPP's `gtest_parallel.cpp`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{NodeStatus, Status};
+use bt_core::{NodeKind, NodeStatus, Status};
 use common::{Call, Scripted, act, build};
+
+const S: Status = Status::Success;
+const R: Status = Status::Running;
 
 fn par3(s: u16, f: u16) -> &'static [bt_core::Node] {
     build(|b| {
@@ -118,4 +123,24 @@ fn parallel_under_a_fallback_is_halted_whole_post_order() {
     let idle: Vec<_> = changes.0.iter().filter(|c| c.2 == Idle).map(|c| c.0).collect();
     assert_eq!(idle, [4, 5, 3, 6, 2]);
     assert_eq!(changes.0.last(), Some(&(0, Running, Success)));
+}
+
+#[test]
+fn parallel_counts_skipped_children_only_when_asked() {
+    // Parallel(success 2, failure 1)[RunOnce(then skip)[A0], A1]: once A0 has run, it
+    // skips; with count_skipped, A1's success is enough.
+    for (count_skipped, want) in [(true, S), (false, R)] {
+        let nodes = build(|b| {
+            b.open(NodeKind::Parallel { success_threshold: 2, failure_threshold: 1, count_skipped })?;
+            b.open(NodeKind::RunOnce { then_skip: true })?.action(act(0), &[])?.end()?;
+            b.action(act(1), &[])?.end()?;
+            Ok(())
+        });
+        executor!(exec, nodes);
+        let mut w = Scripted::new();
+        w.set(act(0), S).set(act(1), S);
+        assert_eq!(exec.tick(&mut w, 0).unwrap(), S);
+        assert_eq!(exec.tick(&mut w, 1).unwrap(), want, "count_skipped {count_skipped}");
+        assert_eq!(w.ticks(act(0)), 1);
+    }
 }

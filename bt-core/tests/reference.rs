@@ -28,6 +28,9 @@ use proptest::prelude::*;
 enum T {
     Condition,
     Action,
+    /// A condition (false) or action (true) whose behavior may also return Skipped:
+    /// [`SKIPS`].
+    Skipping(bool),
     Always(bool),
     /// A `Script` (false) or `ScriptCondition` (true) whose program the scripted set
     /// does not read: it answers from the tick script, as for conditions.
@@ -113,6 +116,42 @@ fn tree() -> impl Strategy<Value = T> {
     .prop_filter("at most 64 nodes", |t| count(t) <= 64)
 }
 
+/// Trees of the papers' kinds only, which the executor ticks with its plain loop, with
+/// leaves that may return Skipped: the full loop takes over from the plain one there.
+fn papers_tree() -> impl Strategy<Value = T> {
+    let leaf = prop_oneof![
+        2 => Just(T::Condition),
+        2 => Just(T::Action),
+        1 => any::<bool>().prop_map(T::Skipping),
+    ];
+    let control = prop_oneof![
+        Just(NodeKind::Sequence),
+        Just(NodeKind::Fallback),
+        Just(NodeKind::SequenceWithMemory),
+        Just(NodeKind::FallbackWithMemory),
+        (1u16..=4, 1u16..=4, any::<bool>()).prop_map(|(s, f, c)| NodeKind::Parallel {
+            success_threshold: s,
+            failure_threshold: f,
+            count_skipped: c
+        }),
+    ];
+    let decorator = prop_oneof![
+        Just(NodeKind::Inverter),
+        Just(NodeKind::ForceSuccess),
+        Just(NodeKind::ForceFailure),
+        (1u16..=3).prop_map(NodeKind::Repeat),
+        (1u16..=3).prop_map(NodeKind::Retry),
+        (1u16..=3).prop_map(NodeKind::Timeout),
+    ];
+    leaf.prop_recursive(7, 64, 4, move |inner| {
+        prop_oneof![
+            3 => (control.clone(), prop::collection::vec(inner.clone(), 1..5)).prop_map(|(k, c)| T::Node(k, c)),
+            2 => (decorator.clone(), inner).prop_map(|(k, c)| T::Node(k, vec![c])),
+        ]
+    })
+    .prop_filter("at most 64 nodes", |t| count(t) <= 64)
+}
+
 fn count(t: &T) -> usize {
     match t {
         T::Node(_, c) => 1 + c.iter().map(count).sum::<usize>(),
@@ -127,6 +166,12 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
         }
         T::Action => {
             b.action(common::act(0), &[]).unwrap();
+        }
+        T::Skipping(false) => {
+            b.condition(common::cond(SKIPS), &[]).unwrap();
+        }
+        T::Skipping(true) => {
+            b.action(common::act(SKIPS), &[]).unwrap();
         }
         T::Always(ok) => {
             b.leaf(if *ok { NodeKind::AlwaysSuccess } else { NodeKind::AlwaysFailure }).unwrap();
@@ -220,9 +265,19 @@ fn hook_holds(script: &[u8], node: usize, h: u16) -> bool {
     (script[node] >> h) & 1 == 1
 }
 
+/// The leaves of behavior `SKIPS` (`common::cond(SKIPS)`, `common::act(SKIPS)`) may also
+/// return Skipped.
+const SKIPS: u16 = 2;
+
 fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
     let v = script[node];
     match nodes[node].kind() {
+        NodeKind::Condition(l) if l.behavior() == common::cond(SKIPS) => {
+            [Status::Success, Status::Failure, Status::Skipped][usize::from(v % 3)]
+        }
+        NodeKind::Action(l) if l.behavior() == common::act(SKIPS) => {
+            [Status::Success, Status::Failure, Status::Running, Status::Skipped][usize::from(v % 4)]
+        }
         NodeKind::Condition(_)
         | NodeKind::ScriptCondition(_)
         | NodeKind::Precondition { .. }
@@ -1178,56 +1233,76 @@ proptest! {
         t in tree(),
         ticks in prop::collection::vec(prop::collection::vec(any::<u8>(), 64), 1..=10),
     ) {
-        let t = fit(&t);
-        let mut storage = vec![Node::EMPTY; 128];
-        let mut b = Builder::<16>::new(&mut storage);
-        emit(&t, &mut b);
-        let nodes = b.finish().unwrap();
-        let catalog = common::catalog();
-        let mut values = vec![script::op::POP];
-        values.extend_from_slice(&GUARD);
-        values.extend_from_slice(&QUEUES);
-        let tree = Tree::<8>::validate_with(nodes, &values, catalog.as_slice()).unwrap();
-        let mut state = vec![NodeState::IDLE; nodes.len()];
-        let mut exec = Executor::new(tree, &mut state).unwrap();
-        let mut observed_state = vec![NodeState::IDLE; nodes.len()];
-        let mut observed = Executor::new(tree, &mut observed_state).unwrap();
-        // The observed executor's statuses as its reported changes give them.
-        let mut replayed = vec![NodeStatus::Idle; nodes.len()];
-        let mut reference = Reference::new(nodes);
-
-        for (k, script) in ticks.iter().enumerate() {
-            let script = &script[..];
-            let mut script64 = script.to_vec();
-            script64.resize(nodes.len().max(64), 0);
-            let script = &script64[..];
-            let mut world = Script { nodes, tick: script, log: vec![] };
-            let got = exec.tick(&mut world, k as u32).unwrap();
-            reference.log.clear();
-            let want = reference.tick_root(script, k as u32);
-            prop_assert_eq!(got, want, "root status on tick {}", k);
-            prop_assert_eq!(&world.log, &reference.log, "leaves and halts on tick {}", k);
-            let got_states: Vec<_> = exec.states().iter().map(|s| s.status()).collect();
-            let want_states: Vec<_> = reference.st.iter().map(|s| s.status).collect();
-            prop_assert_eq!(&got_states, &want_states, "node statuses after tick {}", k);
-            prop_assert_eq!(exec.take_woken(), std::mem::take(&mut reference.woken), "wake-up on tick {}", k);
-
-            let mut world_o = Script { nodes, tick: script, log: vec![] };
-            let mut changes = common::Changes::default();
-            let got_o = observed.tick_observed(&mut world_o, k as u32, &mut changes).unwrap();
-            prop_assert_eq!(got_o, got, "observed: root status on tick {}", k);
-            prop_assert_eq!(&world_o.log, &world.log, "observed: leaves and halts on tick {}", k);
-            let observed_states: Vec<_> = observed.states().iter().map(|s| s.status()).collect();
-            prop_assert_eq!(&observed_states, &got_states, "observed: node statuses after tick {}", k);
-            for &(node, old, new) in &changes.0 {
-                let had = &mut replayed[usize::from(node)];
-                prop_assert!(
-                    *had == old && old != new,
-                    "observed: node {} went {:?} -> {:?} on tick {} but had {:?}", node, old, new, k, had
-                );
-                *had = new;
-            }
-            prop_assert_eq!(&replayed, &observed_states, "observed: replayed changes after tick {}", k);
-        }
+        agrees(&t, &ticks)?;
     }
+
+    #[test]
+    fn the_plain_loop_agrees_with_the_reference_interpreter_and_hands_skipped_to_the_full_one(
+        t in papers_tree(),
+        ticks in prop::collection::vec(prop::collection::vec(any::<u8>(), 64), 1..=10),
+    ) {
+        agrees(&t, &ticks)?;
+    }
+}
+
+/// Ticks tree `t` with the executor, with an observed executor and with the reference,
+/// one tick per script of `ticks`, and compares them after every tick.
+fn agrees(t: &T, ticks: &[Vec<u8>]) -> Result<(), TestCaseError> {
+    let t = fit(t);
+    let mut storage = vec![Node::EMPTY; 128];
+    let mut b = Builder::<16>::new(&mut storage);
+    emit(&t, &mut b);
+    let nodes = b.finish().unwrap();
+    let catalog = common::catalog();
+    let mut values = vec![script::op::POP];
+    values.extend_from_slice(&GUARD);
+    values.extend_from_slice(&QUEUES);
+    let tree = Tree::<8>::validate_with(nodes, &values, catalog.as_slice()).unwrap();
+    let mut state = vec![NodeState::IDLE; nodes.len()];
+    let mut exec = Executor::new(tree, &mut state).unwrap();
+    let mut observed_state = vec![NodeState::IDLE; nodes.len()];
+    let mut observed = Executor::new(tree, &mut observed_state).unwrap();
+    // The observed executor's statuses as its reported changes give them.
+    let mut replayed = vec![NodeStatus::Idle; nodes.len()];
+    let mut reference = Reference::new(nodes);
+
+    for (k, script) in ticks.iter().enumerate() {
+        let script = &script[..];
+        let mut script64 = script.to_vec();
+        script64.resize(nodes.len().max(64), 0);
+        let script = &script64[..];
+        let mut world = Script { nodes, tick: script, log: vec![] };
+        let got = exec.tick(&mut world, k as u32).unwrap();
+        reference.log.clear();
+        let want = reference.tick_root(script, k as u32);
+        prop_assert_eq!(got, want, "root status on tick {}", k);
+        prop_assert_eq!(&world.log, &reference.log, "leaves and halts on tick {}", k);
+        let got_states: Vec<_> = exec.states().iter().map(|s| s.status()).collect();
+        let want_states: Vec<_> = reference.st.iter().map(|s| s.status).collect();
+        prop_assert_eq!(&got_states, &want_states, "node statuses after tick {}", k);
+        prop_assert_eq!(exec.take_woken(), std::mem::take(&mut reference.woken), "wake-up on tick {}", k);
+
+        let mut world_o = Script { nodes, tick: script, log: vec![] };
+        let mut changes = common::Changes::default();
+        let got_o = observed.tick_observed(&mut world_o, k as u32, &mut changes).unwrap();
+        prop_assert_eq!(got_o, got, "observed: root status on tick {}", k);
+        prop_assert_eq!(&world_o.log, &world.log, "observed: leaves and halts on tick {}", k);
+        let observed_states: Vec<_> = observed.states().iter().map(|s| s.status()).collect();
+        prop_assert_eq!(&observed_states, &got_states, "observed: node statuses after tick {}", k);
+        for &(node, old, new) in &changes.0 {
+            let had = &mut replayed[usize::from(node)];
+            prop_assert!(
+                *had == old && old != new,
+                "observed: node {} went {:?} -> {:?} on tick {} but had {:?}",
+                node,
+                old,
+                new,
+                k,
+                had
+            );
+            *had = new;
+        }
+        prop_assert_eq!(&replayed, &observed_states, "observed: replayed changes after tick {}", k);
+    }
+    Ok(())
 }

@@ -2,9 +2,9 @@
 //! ticks and halts per behavior and logs every call in order.
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use bt_core::script::ScriptFault;
+use bt_core::script::{ScriptFault, Value};
 use bt_core::{
-    BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeStatus, Observer, Selection, Status,
+    BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeKind, NodeStatus, Observer, Selection, Status,
 };
 
 /// Behaviors `0..16` are conditions `C0?`..`C15?`, `16..32` actions `A0!`..`A15!`.
@@ -38,15 +38,22 @@ pub enum Call {
     Halt { behavior: u16 },
     /// A `ManualSelector` asked which child (it has `children`) or status.
     Select { node: NodeId, children: u8, starting: bool },
+    /// A program whose first word is `word` ran for node `node`.
+    Script { node: NodeId, word: u16 },
+    /// A `Loop` at `node` took an element of the blackboard queue, or found it empty.
+    Pop { node: NodeId, starting: bool },
 }
 
 /// Every behavior returns what `results[id]` says, and every `ManualSelector` what
-/// `selection` says (none: the set refuses, as one without selections does); counts
-/// and logs every call.
+/// `selection` says (none: the set refuses, as one without selections does); a program
+/// gives what `programs` says for its first word (true when not there), and the
+/// blackboard queue of every `Loop` holds `queue` elements; counts and logs every call.
 #[derive(Debug)]
 pub struct Scripted {
     pub results: Vec<Status>,
     pub selection: Option<Selection>,
+    pub programs: Vec<(u16, Result<Value, ScriptFault>)>,
+    pub queue: u32,
     pub ticks: Vec<u32>,
     pub halts: Vec<u32>,
     pub log: Vec<Call>,
@@ -59,7 +66,15 @@ impl Scripted {
         for r in results.iter_mut().skip(usize::from(N)) {
             *r = Status::Running;
         }
-        Self { results, selection: None, ticks: vec![0; n], halts: vec![0; n], log: Vec::new() }
+        Self {
+            results,
+            selection: None,
+            programs: Vec::new(),
+            queue: 0,
+            ticks: vec![0; n],
+            halts: vec![0; n],
+            log: Vec::new(),
+        }
     }
 
     pub fn set(&mut self, behavior: u16, s: Status) -> &mut Self {
@@ -71,6 +86,18 @@ impl Scripted {
     pub fn choose(&mut self, s: Selection) -> &mut Self {
         self.selection = Some(s);
         self
+    }
+
+    /// What the program whose first word is `word` gives from now on.
+    pub fn program(&mut self, word: u16, result: Result<Value, ScriptFault>) -> &mut Self {
+        self.programs.retain(|&(w, _)| w != word);
+        self.programs.push((word, result));
+        self
+    }
+
+    /// The first words of the programs run, in order.
+    pub fn scripts(&self) -> Vec<u16> {
+        self.log.iter().filter_map(|c| if let Call::Script { word, .. } = *c { Some(word) } else { None }).collect()
     }
 
     /// How many times a `ManualSelector` asked.
@@ -120,6 +147,19 @@ impl BehaviorSet for Scripted {
         self.log.push(Call::Select { node: ctx.node, children, starting: ctx.starting });
         self.selection.ok_or(ScriptFault::NoSelections)
     }
+
+    fn script(&mut self, code: &[u16], ctx: Context<'_>) -> Result<Value, ScriptFault> {
+        let word = code.first().copied().unwrap_or(u16::MAX);
+        self.log.push(Call::Script { node: ctx.node, word });
+        self.programs.iter().find(|&&(w, _)| w == word).map_or(Ok(Value::Bool(true)), |&(_, r)| r)
+    }
+
+    fn pop(&mut self, _: u16, _: u16, ctx: Context<'_>) -> Result<bool, ScriptFault> {
+        self.log.push(Call::Pop { node: ctx.node, starting: ctx.starting });
+        let took = self.queue > 0;
+        self.queue = self.queue.saturating_sub(1);
+        Ok(took)
+    }
 }
 
 /// Records every status change.
@@ -138,6 +178,32 @@ pub fn build(f: impl FnOnce(&mut Builder<'_, 32>) -> Result<(), bt_core::BuildEr
     let mut b = Builder::<32>::new(storage);
     f(&mut b).expect("tree builds");
     b.finish().expect("tree finishes")
+}
+
+/// Whether every node but the root is Idle.
+pub fn children_idle(states: &[bt_core::NodeState]) -> bool {
+    states[1..].iter().all(|s| s.status() == NodeStatus::Idle)
+}
+
+/// A decorator `kind` over action `A0!`.
+pub fn over_action(kind: NodeKind) -> &'static [Node] {
+    build(|b| {
+        b.open(kind)?.action(act(0), &[])?.end()?;
+        Ok(())
+    })
+}
+
+/// Declares `$exec`, an executor over `$nodes` with value table `$values`, checked
+/// against the test catalog.
+#[macro_export]
+macro_rules! executor_with {
+    ($exec:ident, $nodes:expr, $values:expr) => {
+        let catalog = $crate::common::catalog();
+        let tree = bt_core::Tree::<32>::validate_with($nodes, $values, catalog.as_slice()).expect("valid tree");
+        let mut state = vec![bt_core::NodeState::IDLE; tree.len()];
+        #[allow(unused_mut)]
+        let mut $exec = bt_core::Executor::new(tree, &mut state).expect("state fits");
+    };
 }
 
 /// Declares `$exec`, an executor over `$nodes` checked against the test catalog.

@@ -3,8 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{Node, NodeKind, NodeStatus, Span, Status};
-use common::{Call, Scripted, act, build, cond};
+use bt_core::{NodeKind, NodeStatus, Span, Status};
+use common::{Call, Scripted, act, build, cond, over_action};
 
 const S: Status = Status::Success;
 const F: Status = Status::Failure;
@@ -12,13 +12,6 @@ const R: Status = Status::Running;
 
 fn span(ms: u32) -> Span {
     Span::new(ms).unwrap()
-}
-
-fn over_action(kind: NodeKind) -> &'static [Node] {
-    build(|b| {
-        b.open(kind)?.action(act(0), &[])?.end()?;
-        Ok(())
-    })
 }
 
 #[test]

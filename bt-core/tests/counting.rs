@@ -1,24 +1,16 @@
-//! BehaviorTree.CPP's decorators and leaves that bt-core has as kinds of their own
-//! (rules 8, 9, 11): RepeatCycles (its `Repeat`), RetryUntilSuccessful,
-//! KeepRunningUntilFailure, RunOnce, AlwaysSuccess, AlwaysFailure, and Skipped, counted
-//! like BehaviorTree.CPP's `gtest_decorator.cpp` and `gtest_skipping.cpp`.
+//! BehaviorTree.CPP's counting decorators (rules 9, 11): RepeatCycles (its `Repeat`),
+//! RetryUntilSuccessful, KeepRunningUntilFailure and RunOnce, counted like
+//! BehaviorTree.CPP's `gtest_decorator.cpp`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{Node, NodeKind, NodeStatus, Status};
-use common::{Scripted, act, build};
+use bt_core::{NodeKind, NodeStatus, Status};
+use common::{Scripted, act, build, over_action};
 
 const S: Status = Status::Success;
 const F: Status = Status::Failure;
 const R: Status = Status::Running;
 const K: Status = Status::Skipped;
-
-fn over_action(kind: NodeKind) -> &'static [Node] {
-    build(|b| {
-        b.open(kind)?.action(act(0), &[])?.end()?;
-        Ok(())
-    })
-}
 
 #[test]
 fn repeat_cycles_ends_the_tick_after_a_child_that_finished_at_once() {
@@ -128,71 +120,4 @@ fn run_once_runs_its_child_once_ever() {
             assert_eq!(exec.status(1), Some(NodeStatus::Idle), "a RunOnce that skips is Idle");
         }
     }
-}
-
-#[test]
-fn a_sequence_whose_children_all_skip_skips_and_stays_running() {
-    let nodes = build(|b| {
-        b.sequence()?;
-        b.open(NodeKind::RunOnce { then_skip: true })?.action(act(0), &[])?.end()?;
-        b.open(NodeKind::RunOnce { then_skip: true })?.action(act(1), &[])?.end()?;
-        b.end()?;
-        Ok(())
-    });
-    executor!(exec, nodes);
-    let mut w = Scripted::new();
-    w.set(act(0), S).set(act(1), S);
-    assert_eq!(exec.tick(&mut w, 0).unwrap(), S);
-    assert_eq!(exec.tick(&mut w, 1).unwrap(), K);
-    assert_eq!(exec.status(0), Some(NodeStatus::Running), "a control node that skips stays Running");
-    assert_eq!(exec.tick(&mut w, 2).unwrap(), K);
-}
-
-#[test]
-fn inverter_and_force_pass_skipped_on_keep_running_turns_it_into_running() {
-    for (kind, want) in [
-        (NodeKind::Inverter, K),
-        (NodeKind::ForceSuccess, K),
-        (NodeKind::ForceFailure, K),
-        (NodeKind::KeepRunningUntilFailure, R),
-        (NodeKind::RepeatCycles(2), K),
-    ] {
-        let nodes = build(|b| {
-            b.open(kind)?.open(NodeKind::RunOnce { then_skip: true })?.action(act(0), &[])?.end()?.end()?;
-            Ok(())
-        });
-        executor!(exec, nodes);
-        let mut w = Scripted::new();
-        w.set(act(0), F);
-        exec.tick(&mut w, 0).unwrap();
-        assert_eq!(exec.tick(&mut w, 1).unwrap(), want, "{kind:?}");
-    }
-}
-
-#[test]
-fn a_behavior_may_skip_its_leaf_is_then_idle() {
-    let nodes = build(|b| {
-        b.sequence()?.action(act(0), &[])?.action(act(1), &[])?.end()?;
-        Ok(())
-    });
-    executor!(exec, nodes);
-    let mut w = Scripted::new();
-    w.set(act(0), K).set(act(1), S);
-    assert_eq!(exec.tick(&mut w, 0).unwrap(), S);
-    assert_eq!(exec.status(1), Some(NodeStatus::Idle));
-    w.set(act(1), K);
-    assert_eq!(exec.tick(&mut w, 1).unwrap(), K);
-}
-
-#[test]
-fn always_success_and_always_failure() {
-    let nodes = build(|b| {
-        b.fallback()?.leaf(NodeKind::AlwaysFailure)?.leaf(NodeKind::AlwaysSuccess)?.end()?;
-        Ok(())
-    });
-    executor!(exec, nodes);
-    let mut w = Scripted::new();
-    assert_eq!(exec.tick(&mut w, 0).unwrap(), S);
-    assert_eq!(exec.status(1), Some(NodeStatus::Failure));
-    assert!(w.log.is_empty(), "no behavior is called");
 }

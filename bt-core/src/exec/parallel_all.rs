@@ -1,0 +1,94 @@
+//! BehaviorTree.CPP's `ParallelAll`: ticks every child that has not finished until all
+//! have; then Failure if at least `max_failures` of them failed, else Success.
+//!
+//! | kind | state | frame, side entry |
+//! |---|---|---|
+//! | `ParallelAll` | — | `ok` finished, `failed`, `skipped`, `children`, `failure` |
+
+use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::oob;
+use super::run::Run;
+use crate::behavior::{BehaviorSet, Observer, TickError};
+use crate::node::NodeKind;
+use crate::status::{NodeStatus, Status};
+
+impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
+    pub(super) fn enter_parallel_all(
+        &mut self,
+        kind: &NodeKind,
+        frame: &mut Frame,
+        x: &mut Extra,
+    ) -> Result<Entered, TickError> {
+        let idx = usize::from(frame.node);
+        let NodeKind::ParallelAll { max_failures } = *kind else {
+            return Err(oob(idx));
+        };
+        let end = usize::from(frame.end);
+        let running = frame.running;
+        *x = Extra { failure: max_failures, ..Extra::default() };
+        let mut next = None;
+        let mut c = idx + 1;
+        while c < end {
+            x.children = x.children.saturating_add(1);
+            match self.status(c) {
+                NodeStatus::Success if running => x.ok = x.ok.saturating_add(1),
+                NodeStatus::Failure if running => {
+                    x.ok = x.ok.saturating_add(1);
+                    x.failed = x.failed.saturating_add(1);
+                }
+                _ => {
+                    if next.is_none() {
+                        next = Some(c);
+                    }
+                }
+            }
+            c = self.end_of(c)?;
+        }
+        Ok(match next {
+            Some(c) => Entered::Child(c),
+            // Impossible for a node Running: it would have finished.
+            None => Entered::Decided(self.parallel_all_done(idx, end, x)?),
+        })
+    }
+
+    pub(super) fn ascend_parallel_all(
+        &mut self,
+        top: &Frame,
+        x: &mut Extra,
+        returned: Returned,
+    ) -> Result<Ascent, TickError> {
+        let Returned { end: child_end, r, .. } = returned;
+        let node = usize::from(top.node);
+        let end = usize::from(top.end);
+        match r {
+            Status::Success => x.ok = x.ok.saturating_add(1),
+            Status::Failure => {
+                x.ok = x.ok.saturating_add(1);
+                x.failed = x.failed.saturating_add(1);
+            }
+            Status::Skipped => x.skipped = x.skipped.saturating_add(1),
+            Status::Running => {}
+        }
+        let mut k = child_end;
+        while k < end {
+            let finished = matches!(self.status(k), NodeStatus::Success | NodeStatus::Failure);
+            if !(top.running && finished) {
+                return Ok(Ascent::Tick(k));
+            }
+            k = self.end_of(k)?;
+        }
+        Ok(Ascent::Return(self.parallel_all_done(node, end, x)?))
+    }
+
+    /// `ParallelAll` at `node` has ticked or passed every child this tick.
+    fn parallel_all_done(&mut self, node: usize, end: usize, x: &Extra) -> Result<Status, TickError> {
+        if x.skipped == x.children {
+            return Ok(Status::Skipped);
+        }
+        if x.skipped.saturating_add(x.ok) >= x.children {
+            self.reset_children(node, end)?;
+            return Ok(if x.failed >= x.failure { Status::Failure } else { Status::Success });
+        }
+        Ok(Status::Running)
+    }
+}

@@ -1,0 +1,53 @@
+//! BehaviorTree.CPP's ParallelAll (rule 9): every child runs to the end; then the
+//! failures are counted, as in BehaviorTree.CPP's `gtest_parallel.cpp`.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+
+mod common;
+use bt_core::{NodeKind, Status};
+use common::{Scripted, act, build};
+
+const S: Status = Status::Success;
+const F: Status = Status::Failure;
+const R: Status = Status::Running;
+
+#[test]
+fn parallel_all_waits_for_every_child_then_counts_failures() {
+    for (max_failures, want) in [(1, F), (2, S), (0, F)] {
+        let nodes = build(|b| {
+            b.open(NodeKind::ParallelAll { max_failures })?;
+            b.action(act(0), &[])?.action(act(1), &[])?.action(act(2), &[])?.end()?;
+            Ok(())
+        });
+        executor!(exec, nodes);
+        let mut w = Scripted::new();
+        w.set(act(0), F).set(act(1), R).set(act(2), S);
+        assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+        w.set(act(1), S);
+        // A0 and A2 finished: not ticked again.
+        assert_eq!(exec.tick(&mut w, 1).unwrap(), if max_failures == 0 { F } else { want });
+        assert_eq!((w.ticks(act(0)), w.ticks(act(1)), w.ticks(act(2))), (1, 2, 1));
+    }
+    // max_failures 0: it fails even with no failure.
+    let nodes = build(|b| {
+        b.open(NodeKind::ParallelAll { max_failures: 0 })?.action(act(0), &[])?.end()?;
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), F);
+}
+
+#[test]
+fn parallel_all_does_not_stop_early() {
+    let nodes = build(|b| {
+        b.open(NodeKind::ParallelAll { max_failures: 1 })?.action(act(0), &[])?.action(act(1), &[])?.end()?;
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(act(0), F).set(act(1), R);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), R);
+    assert_eq!(w.halts(act(1)), 0);
+}
