@@ -5,7 +5,7 @@
 //!   202 nodes visited per tick;
 //! - D50: 50 nested `Sequence`s, each `[Condition->Success, next]`, the innermost
 //!   `[Condition->Success, Action->Running]`, 101 visited;
-//! - Cube: the Fig. 3(e) tree of seed 000 with the robot far from the cube, hand empty,
+//! - Cube: the Fig. 3(e) tree of Colledanchise et al. 2019 with the robot far from the cube, hand empty,
 //!   path free, so `MoveTo(cube)` runs, 11 visited.
 //!
 //! `cargo bench -p bt-core` prints ns per tick; divide by the visited count for ns per

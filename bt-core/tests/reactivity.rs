@@ -1,4 +1,4 @@
-//! The Fig. 3(e) tree of seed 000 (Colledanchise et al., ICRA 2019) in a scripted world,
+//! The Fig. 3(e) tree of Colledanchise et al. (ICRA 2019) in a scripted world,
 //! under the three reactivity situations of its Problem 1: an external agent undoes an
 //! action (the tree re-does it), does an action for the robot (the tree skips it), and an
 //! achieving action fails so another one is tried. The tree never changes.

@@ -1,7 +1,7 @@
 //! The tree the firmware runs, made into image bytes on the host by `build.rs`: the
 //! planner's own output.
 //!
-//! `planner` (seed 000, Algorithm 1) plans the cube/sphere problem in which the sphere
+//! `planner` (Colledanchise et al. 2019, Algorithm 1) plans the cube/sphere problem in which the sphere
 //! already blocks the path to the goal (`planner/domains/cube-sphere/problem-blocked.pddl`):
 //! Fig. 3(a)-(e), then `path-free(goal)` expanded with `clear-path(sphere, goal)` and
 //! moved left and up by `IncreasePriority` to run before the cube is picked (the

@@ -1,4 +1,4 @@
-//! The cube-and-sphere scenario of seed 000 (Fig. 1, Examples 1-2) as a controller:
+//! The cube-and-sphere scenario of Colledanchise et al. 2019 (Fig. 1, Examples 1-2) as a controller:
 //! a behavior-tree image made on the host, loaded and validated by bt-core, ticked at a
 //! fixed rate against a 2-D plant model with scripted external events.
 //!

@@ -1,4 +1,4 @@
-//! The plant model: seed 000's Fig. 1 world in 2-D.
+//! The plant model: Colledanchise et al. 2019's Fig. 1 world in 2-D.
 //!
 //! A mobile base (position and facing direction) with a gripper a fixed reach ahead of it, a
 //! cube, a sphere that may block the robot's path, and a rectangular goal region. All

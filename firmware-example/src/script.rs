@@ -1,4 +1,4 @@
-//! Scripted external events (seed 000, Section IV and Fig. 1): at fixed ticks, before
+//! Scripted external events (Colledanchise et al. 2019, Section IV and Fig. 1): at fixed ticks, before
 //! the tree is ticked, something other than the robot changes the world.
 //!
 //! The order tells the paper's story once: an agent *helps* (hands the robot the cube it

@@ -137,7 +137,7 @@ impl Alphabet {
         Token::Action(self.actions[draw(rng, self.actions.len())])
     }
 
-    /// A random node (seed 003, Section III-B): a control node with probability 0.5
+    /// A random node (Styrud et al., Section III-B): a control node with probability 0.5
     /// (Sequence or Fallback, equally likely), else [`Alphabet::random_leaf`].
     pub fn random_node<R: Rng + ?Sized>(&self, rng: &mut R) -> Token {
         if rng.random::<f64>() < 0.5 { random_control(rng) } else { self.random_leaf(rng) }

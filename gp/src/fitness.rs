@@ -11,7 +11,7 @@ use crate::genome::Genome;
 /// Scores a tree by running it: one call is one episode.
 ///
 /// Implemented by the worlds (the symbolic and physics brick worlds of `sim-host`,
-/// with the fitness of Eq. (1) and (2) of seed 003), and by any
+/// with the fitness of Eq. (1) and (2) of Styrud et al.), and by any
 /// `Fn(&[Node]) -> f64 + Sync` closure. Higher is better.
 ///
 /// The GP calls it from several threads at once (rayon) and relies on it being a pure

@@ -1,4 +1,4 @@
-//! The token view of a tree (seed 003): a genome is the pre-order list of tokens `s(`,
+//! The token view of a tree (Styrud et al.): a genome is the pre-order list of tokens `s(`,
 //! `f(`, leaves, and the closing `)` of every control node.
 //!
 //! GP's operators work on tokens because the reference's do: a mutation position is
@@ -63,7 +63,7 @@ impl Hash for Token {
     }
 }
 
-/// Which validity rule of seed 003 a genome breaks (the first one found).
+/// Which validity rule of Styrud et al. a genome breaks (the first one found).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Invalid {
@@ -256,7 +256,7 @@ impl Genome {
         self.hash
     }
 
-    /// The tree's length as seed 003 counts it: every node except the closing tokens
+    /// The tree's length as Styrud et al. counts it: every node except the closing tokens
     /// (equal to the number of bt-core nodes).
     #[must_use]
     pub fn length(&self) -> usize {
@@ -396,7 +396,7 @@ impl Genome {
         Ok(())
     }
 
-    /// The genome in the token notation of seed 003 (`s( f( 0 on 1? ... ) )`), leaves
+    /// The genome in the token notation of Styrud et al. (`s( f( 0 on 1? ... ) )`), leaves
     /// named by `catalog` (see [`bt_formats::tokens`]).
     ///
     /// # Errors
@@ -421,7 +421,7 @@ pub fn length(tokens: &[Token]) -> usize {
     tokens.iter().filter(|t| **t != Token::Close).count()
 }
 
-/// The validity rules of seed 003, in one pass: non-empty; a leaf as the first token
+/// The validity rules of Styrud et al., in one pass: non-empty; a leaf as the first token
 /// only if it is the only one; no control node directly followed by `)`; no two
 /// identical conditions in a row; every leaf known to `alphabet`; balanced, with the
 /// root's `)` last; no `f(` directly under `f(` and no `s(` directly under `s(`.

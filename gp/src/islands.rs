@@ -1,4 +1,4 @@
-//! Several populations at once: an island model for when a single run of seed 003's GP
+//! Several populations at once: an island model for when a single run of Styrud et al.'s GP
 //! is not reliable enough (blocking at 300 generations solves about one run in three).
 //!
 //! `K` islands, each a full [`Gp`] run with the same [`Params`] (Table I, the variant

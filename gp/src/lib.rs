@@ -1,6 +1,6 @@
 //! Genetic programming over reactive behavior trees, with a planner's tree as
 //! baseline: the GP of Styrud et al., "Combining Planning and Learning of Behavior
-//! Trees for Robotic Assembly" (seed 003), exactly as Section III, Table I and the
+//! Trees for Robotic Assembly", exactly as Section III, Table I and the
 //! reference details give it.
 //!
 //! A run evolves a population of trees over one task's conditions and actions (an
@@ -53,7 +53,7 @@
 //!
 //! # Where Table I and the reference leave room
 //!
-//! Seed 003, its Table I and the reference details (`docs/brick-tasks.md`)
+//! Styrud et al., its Table I and the reference details (`docs/brick-tasks.md`)
 //! fix the algorithm; where they are silent, ambiguous or disagree, this crate
 //! decides as follows, following the published reference code where it speaks.
 //!

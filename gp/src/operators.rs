@@ -1,4 +1,4 @@
-//! The genetic operators of seed 003 (Section III-B and the reference details): random
+//! The genetic operators of Styrud et al. (Section III-B and the reference details): random
 //! trees, mutation (delete / add / change) and crossover by subtree insertion.
 //!
 //! Each operator draws from the caller's generator in a fixed order and returns only

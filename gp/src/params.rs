@@ -1,4 +1,4 @@
-//! The parameters of a run (Table I of seed 003), the four variants, and the run
+//! The parameters of a run (Table I of Styrud et al.), the four variants, and the run
 //! record: a plain `key = value` text that is the whole of a run's GP settings.
 
 use std::fmt;
@@ -8,7 +8,7 @@ use bt_core::{Catalog, Node};
 
 use crate::operators::MutationRates;
 
-/// How the planner's tree takes part (seed 003, Section III-C).
+/// How the planner's tree takes part (Styrud et al., Section III-C).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Variant {
     /// Plain GP from random trees: no baseline.

@@ -1,4 +1,4 @@
-//! A GP run: the generation loop of seed 003 (Fig. 1, Section III, Table I).
+//! A GP run: the generation loop of Styrud et al. (Fig. 1, Section III, Table I).
 //!
 //! One generation, in this order, every random draw from the run's one ChaCha8
 //! generator:

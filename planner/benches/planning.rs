@@ -23,7 +23,7 @@ fn blocks(c: &mut Criterion) {
     }
 }
 
-fn seed000(c: &mut Criterion) {
+fn cube_sphere(c: &mut Criterion) {
     pddl_case(c, "cube-sphere blocked (Fig. 4)", domains::cube_sphere_blocked().expect("built-in"));
     pddl_case(c, "cellphone assembly", domains::cellphone().expect("built-in"));
 }
@@ -38,5 +38,5 @@ fn bricks(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, blocks, seed000, bricks);
+criterion_group!(benches, blocks, cube_sphere, bricks);
 criterion_main!(benches);

@@ -1,4 +1,4 @@
-//! The steps of Algorithm 1 of seed 000 on the planner's tree: `atomic_bt` and
+//! The steps of Algorithm 1 of Colledanchise et al. 2019 on the planner's tree: `atomic_bt` and
 //! `expand` (ExpandTree, lines 13-23), `conflict` (line 11), `increase_priority`
 //! (line 12) and `condition_to_expand` (GetConditionToExpand, lines 24-30).
 //!

@@ -2,7 +2,7 @@
 //! tree run undisturbed and with disturbances; instances found in a folder; results
 //! summed up per domain. `sim-host bench-pddl` drives it, one process per instance.
 //!
-//! **Disturbances** are the external agents of Problem 1 in seed 000, acting at random
+//! **Disturbances** are the external agents of Problem 1 in Colledanchise et al. 2019, acting at random
 //! ticks (seeded): one *undoes* the robot's last completed action, the other *helps* by
 //! doing an action the tree contains ([`crate::strips::disturb`], the model learning
 //! uses too). The tree is run as planned, without expanding it at run time, and ticked
@@ -103,7 +103,7 @@ pub struct Settings {
     pub max_disturbances: u32,
     /// Root Failures in a row that end a disturbed episode: 2 by default, as a robot
     /// ticks on after a failed tick (an action whose preconditions an agent changed
-    /// while it ran fails) and as seed 003's episodes end on a status twice in a row;
+    /// while it ran fails) and as Styrud et al.'s episodes end on a status twice in a row;
     /// 1 ends it at the first.
     pub failures: u32,
     /// Plan with [`Options::close_backchained`].

@@ -1,13 +1,13 @@
 //! The domains shipped with the project (PDDL files under `planner/domains/`).
 //!
-//! * `cube-sphere` — seed 000, Fig. 1 and Examples 1-2 (a contract: worlds and
+//! * `cube-sphere` — Colledanchise et al. 2019, Fig. 1 and Examples 1-2 (a contract: worlds and
 //!   firmware derive their behavior set from it). [`cube_sphere`] grounds Example 1's
 //!   problem, [`cube_sphere_blocked`] the one where the sphere already blocks the path
 //!   (planning it yields the Fig. 4 arrangement).
-//! * `cellphone` — seed 000, Section VI: two arms, regrasps by hand-over.
+//! * `cellphone` — Colledanchise et al. 2019, Section VI: two arms, regrasps by hand-over.
 //! * `blocks` — the blocks world, with [`blocks_world`] generating problems of n blocks.
 //!
-//! The four brick tasks of seed 003 are in [`crate::duplo`].
+//! The four brick tasks of Styrud et al. are in [`crate::duplo`].
 
 use crate::ground::Grounding;
 use crate::model::{Domain, Problem};
@@ -50,7 +50,7 @@ pub fn cube_sphere_domain() -> Result<Domain, BuiltinError> {
     Ok(pddl::parse_domain("cube-sphere/domain.pddl", CUBE_SPHERE_DOMAIN).map_err(Box::new)?)
 }
 
-/// Example 1 of seed 000, grounded.
+/// Example 1 of Colledanchise et al. 2019, grounded.
 ///
 /// # Errors
 /// Never for the shipped files.
@@ -60,7 +60,7 @@ pub fn cube_sphere() -> Result<Grounding, BuiltinError> {
     Ok(Grounding::new(&p)?)
 }
 
-/// Example 2 of seed 000 with the path blocked from the start, grounded.
+/// Example 2 of Colledanchise et al. 2019 with the path blocked from the start, grounded.
 ///
 /// # Errors
 /// Never for the shipped files.
@@ -72,7 +72,7 @@ pub fn cube_sphere_blocked() -> Result<Grounding, BuiltinError> {
     Ok(Grounding::new(&p)?)
 }
 
-/// The cellphone assembly of seed 000, Section VI, grounded.
+/// The cellphone assembly of Colledanchise et al. 2019, Section VI, grounded.
 ///
 /// # Errors
 /// Never for the shipped files.

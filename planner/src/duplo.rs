@@ -1,4 +1,4 @@
-//! The four brick (LEGO DUPLO) tasks of seed 003 (Styrud et al.), exactly as the
+//! The four brick (LEGO DUPLO) tasks of Styrud et al., exactly as the
 //! reference definitions give them (`docs/brick-tasks.md`): bricks, start and
 //! goal positions, world mode, and the ordered list of behaviors each task uses.
 //!
@@ -7,7 +7,7 @@
 //! them) and `gp` (which draws random leaves from them). Each behavior is a grounded
 //! leaf without arguments: in a bt-core tree its behavior id is its index in
 //! [`Task::behaviors`], and its name is exactly the reference's (`picked 0?`,
-//! `place at (0.0, 0.05, 0.0)!`, ...), which is also its token in the notation of seed 003.
+//! `place at (0.0, 0.05, 0.0)!`, ...), which is also its token in the notation of Styrud et al.
 
 use bt_core::{BehaviorId, BehaviorInfo, LeafKind};
 
@@ -350,7 +350,7 @@ mod tests {
 
     #[test]
     fn behavior_counts_match_the_paper() {
-        // Seed 003: 35 behaviors for croissant, 23 for balance.
+        // Styrud et al.: 35 behaviors for croissant, 23 for balance.
         let count =
             |t: Task| (t.behaviors().len(), t.behaviors().iter().filter(|b| b.kind() == LeafKind::Condition).count());
         assert_eq!(count(Task::Tower), (12 + 10, 12));

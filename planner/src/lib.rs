@@ -1,6 +1,5 @@
 //! Backchaining synthesis of reactive behavior trees (Colledanchise, Almeida, Ögren,
-//! "Towards Blended Reactive Planning and Acting using Behavior Trees", ICRA 2019 —
-//! seed 000).
+//! "Towards Blended Reactive Planning and Acting using Behavior Trees", ICRA 2019).
 //!
 //! Plan Example 1 of the paper offline, then run the tree in the symbolic world:
 //!

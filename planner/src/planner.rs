@@ -1,4 +1,4 @@
-//! Algorithm 1 of seed 000: the [`Planner`] that grows a tree by backchaining, used
+//! Algorithm 1 of Colledanchise et al. 2019: the [`Planner`] that grows a tree by backchaining, used
 //! offline ([`crate::plan`]) and online ([`Planner::on_failure`]).
 
 use std::fmt;
@@ -39,7 +39,7 @@ pub enum Method {
     /// ([`crate::regress`]).
     #[default]
     Auto,
-    /// Algorithm 1 of seed 000 alone.
+    /// Algorithm 1 of Colledanchise et al. 2019 alone.
     Algorithm1,
     /// Search first, then guided backchaining (and the regression tree as a last
     /// resort).

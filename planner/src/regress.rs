@@ -13,7 +13,7 @@
 //!
 //! Ticked, it does the step after the latest `C_i` that holds: from the initial state
 //! it executes the plan; when an external change undoes a step it goes back, when one
-//! does a step for it it skips ahead (the reactivity of Problem 1 in seed 000, for
+//! does a step for it it skips ahead (the reactivity of Problem 1 in Colledanchise et al. 2019, for
 //! the states the plan passes through). Its depth grows only with the logarithm of
 //! the plan's length: the conditions that neighbouring rules share are checked once,
 //! in a `Sequence(shared?, Fallback(rules...))` around them, which ticks exactly as

@@ -1,4 +1,4 @@
-//! Expansion at run time from a given state: Example 2 of seed 000 on a planned tree.
+//! Expansion at run time from a given state: Example 2 of Colledanchise et al. 2019 on a planned tree.
 //!
 //! Offline planning ([`crate::plan`]) runs the tree from the problem's initial state,
 //! so it expands only the conditions that fail on the way from there. In Example 2 the
@@ -307,7 +307,7 @@ pub fn run_blended<C: Catalog + ?Sized>(
 }
 
 /// Runs the planner's tree in the symbolic world from the initial state with
-/// `changes` applied, as a robot would at run time (Example 2 of seed 000): whenever
+/// `changes` applied, as a robot would at run time (Example 2 of Colledanchise et al. 2019): whenever
 /// the root fails, expands the tree in place ([`Planner::on_failure`], Algorithm 1
 /// lines 9-12, with the world's state as belief) and goes on from the world as it is,
 /// until the goal is reached (the root succeeds with every goal condition true).

@@ -23,7 +23,7 @@
 //!   other arguments, that start from another value the plan's path visits and differ
 //!   in nothing else (static facts aside). The preconditions they share are checked
 //!   once, then a Fallback of `Sequence(value?, step)` rows, one per value
-//!   ([`crate::algorithm::expand_shared`]): Problem 1 of seed 000, its third point,
+//!   ([`crate::algorithm::expand_shared`]): Problem 1 of Colledanchise et al. 2019, its third point,
 //!   several actions achieving a condition so that where one cannot run another can;
 //! * ends that Fallback with the actions that set the plan's value and change nothing
 //!   but state variables (open a stack), for where the variable holds none of them;

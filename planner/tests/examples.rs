@@ -1,4 +1,4 @@
-//! Examples 1 and 2 of seed 000 (Fig. 3 and Fig. 4), structurally.
+//! Examples 1 and 2 of Colledanchise et al. 2019 (Fig. 3 and Fig. 4), structurally.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::sync::Arc;

@@ -1,4 +1,4 @@
-//! The four reactivity properties of Problem 1 (seed 000, Section IV) in a scripted
+//! The four reactivity properties of Problem 1 (Colledanchise et al. 2019, Section IV) in a scripted
 //! symbolic world.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 

@@ -1,10 +1,10 @@
 //! Every tree the project ships, pinned node for node, so that none changes silently:
-//! the cube/sphere trees of seed 000 (Fig. 3(e), Fig. 4, the end of Example 2, which the
+//! the cube/sphere trees of Colledanchise et al. 2019 (Fig. 3(e), Fig. 4, the end of Example 2, which the
 //! firmware runs), the blocks and cellphone problems, and the four brick tasks of seed
 //! 003.
 //!
 //! The figures' trees are written here a second time in the paper's own notation and
-//! its action templates (Section V-D.4 and Example 2 of seed 000), the brick trees a
+//! its action templates (Section V-D.4 and Example 2 of Colledanchise et al. 2019), the brick trees a
 //! second time from the reference's templates (`docs/brick-tasks.md`, "The planner's
 //! model"); each planned tree must equal both.
 //!
@@ -27,7 +27,7 @@ use planner::pddl::{parse_domain, parse_problem};
 use planner::{Options, PddlCatalog, domains, expand_at, parse_changes, plan};
 
 // ---------------------------------------------------------------------------------
-// Seed 000's notation.
+// Colledanchise et al. 2019's notation.
 
 /// The paper's symbols and the cube/sphere domain's names for them
 /// (`planner/domains/cube-sphere/domain.pddl`), with whether each is an action.
@@ -290,7 +290,7 @@ fn the_cellphone_problem_keeps_its_tree() {
 }
 
 // ---------------------------------------------------------------------------------
-// Seed 003's brick tasks, from the reference's templates.
+// Styrud et al.'s brick tasks, from the reference's templates.
 
 /// How a task's bricks are moved: `pick` then `place at P` / `place on b` (tower,
 /// croissant), or the composite `put i at P` / `put i on j` (balance, blocking).

@@ -1,6 +1,6 @@
 //! Physics episodes per second on one core: `cargo bench -p sim-host --bench physics`.
 //!
-//! An episode is 200 ticks (20 s at 10 Hz) under seed 003's rules: it ends early at the
+//! An episode is 200 ticks (20 s at 10 Hz) under Styrud et al.'s rules: it ends early at the
 //! first root Failure or after two successive root Successes.
 #![allow(missing_docs, clippy::unwrap_used)]
 

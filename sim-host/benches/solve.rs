@@ -15,7 +15,7 @@
 //! ```
 //!
 //! Every run stops as soon as it reaches the solved level of its task (tower > -3,
-//! croissant > -4, balance > -1, blocking > -2, as in seed 003's figures). For each run
+//! croissant > -4, balance > -1, blocking > -2, as in Styrud et al.'s figures). For each run
 //! it prints whether it solved the task, the wall time and episodes to the solved level
 //! (or to the end of the budget), then per mode: seeds solved, median and worst time to
 //! solve, and for single populations how many solved within the reference budget

@@ -1,4 +1,4 @@
-//! Episodes and the fitness of seed 003, Eq. (1) and (2), over any [`BrickWorld`].
+//! Episodes and the fitness of Styrud et al., Eq. (1) and (2), over any [`BrickWorld`].
 //!
 //! An *episode* ticks the tree (a [`bt_core::Executor`]), then steps the world, once per
 //! tick, from the task's start state. It "is aborted if the root returns Failure or if it
@@ -50,7 +50,7 @@ pub const DEPTH: usize = planner::DEPTH;
 /// 003 count ticks and never read `now`.
 pub const TICK_MS: u32 = Clock::TENTHS.ms_per_tick;
 
-/// The constants of Eq. (1) and (2), Table I of seed 003.
+/// The constants of Eq. (1) and (2), Table I of Styrud et al.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitnessParams {
     /// λ: cost per node of the tree, control nodes included.

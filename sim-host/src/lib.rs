@@ -1,6 +1,6 @@
 //! Worlds that run behavior trees: symbolic (exact, microseconds per episode) and
 //! physics (rapier3d), for the scenarios of the two papers; episodes and the fitness of
-//! seed 003; pictures of runs.
+//! Styrud et al.; pictures of runs.
 #![forbid(unsafe_code)]
 // The library returns text; the binary writes it (with errors returned, never a panic).
 #![deny(clippy::print_stdout, clippy::print_stderr)]

@@ -8,13 +8,13 @@
 
 use planner::duplo::Spec;
 
-/// Ticks in an episode of a physics world: 20 s at 10 Hz (seed 003, Section IV).
+/// Ticks in an episode of a physics world: 20 s at 10 Hz (Styrud et al., Section IV).
 pub const PHYSICS_TICK_LIMIT: u32 = 200;
 
 /// Ticks in an episode of the fast symbolic world (the reference's limit).
 pub const SYMBOLIC_TICK_LIMIT: u32 = 30;
 
-/// "Actions will return Failure if not completed within 50 ticks" (seed 003, IV-A).
+/// "Actions will return Failure if not completed within 50 ticks" (Styrud et al., IV-A).
 pub const ACTION_TICK_LIMIT: u32 = 50;
 
 /// Most bricks a task has (the croissant's four): episode results keep positions in

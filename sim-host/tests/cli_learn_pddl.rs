@@ -47,7 +47,7 @@ fn a_pddl_run_learns_from_the_planners_tree_and_keeps_its_problem() {
     assert_eq!(record(&run, "problem"), "cube-to-goal-blocked");
     assert_eq!(record(&run, "domain"), "cube-sphere");
     assert_eq!(record(&run, "world"), "strips");
-    // The baseline is the planner's tree (Fig. 4 of seed 000), in grounded leaves.
+    // The baseline is the planner's tree (Fig. 4 of Colledanchise et al. 2019), in grounded leaves.
     let baseline = record(&run, "baseline");
     assert!(baseline.starts_with("f( at(cube, goal)? s( f( path-free(goal)? "), "{baseline}");
     // GP starts at the planner's level and improves on it (a shorter tree).

@@ -1,4 +1,4 @@
-//! `sim-host plan` through the real binary: Example 2 of seed 000 with `--expand-at`
+//! `sim-host plan` through the real binary: Example 2 of Colledanchise et al. 2019 with `--expand-at`
 //! (Fig. 4, then the tree the firmware runs), the published brick trees with
 //! `--goal-sequence`, and trees that do not reach the goal: shown on stderr with the
 //! reason, exit code 2, nothing written.
@@ -73,7 +73,12 @@ fn expand_at_runs_example_2_through_fig_4_to_the_firmwares_tree() {
 #[test]
 fn help_says_what_expand_at_does_and_that_a_failing_tree_is_never_written() {
     let help = ok(&sim_host(&["plan", "--help"]));
-    assert!(help.contains("--expand-at STATE goes on as a robot would at run time (Example 2 of seed 000)"), "{help}");
+    assert!(
+        help.contains(
+            "--expand-at STATE goes on as a robot would at run time (Example 2 of Colledanchise et al. 2019)"
+        ),
+        "{help}"
+    );
     assert!(help.contains("A tree that does not reach the goal is never written"), "{help}");
 }
 

@@ -120,7 +120,7 @@ fn bad_arguments_are_one_line_and_exit_2() {
 
 #[test]
 fn the_planners_tree_is_the_default_and_solves_only_the_tower() {
-    // Seed 003: the planner's tree alone solves the tower and fails the other three.
+    // Styrud et al.: the planner's tree alone solves the tower and fails the other three.
     for (task, solved) in [("tower", true), ("croissant", false), ("balance", false), ("blocking", false)] {
         let out = sim_host(&["run", "--task", task]);
         assert!(out.status.success(), "{task}: {}", String::from_utf8_lossy(&out.stderr));

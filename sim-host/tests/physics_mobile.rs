@@ -1,4 +1,4 @@
-//! The mobile manipulator world of seed 000 Fig. 1: the cube-sphere contract, motions,
+//! The mobile manipulator world of Colledanchise et al. 2019 Fig. 1: the cube-sphere contract, motions,
 //! path-free by shape cast, and the external agents.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -149,7 +149,7 @@ fn each_scripted_agent_event_happens() {
     );
 }
 
-/// Fig. 3(e) of seed 000 with the conflict-resolved clear-path branch of Fig. 4, built
+/// Fig. 3(e) of Colledanchise et al. 2019 with the conflict-resolved clear-path branch of Fig. 4, built
 /// by hand: the tree copes with random agents and reaches the goal.
 fn example_tree(storage: &mut [Node; 32]) -> &[Node] {
     let mut b = Builder::<8>::new(storage);

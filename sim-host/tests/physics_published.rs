@@ -1,4 +1,4 @@
-//! The physics world against the published experiments of seed 003: the trees that the
+//! The physics world against the published experiments of Styrud et al.: the trees that the
 //! reference implementation's experiment script lists as solving each task, with the
 //! fitness each scored in its AGX Dynamics simulation, score the same here.
 //!
@@ -16,7 +16,7 @@ use planner::duplo::Task;
 use sim_host::episode::{End, Runner};
 use sim_host::physics::PhysicsBrickWorld;
 
-/// (task, tree in the token notation of seed 003, fitness published for it in AGX).
+/// (task, tree in the token notation of Styrud et al., fitness published for it in AGX).
 const SOLVED: [(Task, &str, f64); 9] = [
     // Tower: the planner's tree, and two smaller ones GP found.
     (Task::Tower, planner_trees::TOWER, -3.0109),

@@ -74,7 +74,7 @@ fn the_blended_demo_follows_examples_1_and_2_in_both_worlds() {
 
 #[test]
 fn the_cube_scenario_shows_fig_4_after_the_blocked_path_is_expanded() {
-    // Fig. 4 of seed 000 is a run-time expansion: Fig. 3(e) with the cube in the hand
+    // Fig. 4 of Colledanchise et al. 2019 is a run-time expansion: Fig. 3(e) with the cube in the hand
     // when the sphere blocks the path. The narration prints the tree after each
     // expansion; after the fifth it is Fig. 4 (pinned against the paper's notation in
     // planner/tests/shipped_trees.rs).

@@ -1,4 +1,4 @@
-//! Whole episodes in the symbolic brick world: the planner's trees (seed 003 Section V:
+//! Whole episodes in the symbolic brick world: the planner's trees (Styrud et al. Section V:
 //! the planner alone solves the tower and fails the other three), hand-made solutions
 //! (each mode can be solved), the halt rule, and determinism.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::float_cmp)]
@@ -15,7 +15,7 @@ mod planner_trees;
 #[path = "fixtures/random_trees.rs"]
 mod random_trees;
 
-/// Hand-made solutions, derived from the task descriptions of seed 003 (the croissant's
+/// Hand-made solutions, derived from the task descriptions of Styrud et al. (the croissant's
 /// is the reference implementation's "best" tree).
 const CROISSANT_SOLVED: &str = "s( \
     f( 0 at pos (0.0, 0.0, 0.0)? s( pick 0! place at (0.0, 0.0, 0.0)! ) ) \

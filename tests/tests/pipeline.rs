@@ -31,7 +31,7 @@ fn every_brick_plan_survives_the_image_and_behaves_as_the_paper_says() {
         assert_eq!(nodes, plan.nodes, "{task:?}: the image round-trips the tree");
         let mut runner = Runner::new(SymbolicBrickWorld::new(&spec).unwrap()).unwrap();
         let episode = runner.run_nodes(&nodes).unwrap();
-        // Seed 003: the planner alone solves the tower and fails the other three.
+        // Styrud et al.: the planner alone solves the tower and fails the other three.
         if task == Task::Tower {
             assert_eq!(episode.end, End::Success, "{task:?}");
             assert!((episode.fitness.value() + 0.1 * nodes.len() as f64).abs() < 1e-9, "{episode:?}");

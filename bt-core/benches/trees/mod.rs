@@ -107,7 +107,7 @@ pub fn d50(storage: &mut [Node]) -> &[Node] {
     b.finish().unwrap()
 }
 
-/// Cube: Fig. 3(e) of seed 000, robot far from the cube, hand empty, path free.
+/// Cube: Fig. 3(e) of Colledanchise et al. 2019, robot far from the cube, hand empty, path free.
 pub fn cube(storage: &mut [Node]) -> &[Node] {
     let mut b = Builder::<64>::new(storage);
     b.fallback().unwrap().condition(ON_GOAL, &[]).unwrap();

@@ -1,4 +1,4 @@
-; Seed 000, Section VI: a two-armed robot (ABB YuMi) assembles a cellphone whose parts
+; Colledanchise et al. 2019, Section VI: a two-armed robot (ABB YuMi) assembles a cellphone whose parts
 ; are scattered on a table. Parallel grippers allow no dexterous manipulation: a part
 ; lying with its front up can only be grasped by the front, which hides the side to be
 ; assembled; handing it over to the other gripper (a regrasp) exposes it. Only the

@@ -1,4 +1,4 @@
-; Seed 000 (Colledanchise, Almeida, Ögren, ICRA 2019), Fig. 1 and Examples 1-2:
+; Colledanchise, Almeida, Ögren, ICRA 2019, Fig. 1 and Examples 1-2:
 ; a mobile manipulator moves a cube onto a goal region while a sphere may block the
 ; path. Paper notation in the comments.
 ;

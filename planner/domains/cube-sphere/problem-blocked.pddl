@@ -1,4 +1,4 @@
-; Example 2 of seed 000, planned offline: the sphere already blocks the path to the
+; Example 2 of Colledanchise et al. 2019, planned offline: the sphere already blocks the path to the
 ; goal. Planning expands `path-free goal`, finds that clearing the path needs an empty
 ; hand while the branch before it leaves the cube in the hand, and moves the new
 ; subtree left and up until the tree is conflict-free: the arrangement of Fig. 4. From

@@ -1,4 +1,4 @@
-//! The planning model of seed 000: typed objects, predicates, action templates with
+//! The planning model of Colledanchise et al. 2019: typed objects, predicates, action templates with
 //! pre- and postconditions (Table I of the paper), and problems with an initial state
 //! and goal conditions.
 //!

@@ -24,7 +24,7 @@ const INITIAL: &str = "the initial state";
 /// Which method made a tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Made {
-    /// Algorithm 1 of seed 000.
+    /// Algorithm 1 of Colledanchise et al. 2019.
     Algorithm1,
     /// Algorithm 1 with its choices (achieving actions, order of goal conditions and
     /// preconditions) taken from a plan of greedy best-first search with h_FF.
@@ -49,7 +49,7 @@ impl Made {
     #[must_use]
     pub fn describe(self) -> &'static str {
         match self {
-            Self::Algorithm1 => "Algorithm 1 of seed 000 (backchaining by ticking the tree)",
+            Self::Algorithm1 => "Algorithm 1 of Colledanchise et al. 2019 (backchaining by ticking the tree)",
             Self::SearchGuided => {
                 "Algorithm 1 guided by a plan of greedy best-first search with h_FF (achievers and order from the plan)"
             }

@@ -27,11 +27,16 @@ fn pddl_catalogs() -> Vec<Known> {
     let sets = [
         (
             "cube-sphere",
-            "PDDL domain `cube-sphere` (seed 000)",
+            "PDDL domain `cube-sphere` (Colledanchise et al. 2019)",
             domains::CUBE_SPHERE_DOMAIN,
             domains::CUBE_SPHERE_PROBLEM,
         ),
-        ("cellphone", "PDDL domain `cellphone` (seed 000)", domains::CELLPHONE_DOMAIN, domains::CELLPHONE_PROBLEM),
+        (
+            "cellphone",
+            "PDDL domain `cellphone` (Colledanchise et al. 2019)",
+            domains::CELLPHONE_DOMAIN,
+            domains::CELLPHONE_PROBLEM,
+        ),
         ("blocks", "PDDL domain `blocks`", domains::BLOCKS_DOMAIN, blocks.as_str()),
     ];
     sets.into_iter()
@@ -49,7 +54,7 @@ pub fn all() -> Vec<Known> {
     Task::ALL
         .into_iter()
         .map(|t| Known {
-            name: format!("brick task `{}` (seed 003)", t.name()),
+            name: format!("brick task `{}`", t.name()),
             short: t.name(),
             catalog: Box::new(t.spec()),
             tree_id: String::new(),

@@ -59,7 +59,7 @@ enum Command {
     /// Print the behavior set of BehaviorTree.CPP models, or the Rust table a controller compiles in.
     #[command(long_about = catalog::LONG_ABOUT)]
     Catalog(catalog::Args),
-    /// Plan a tree by backchaining (seed 000) from PDDL or for a brick task.
+    /// Plan a tree by backchaining (Colledanchise et al. 2019) from PDDL or for a brick task.
     #[command(long_about = plan::LONG_ABOUT)]
     Plan(plan::Args),
     /// Run one episode of a tree on a brick task; print the outcome and the fitness.
@@ -68,7 +68,7 @@ enum Command {
     /// Run a scenario of the papers, narrated tick by tick (`--list` shows them).
     #[command(long_about = scenario::LONG_ABOUT)]
     Scenario(scenario::Args),
-    /// Learn trees with the GP of seed 003 (brick tasks or a PDDL problem); one folder per run.
+    /// Learn trees with the GP of Styrud et al. (brick tasks or a PDDL problem); one folder per run.
     #[command(long_about = learn::LONG_ABOUT)]
     Learn(learn::Args),
     /// Draw learning curves (PNG) and a results table from `learn`'s run folders.

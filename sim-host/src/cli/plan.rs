@@ -1,4 +1,4 @@
-//! `sim-host plan`: backchaining planning (seed 000) of a PDDL problem or a brick task.
+//! `sim-host plan`: backchaining planning (Colledanchise et al. 2019) of a PDDL problem or a brick task.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -37,7 +37,7 @@ pub enum MethodArg {
     /// place) not pinned to the plan's values; as a last resort that plan's regression
     /// tree.
     Auto,
-    /// Algorithm 1 of seed 000 alone: fails where it cannot finish.
+    /// Algorithm 1 of Colledanchise et al. 2019 alone: fails where it cannot finish.
     #[value(name = "algorithm-1")]
     Algorithm1,
     /// Heuristic search first, then backchaining guided by its plan.
@@ -64,14 +64,14 @@ pub const LONG_ABOUT: &str = "Synthesizes a reactive behavior tree by backchaini
     negative preconditions, action costs, and ADL's or/forall/exists/when compiled away \
     at grounding; derived predicates and numeric fluents other than total-cost are refused \
     with file:line:column), or one of the four brick \
-    tasks of seed 003. Prints the \
+    tasks of Styrud et al. Prints the \
     tree, the expansions made, and whether the final tree, run from the initial state \
     in the symbolic world, reaches the goal and in how many ticks. A tree that does not \
     reach the goal is never written: the command prints it (ascii, to stderr) with the \
     reason, such as the actions it repeats when it oscillates, and exits with code 2.\n\n\
-    --expand-at STATE goes on as a robot would at run time (Example 2 of seed 000): the \
+    --expand-at STATE goes on as a robot would at run time (Example 2 of Colledanchise et al. 2019): the \
     tree is run from the initial state changed by STATE and expanded whenever it fails \
-    (Algorithm 1, lines 9-12), until it reaches the goal. Fig. 4 of seed 000 is such a \
+    (Algorithm 1, lines 9-12), until it reaches the goal. Fig. 4 of Colledanchise et al. 2019 is such a \
     run-time expansion: the tree of Fig. 3(e) meets the cube in the hand and the path \
     blocked.\n\n\
     The tree goes to stdout or --out FILE (written whole or not at all; `-` is stdout); \
@@ -99,7 +99,7 @@ pub struct Args {
     /// The PDDL problem file.
     #[arg(long, requires = "domain")]
     pub problem: Option<PathBuf>,
-    /// A brick task of seed 003 instead of PDDL.
+    /// A brick task of Styrud et al. instead of PDDL.
     #[arg(long, value_parser = ["tower", "croissant", "balance", "blocking"], required_unless_present = "domain")]
     pub task: Option<String>,
     /// The notation to write the tree in.

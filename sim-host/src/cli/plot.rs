@@ -1,5 +1,5 @@
 //! `sim-host plot DIR [--out FILE.png|FILE.svg]`: learning curves like Figs. 6-11 of
-//! seed 003, and a results table.
+//! Styrud et al., and a results table.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -16,7 +16,7 @@ use sim_host::text::{count, count_as};
 use super::output::{self, Content, Target};
 
 pub const LONG_ABOUT: &str = "Reads every run folder under DIR (as written by `sim-host learn`, \
-from any number of machines) and draws the learning curves like Figs. 6-11 of seed 003: one \
+from any number of machines) and draws the learning curves like Figs. 6-11 of Styrud et al.: one \
 panel per task and world, one curve per variant, the mean over seeds of the best fitness so \
 far with a band of one standard deviation, against episodes (unique simulations), and the \
 planner's fitness as a dashed line. The fitness axis is logarithmic in the cost (-fitness), so \

@@ -23,7 +23,7 @@ use super::output::{self, Content, Target};
 
 /// The long help of `sim-host run` (set on the subcommand in `cli/mod.rs`).
 pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the four brick tasks of \
-    seed 003 (Styrud et al.) and prints the outcome and the fitness of Eq. (1)/(2).\n\n\
+    Styrud et al. and prints the outcome and the fitness of Eq. (1)/(2).\n\n\
     Tasks:\n  \
       tower      stack three 2x2 bricks and press them together (the planner solves it)\n  \
       croissant  three bricks in a U, a long brick across the middle one; placing the\n             \
@@ -40,7 +40,7 @@ pub const LONG_ABOUT: &str = "Runs one episode of a behavior tree on one of the 
       + 50 if the episode ended in Failure + 10 if it ran to the tick limit\n  \
       + 100 if a brick is still held at the end (balance only).\n\n\
     The tree FILE is an image (starts with `BTIM`, as `sim-host plan`/`learn` write) or\n\
-    text in the token notation of seed 003, e.g.\n  \
+    text in the token notation of Styrud et al., e.g.\n  \
       s( f( 0 on 1? put 0 on 1! ) apply force 0! )\n\
     with leaves named exactly as the task's behaviors: `picked 0?`, `1 on 0?`,\n\
     `0 at pos (0.0, 0.05, 0.0)?`, `pick 0!`, `place on 1!`, `put 0 at (0.0, 0.0, 0.0)!`, ...\n\
@@ -62,7 +62,7 @@ pub struct Args {
     pub strips: super::run_strips::Args,
     /// The world that plays the episode.
     #[arg(long, default_value_t = WorldKind::Symbolic, value_parser = super::scenario::world_parser(
-        "The fast symbolic world of seed 003: exact, 30 ticks, microseconds per episode",
+        "The fast symbolic world of Styrud et al.: exact, 30 ticks, microseconds per episode",
         "The rapier3d physics world: 200 ticks at 10 Hz",
     ))]
     pub world: WorldKind,

@@ -31,13 +31,13 @@ pub const LONG_ABOUT: &str = "Runs one of the papers' scenarios and narrates it 
 what happens in the world, which actions the tree starts, finishes or halts, and each \
 expansion of the tree with the conflicts IncreasePriority resolved.\n\n\
 Scenarios (`--list` shows which worlds each runs in):\n  \
-cube       seed 000 Fig. 1, Examples 1-2: blended planning and acting. The tree grows from \
+cube       Colledanchise et al. 2019 Fig. 1, Examples 1-2: blended planning and acting. The tree grows from \
 the goal as the robot acts; the sphere blocks the path and the tree is expanded into the \
 arrangement of Fig. 4; agents help (put the cube in the hand) and undo (take it away), and \
 the tree copes without new expansions. `--seed N` lets agents act at random instead.\n  \
-cellphone  seed 000 Section VI: two arms assemble a cellphone, regrasping parts by handing \
+cellphone  Colledanchise et al. 2019 Section VI: two arms assemble a cellphone, regrasping parts by handing \
 them over; a part slips and a co-worker helps.\n  \
-tower, croissant, balance, blocking   seed 003's brick tasks with the planner's tree: the \
+tower, croissant, balance, blocking   Styrud et al.'s brick tasks with the planner's tree: the \
 tower is built; the other three fail for the physical reason the paper gives.\n\n\
 `--svg FILE` draws the run: a top view with every body's path, the goal region, the events \
 and expansions where they happened, and the tree at the start, after each expansion and at \

@@ -1,4 +1,4 @@
-//! The brick tasks of seed 003 as a learning problem: GP's leaves are the task's
+//! The brick tasks of Styrud et al. as a learning problem: GP's leaves are the task's
 //! behaviors, an episode in the symbolic or physics brick world is the fitness
 //! (Eq. (1)/(2)), and the planner's tree is the baseline.
 
@@ -38,7 +38,7 @@ impl<W: BrickWorld + Send> EpisodeFitness<W> {
         Ok(Self { make: Box::new(make), pool: Mutex::new(vec![first]) })
     }
 
-    /// The fitness of one tree: one episode, seed 003 Eq. (1)/(2). A tree the world
+    /// The fitness of one tree: one episode, Styrud et al. Eq. (1)/(2). A tree the world
     /// cannot run scores `-inf`.
     pub fn episode(&self, tree: &[Node]) -> f64 {
         let runner = self.pool.lock().ok().and_then(|mut p| p.pop());
@@ -76,7 +76,7 @@ pub fn physics(task: Task) -> anyhow::Result<EpisodeFitness<PhysicsBrickWorld>> 
     EpisodeFitness::new(move || Ok(Runner::new(PhysicsBrickWorld::with_params(&task.spec(), PHYSICS)?)?))
 }
 
-/// The reference's generation counts (seed 003): physics tower 200, croissant 1000,
+/// The reference's generation counts (Styrud et al.): physics tower 200, croissant 1000,
 /// balance 800, blocking 300; the fast symbolic world balance 300, blocking 1000.
 #[must_use]
 pub const fn default_generations(task: Task, world: WorldKind) -> u32 {

@@ -124,7 +124,7 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
     }
     record.push_str(&spec.params()?.to_record(catalog.as_ref())?);
     let mut out = vec![
-        ("run.txt", format!("# sim-host learn: one GP run (seed 003, Styrud et al.)\n{record}").into_bytes()),
+        ("run.txt", format!("# sim-host learn: one GP run (Styrud et al.)\n{record}").into_bytes()),
         ("curve.csv", gp::to_csv(&run.log).into_bytes()),
         ("best.tokens", tokens.into_bytes()),
     ];

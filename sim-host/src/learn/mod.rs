@@ -1,8 +1,8 @@
-//! Learning behavior trees with the GP of seed 003 in the worlds of this crate.
+//! Learning behavior trees with the GP of Styrud et al. in the worlds of this crate.
 //!
 //! The GP (crate `gp`) knows nothing of bricks or PDDL: a learning problem supplies a
 //! catalog of leaves, a baseline tree and a fitness. Two suppliers live here: the brick
-//! tasks of seed 003 ([`bricks`]: symbolic or physics world) and any PDDL problem the
+//! tasks of Styrud et al. ([`bricks`]: symbolic or physics world) and any PDDL problem the
 //! planner reads ([`strips`]: the symbolic STRIPS world, optionally disturbed by
 //! external agents). A [`RunSpec`] names one run — what is learned, the variant, the
 //! seed, the generations, optionally the islands of [`gp::islands`] — and [`learn`]
@@ -28,7 +28,7 @@ use worlds::WorldKind;
 /// What a run learns.
 #[derive(Clone, Debug)]
 pub enum Subject {
-    /// A brick task of seed 003 in the symbolic or physics world.
+    /// A brick task of Styrud et al. in the symbolic or physics world.
     Brick {
         /// The task.
         task: Task,

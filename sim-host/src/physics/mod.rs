@@ -1,5 +1,5 @@
-//! Physics worlds on rapier3d: the four brick tasks of seed 003 ([`PhysicsBrickWorld`])
-//! and the mobile manipulator of seed 000 Fig. 1 ([`mobile::MobileWorld`]).
+//! Physics worlds on rapier3d: the four brick tasks of Styrud et al. ([`PhysicsBrickWorld`])
+//! and the mobile manipulator of Colledanchise et al. 2019 Fig. 1 ([`mobile::MobileWorld`]).
 //!
 //! Both are deterministic: a world is built fresh from its description (and, for the
 //! mobile world, a seed), rapier3d runs single-threaded with its `enhanced-determinism`

@@ -1,4 +1,4 @@
-//! The cellphone assembly of seed 000 (Section VI) in the symbolic world: the planner's
+//! The cellphone assembly of Colledanchise et al. 2019 (Section VI) in the symbolic world: the planner's
 //! STRIPS semantics of `planner/domains/cellphone` ([`StripsScene`]), with two
 //! disturbances ([`Disturbances`]).
 //!

@@ -1,4 +1,4 @@
-//! The cube-and-sphere scenario of seed 000 (Fig. 1, Examples 1-2) in a symbolic and a
+//! The cube-and-sphere scenario of Colledanchise et al. 2019 (Fig. 1, Examples 1-2) in a symbolic and a
 //! physics world, with the same external agents ([`super::agents`]).
 //!
 //! The story ([`super::agents::Story`]): as the robot first carries the cube towards

@@ -1,6 +1,6 @@
-//! The papers' scenarios, narrated: the blended planning-and-acting demo of seed 000
-//! (cube and sphere, Examples 1-2), the two-armed cellphone assembly (seed 000,
-//! Section VI), and the four brick tasks of seed 003 with the planner's tree.
+//! The papers' scenarios, narrated: the blended planning-and-acting demo of Colledanchise et al. 2019
+//! (cube and sphere, Examples 1-2), the two-armed cellphone assembly (Colledanchise et al. 2019,
+//! Section VI), and the four brick tasks of Styrud et al. with the planner's tree.
 //!
 //! Every run goes through the one episode runner of [`worlds`] ([`driver`]): the world
 //! is a [`driver::Scene`], the agents are [`worlds::Agent`]s ([`agents`]), the
@@ -61,11 +61,11 @@ use driver::{Points, Record, Scene};
 /// A scenario of the papers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Scenario {
-    /// Seed 000, Fig. 1 and Examples 1-2: the blended demo.
+    /// Colledanchise et al. 2019, Fig. 1 and Examples 1-2: the blended demo.
     Cube,
-    /// Seed 000, Section VI: the cellphone assembly with two arms.
+    /// Colledanchise et al. 2019, Section VI: the cellphone assembly with two arms.
     Cellphone,
-    /// A brick task of seed 003 with the planner's tree.
+    /// A brick task of Styrud et al. with the planner's tree.
     Bricks(Task),
 }
 
@@ -110,23 +110,23 @@ impl Scenario {
     pub const fn about(self) -> &'static str {
         match self {
             Self::Cube => {
-                "seed 000 Fig. 1, Examples 1-2: the tree grows from the goal as the robot acts; a \
+                "Colledanchise et al. 2019 Fig. 1, Examples 1-2: the tree grows from the goal as the robot acts; a \
                  sphere blocks the path (expansion + conflict resolution, Fig. 4); agents help and \
                  undo, and the tree copes without replanning"
             }
             Self::Cellphone => {
-                "seed 000 Section VI: two arms assemble a cellphone, handing parts over to regrasp \
+                "Colledanchise et al. 2019 Section VI: two arms assemble a cellphone, handing parts over to regrasp \
                  them; a part slips and a co-worker helps, without replanning"
             }
-            Self::Bricks(Task::Tower) => "seed 003 task 1: the planner's tree stacks and presses three bricks",
+            Self::Bricks(Task::Tower) => "Styrud et al. task 1: the planner's tree stacks and presses three bricks",
             Self::Bricks(Task::Croissant) => {
-                "seed 003 task 2: the planner's tree fails: the long brick blocks the side bricks"
+                "Styrud et al. task 2: the planner's tree fails: the long brick blocks the side bricks"
             }
             Self::Bricks(Task::Balance) => {
-                "seed 003 task 3: the planner's tree fails: the unbalanced brick tips off a narrow base"
+                "Styrud et al. task 3: the planner's tree fails: the unbalanced brick tips off a narrow base"
             }
             Self::Bricks(Task::Blocking) => {
-                "seed 003 task 4: the planner's tree fails: the bricks block each other's places"
+                "Styrud et al. task 4: the planner's tree fails: the bricks block each other's places"
             }
         }
     }
@@ -245,7 +245,7 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let _ = writeln!(
                 out,
                 "the planner's tree ({}, planned offline from the goal conditions) runs in the \
-                 {} world; episodes end as in seed 003 (first Failure, or the tick limit).\n",
+                 {} world; episodes end as in Styrud et al. (first Failure, or the tick limit).\n",
                 count(plan.nodes.len(), "node"),
                 world.name()
             );
@@ -320,7 +320,7 @@ fn brick_summary(out: &mut String, spec: &Spec, r: &Record) {
             }
         }
     }
-    let _ = writeln!(out, "         `sim-host run --task {}` gives the fitness of seed 003", spec.task.name());
+    let _ = writeln!(out, "         `sim-host run --task {}` gives the fitness of Styrud et al.", spec.task.name());
 }
 
 /// Names of bricks for the top view.

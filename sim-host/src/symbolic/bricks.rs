@@ -1,4 +1,4 @@
-//! The fast symbolic brick world of seed 003, exactly as `docs/brick-tasks.md`
+//! The fast symbolic brick world of Styrud et al., exactly as `docs/brick-tasks.md`
 //! defines it: bricks are points (the centre of their bottom face), the gripper holds at
 //! most one, and each task's *mode* adds the physics the planner does not know about.
 //!

@@ -1,6 +1,6 @@
 //! Symbolic worlds: exact state machines with no physics, microseconds per episode.
 //!
-//! [`SymbolicBrickWorld`] is the fast brick world of seed 003, in which GP evaluates
+//! [`SymbolicBrickWorld`] is the fast brick world of Styrud et al., in which GP evaluates
 //! hundreds of thousands of trees per second.
 //!
 //! ```

@@ -52,7 +52,7 @@ pub fn until_done<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outco
     drive(world, text, limit, |_, status, _| status != Status::Running)
 }
 
-/// One episode under seed 003's rules: ends at the first root Failure, after root
+/// One episode under Styrud et al.'s rules: ends at the first root Failure, after root
 /// Success on two consecutive ticks, or after `limit` ticks.
 pub fn episode<W: BrickWorld>(world: &mut W, text: &str, limit: u32) -> Outcome {
     drive(world, text, limit, |_, status, last| {

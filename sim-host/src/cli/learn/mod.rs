@@ -1,4 +1,4 @@
-//! `sim-host learn`: GP runs of seed 003 over brick tasks or a PDDL problem x variants x
+//! `sim-host learn`: GP runs of Styrud et al. over brick tasks or a PDDL problem x variants x
 //! seeds, each written to its own folder; or the commands that make them one by one.
 
 mod args;
@@ -19,11 +19,11 @@ use super::output::{self, out};
 pub use args::Args;
 use progress::Progress;
 
-pub const LONG_ABOUT: &str = "Learns behavior trees with the genetic programming of seed 003 \
+pub const LONG_ABOUT: &str = "Learns behavior trees with the genetic programming of Styrud et al. \
 (Styrud et al.): population 16, Table I's operators and selection, one episode per new tree \
 (episodes counted as unique simulations), and the planner's tree as baseline in the variants \
 that use it.\n\n\
-What is learned: the four brick tasks of seed 003 (--task; fitness of Eq. (1)/(2) in the \
+What is learned: the four brick tasks of Styrud et al. (--task; fitness of Eq. (1)/(2) in the \
 symbolic or physics world), or any PDDL problem the planner reads (--domain D.pddl --problem \
 P.pddl), in the symbolic STRIPS world: the leaves are the problem's grounded conditions and \
 actions, and the fitness is\n  \

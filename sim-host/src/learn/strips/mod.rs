@@ -31,7 +31,7 @@
 //!
 //! # Fitness
 //!
-//! In the spirit of seed 003's Eq. (1), with goal literals in place of brick distances:
+//! In the spirit of Styrud et al.'s Eq. (1), with goal literals in place of brick distances:
 //!
 //! ```text
 //! F = - G U - λ L - κ T - ϕ F - τ O

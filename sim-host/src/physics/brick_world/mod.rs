@@ -1,4 +1,4 @@
-//! The four brick tasks of seed 003 on rapier3d.
+//! The four brick tasks of Styrud et al. on rapier3d.
 //!
 //! # The world
 //!
@@ -53,7 +53,7 @@
 //!
 //! While the gripper holds a brick, the tree sees every brick where it was when the
 //! fingers closed; once they open it sees the bodies as they are. This is what the
-//! published AGX behaviors of seed 003 do for `at pos` ("don't update when currently
+//! published AGX behaviors of Styrud et al. do for `at pos` ("don't update when currently
 //! gripping a brick or it might end prematurely"), extended to `on` and to the puts'
 //! "already there" shortcuts so that all of them agree. Without it a multi-tick put
 //! exposes its brick in mid-air to the reactive tree: in the blocking task, `put 0 at

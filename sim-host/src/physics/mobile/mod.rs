@@ -1,4 +1,4 @@
-//! The mobile manipulator of seed 000 Fig. 1 on rapier3d: a base moving in the plane,
+//! The mobile manipulator of Colledanchise et al. 2019 Fig. 1 on rapier3d: a base moving in the plane,
 //! a gripper, the cube, the sphere and the goal region, with external agents.
 //!
 //! # The world
@@ -131,7 +131,7 @@ struct Running {
     outcome: Option<Status>,
 }
 
-/// The world of seed 000 Fig. 1. See the module docs.
+/// The world of Colledanchise et al. 2019 Fig. 1. See the module docs.
 pub struct MobileWorld {
     world: PhysicsWorld,
     base: RigidBodyHandle,
