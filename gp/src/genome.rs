@@ -452,7 +452,7 @@ pub fn check(tokens: &[Token], alphabet: &Alphabet) -> Result<(), Invalid> {
                 if next == Some(Token::Close) {
                     return Err(Invalid::EmptyControl { at });
                 }
-                if token != if depth % 2 == 0 { root } else { other } {
+                if token != if depth.is_multiple_of(2) { root } else { other } {
                     return Err(Invalid::SameKindNested { at });
                 }
                 depth += 1;

@@ -228,7 +228,7 @@ impl Params {
                 return Err(ParamsError::OverPopulation { field, value, population: self.population_size });
             }
         }
-        if self.crossover_parents % 2 != 0 {
+        if !self.crossover_parents.is_multiple_of(2) {
             return Err(ParamsError::OddCrossoverParents(self.crossover_parents));
         }
         let MutationRates { add, delete, change } = self.mutation;

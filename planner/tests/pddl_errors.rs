@@ -167,11 +167,10 @@ proptest! {
         let end = (at + len).min(chars.len());
         chars.splice(at..end, insert.chars());
         let text: String = chars.into_iter().collect();
-        if let Ok(d) = parse_domain("d.pddl", &text) {
-            if let Ok(p) = parse_problem("p.pddl", domains::CELLPHONE_PROBLEM, &d) {
+        if let Ok(d) = parse_domain("d.pddl", &text)
+            && let Ok(p) = parse_problem("p.pddl", domains::CELLPHONE_PROBLEM, &d) {
                 let _ = planner::ground::Grounding::new(&p);
             }
-        }
     }
 }
 

@@ -268,7 +268,7 @@ impl Log {
         let xml = String::from_utf8_lossy(take(23, len)?).into_owned();
         let first_usec = i64::from_le_bytes(take(23 + len, 8)?.try_into().map_err(|_| LogError::NotALog)?);
         let rest = &bytes[31 + len..];
-        if rest.len() % 9 != 0 {
+        if !rest.len().is_multiple_of(9) {
             return Err(LogError::Partial(rest.len() % 9));
         }
         let transitions = rest

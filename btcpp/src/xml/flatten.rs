@@ -157,12 +157,12 @@ pub fn main_tree<'d>(doc: &'d Document, main: Option<&str>) -> Result<&'d TreeDe
     let (id, at) = match (main, &doc.main) {
         (Some(m), _) => (m.to_string(), None),
         (None, Some((m, at))) => (m.clone(), Some(at)),
-        // The tree file's only tree, as BehaviorTree.CPP picks it among the trees other
-        // files registered before.
-        (None, None) if let [only] = doc.own.as_slice() => (only.clone(), None),
-        (None, None) => match doc.trees.len() {
-            0 => return Err(ImportError::nowhere(Fault::NoTree)),
-            1 => return Ok(doc.trees.values().next().expect("one tree")),
+        (None, None) => match (doc.own.as_slice(), doc.trees.len()) {
+            // The tree file's only tree, as BehaviorTree.CPP picks it among the trees
+            // other files registered before.
+            ([only], _) => (only.clone(), None),
+            (_, 0) => return Err(ImportError::nowhere(Fault::NoTree)),
+            (_, 1) => return Ok(doc.trees.values().next().expect("one tree")),
             _ => return Err(ImportError::nowhere(Fault::NoMainTree { available: available() })),
         },
     };
