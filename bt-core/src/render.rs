@@ -85,67 +85,72 @@ pub fn write_label<C: Catalog + ?Sized>(
     values: &[u16],
 ) -> fmt::Result {
     match *kind {
-        NodeKind::Sequence => f.write_str("{-} Sequence"),
-        NodeKind::Fallback => f.write_str("[o] Fallback"),
-        NodeKind::SequenceWithMemory => f.write_str("{*} SequenceWithMemory"),
-        NodeKind::FallbackWithMemory => f.write_str("[*] FallbackWithMemory"),
-        NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-            let skipped = if count_skipped { ", skipped count" } else { "" };
-            write!(f, "/_/ Parallel(success {success_threshold}, failure {failure_threshold}{skipped})")
-        }
-        NodeKind::Inverter => f.write_str("-^- Inverter"),
-        NodeKind::ForceSuccess => f.write_str("-^- ForceSuccess"),
-        NodeKind::ForceFailure => f.write_str("-^- ForceFailure"),
-        NodeKind::Repeat(n) => write!(f, "-^- Repeat({n})"),
-        NodeKind::Retry(n) => write!(f, "-^- Retry({n})"),
-        NodeKind::Timeout(n) => write!(f, "-^- Timeout({})", crate::error::Count(usize::from(n), "tick", "ticks")),
         NodeKind::Condition(ref leaf) | NodeKind::Action(ref leaf) => {
             f.write_str("--> ")?;
-            write_leaf(f, catalog, leaf, values)
+            return write_leaf(f, catalog, leaf, values);
         }
-        NodeKind::SequenceStar => f.write_str("{*} SequenceStar"),
-        NodeKind::IfThenElse => f.write_str("<?> IfThenElse"),
-        NodeKind::WhileDoElse => f.write_str("<?> WhileDoElse"),
-        NodeKind::ParallelAll { max_failures } => write!(f, "/_/ ParallelAll(max failures {max_failures})"),
-        NodeKind::PipelineSequence => f.write_str("{-} PipelineSequence"),
-        NodeKind::Recovery { retries } => write!(f, "[o] Recovery({retries} retries)"),
-        NodeKind::RoundRobin => f.write_str("[o] RoundRobin"),
-        NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => {
-            let name = if matches!(kind, NodeKind::RepeatCycles(_)) { "RepeatCycles" } else { "RetryUntilSuccessful" };
-            if n == NodeKind::FOREVER { write!(f, "-^- {name}(forever)") } else { write!(f, "-^- {name}({n})") }
-        }
-        NodeKind::KeepRunningUntilFailure => f.write_str("-^- KeepRunningUntilFailure"),
-        NodeKind::RunOnce { then_skip } => {
-            f.write_str(if then_skip { "-^- RunOnce(then skip)" } else { "-^- RunOnce" })
-        }
-        NodeKind::TimeLimit(d) => write!(f, "-^- TimeLimit({})", d.get()),
-        NodeKind::Delay(d) => write!(f, "-^- Delay({})", d.get()),
-        NodeKind::RateController(d) => write!(f, "-^- RateController({})", d.get()),
         NodeKind::Gate(ref leaf) => {
             f.write_str("-^- Gate ")?;
-            write_leaf(f, catalog, leaf, values)
+            return write_leaf(f, catalog, leaf, values);
         }
-        NodeKind::AlwaysSuccess => f.write_str("--> AlwaysSuccess"),
-        NodeKind::AlwaysFailure => f.write_str("--> AlwaysFailure"),
-        NodeKind::Script(c) => write!(f, "--> Script ({} words)", c.len),
-        NodeKind::ScriptCondition(c) => write!(f, "--> ScriptCondition ({} words)", c.len),
-        NodeKind::Sleep(d) => write!(f, "--> Sleep({})", d.get()),
-        NodeKind::Guard(c) => write!(f, "-^- Guard ({} words)", c.len),
-        NodeKind::Precondition { code, otherwise } => {
-            write!(f, "-^- Precondition ({} words, else {otherwise:?})", code.len)
+        _ => {}
+    }
+    write!(f, "{} {}", glyph(kind), kind.name())?;
+    write_params(f, kind, values)
+}
+
+/// The glyph in front of a kind's name: by family for control nodes, else by arity.
+fn glyph(kind: &NodeKind) -> &'static str {
+    match kind {
+        NodeKind::Sequence | NodeKind::PipelineSequence => "{-}",
+        NodeKind::Fallback | NodeKind::Recovery { .. } | NodeKind::RoundRobin => "[o]",
+        NodeKind::SequenceWithMemory | NodeKind::SequenceStar => "{*}",
+        NodeKind::FallbackWithMemory => "[*]",
+        NodeKind::Parallel { .. } | NodeKind::ParallelAll { .. } => "/_/",
+        NodeKind::IfThenElse | NodeKind::WhileDoElse => "<?>",
+        NodeKind::ManualSelector { .. } => "[?]",
+        _ => match kind.arity() {
+            crate::node::Arity::Leaf => "-->",
+            _ => "-^-",
+        },
+    }
+}
+
+/// A kind's parameters after its name, if it has any.
+fn write_params(f: &mut fmt::Formatter<'_>, kind: &NodeKind, values: &[u16]) -> fmt::Result {
+    match *kind {
+        NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
+            let skipped = if count_skipped { ", skipped count" } else { "" };
+            write!(f, "(success {success_threshold}, failure {failure_threshold}{skipped})")
         }
+        NodeKind::Repeat(n) | NodeKind::Retry(n) => write!(f, "({n})"),
+        NodeKind::Timeout(n) => write!(f, "({})", crate::error::Count(usize::from(n), "tick", "ticks")),
+        NodeKind::ParallelAll { max_failures } => write!(f, "(max failures {max_failures})"),
+        NodeKind::Recovery { retries } => write!(f, "({retries} retries)"),
+        NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => {
+            if n == NodeKind::FOREVER {
+                f.write_str("(forever)")
+            } else {
+                write!(f, "({n})")
+            }
+        }
+        NodeKind::RunOnce { then_skip: true } => f.write_str("(then skip)"),
+        NodeKind::TimeLimit(d) | NodeKind::Delay(d) | NodeKind::RateController(d) | NodeKind::Sleep(d) => {
+            write!(f, "({})", d.get())
+        }
+        NodeKind::Script(c) | NodeKind::ScriptCondition(c) | NodeKind::Guard(c) => write!(f, " ({} words)", c.len),
+        NodeKind::Precondition { code, otherwise } => write!(f, " ({} words, else {otherwise:?})", code.len),
         NodeKind::Loop { table, if_empty } => match crate::script::queue(table.words(values)) {
             Some(crate::script::Queue::Literal(l)) => {
-                write!(f, "-^- Loop({} elements, if empty {if_empty:?})", l.first().copied().unwrap_or(0))
+                write!(f, "({} elements, if empty {if_empty:?})", l.first().copied().unwrap_or(0))
             }
             Some(crate::script::Queue::Key { queue, .. }) => {
-                write!(f, "-^- Loop(queue in slot {queue}, if empty {if_empty:?})")
+                write!(f, "(queue in slot {queue}, if empty {if_empty:?})")
             }
-            None => write!(f, "-^- Loop(if empty {if_empty:?})"),
+            None => write!(f, "(if empty {if_empty:?})"),
         },
-        NodeKind::ManualSelector { repeat_last } => {
-            f.write_str(if repeat_last { "[?] ManualSelector(repeat last)" } else { "[?] ManualSelector" })
-        }
+        NodeKind::ManualSelector { repeat_last: true } => f.write_str("(repeat last)"),
+        _ => Ok(()),
     }
 }
 
