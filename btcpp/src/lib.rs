@@ -31,6 +31,7 @@
 
 pub mod btlog;
 mod error;
+pub mod kinds;
 pub mod xml;
 
 pub use error::{Fault, ImportError, Location};

@@ -24,6 +24,8 @@ pub mod tree;
 
 use std::fmt::Write as _;
 
+use crate::kinds;
+
 pub use replay::{Leaves, Replay, Ticking};
 pub use run::{Mismatch, RunLog, status_of};
 pub use tree::{LogTree, NotExpressible};
@@ -34,31 +36,6 @@ pub const MAGIC: &[u8; 18] = b"BTCPP4-FileLogger2";
 /// The models of BehaviorTree.CPP's built-in nodes as 4.10.0 writes them (recorded by
 /// `btcpp/tools/record-builtin-models.sh`).
 const BUILTIN_MODELS: &str = include_str!("builtin-models.xml");
-
-/// The models of Nav2's control nodes and `RateController` (their ports as Nav2 jazzy
-/// declares them) as BehaviorTree.CPP 4.10.0 writes them.
-const NAV2_MODELS: [(&str, &str); 4] = [
-    ("PipelineSequence", "        <Control ID=\"PipelineSequence\"/>\n"),
-    (
-        "RateController",
-        "        <Decorator ID=\"RateController\">\n            <input_port name=\"hz\" type=\"double\" default=\"10.000000\">Rate</input_port>\n        </Decorator>\n",
-    ),
-    (
-        "RecoveryNode",
-        "        <Control ID=\"RecoveryNode\">\n            <input_port name=\"number_of_retries\" type=\"int\" default=\"1\">Number of retries</input_port>\n        </Control>\n",
-    ),
-    ("RoundRobin", "        <Control ID=\"RoundRobin\"/>\n"),
-];
-
-/// `ManualSelector`'s model as BehaviorTree.CPP 4.10.0 writes it. Its factory does not
-/// register the node (nor build it), so it is not among [`BUILTIN_MODELS`]; a program
-/// that loads a tree with one registers `ManualSelectorNode` under that ID, and the
-/// log then lists it with the other models (written from the node's `providedPorts()`:
-/// a bool input, default false).
-const MANUAL_SELECTOR_MODEL: (&str, &str) = (
-    "ManualSelector",
-    "        <Control ID=\"ManualSelector\">\n            <input_port name=\"repeat_last_selection\" type=\"bool\" default=\"false\">If true, execute again the same child that was selected the last time</input_port>\n        </Control>\n",
-);
 
 fn escape_attr(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
@@ -119,12 +96,14 @@ impl LogTree {
         }
         o.push_str("    <TreeNodesModel>\n");
         let mut entries = builtin_models();
-        // Nav2's nodes, when the tree has them (a Nav2 factory registers every plugin;
-        // the log of one without Nav2 lists the nodes it has), and ManualSelector, which
-        // a program registers to load a tree with one.
-        for (id, text) in NAV2_MODELS.into_iter().chain([MANUAL_SELECTOR_MODEL]) {
-            if self.nodes.iter().any(|n| n.element == id && n.subtree.is_none()) {
-                entries.push((id.to_string(), text.to_string()));
+        // The node types the factory does not register itself, when the tree has them:
+        // Nav2's (a Nav2 factory registers every plugin; the log of one without Nav2
+        // lists the nodes it has) and ManualSelector, which a program registers to load
+        // a tree with one.
+        for entry in kinds::TABLE {
+            let Some(text) = entry.log_model else { continue };
+            if self.nodes.iter().any(|n| n.element == entry.id && n.subtree.is_none()) {
+                entries.push((entry.id.to_string(), text.to_string()));
             }
         }
         for m in &self.models {

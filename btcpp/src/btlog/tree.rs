@@ -5,8 +5,8 @@
 use bt_core::{Catalog, Node, NodeKind, PortValue};
 
 use crate::btlog::stdmap;
+use crate::kinds::{self, SCRIPT_ATTRIBUTES};
 use crate::xml::Imported;
-use crate::xml::builtin::SCRIPT_ATTRIBUTES;
 use crate::xml::write::type_id;
 
 /// What a node does, in BehaviorTree.CPP's terms.
@@ -200,130 +200,17 @@ pub struct NotExpressible {
     pub kind: &'static str,
 }
 
-/// A built-in's kind, registration ID and parameters.
-type Builtin = (Kind, &'static str, Vec<(&'static str, String)>);
-
-/// How a bt-core kind is named and parameterized in BehaviorTree.CPP (`children`: its
-/// number of children). `None` for kinds BehaviorTree.CPP has no built-in for.
-fn builtin(kind: &NodeKind, children: usize) -> Option<Builtin> {
-    let count = |n: u16| if n == NodeKind::FOREVER { -1 } else { i32::from(n) };
-    Some(match *kind {
-        NodeKind::Sequence => (Kind::ReactiveSequence, "ReactiveSequence", vec![]),
-        NodeKind::Fallback => (Kind::ReactiveFallback, "ReactiveFallback", vec![]),
-        NodeKind::SequenceWithMemory => (Kind::Sequence, "Sequence", vec![]),
-        NodeKind::FallbackWithMemory => (Kind::Fallback, "Fallback", vec![]),
-        NodeKind::SequenceStar => (Kind::SequenceWithMemory, "SequenceWithMemory", vec![]),
-        NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-            // A success count that counts skipped children was negative in the XML.
-            let success = if count_skipped {
-                i32::from(success_threshold) - i32::try_from(children).unwrap_or(i32::MAX) - 1
-            } else {
-                i32::from(success_threshold)
-            };
-            (
-                Kind::Parallel { success, failure: i32::from(failure_threshold) },
-                "Parallel",
-                vec![("success_count", success.to_string()), ("failure_count", failure_threshold.to_string())],
-            )
-        }
-        NodeKind::ParallelAll { max_failures } => (
-            Kind::ParallelAll { max_failures: i32::from(max_failures) },
-            "ParallelAll",
-            vec![("max_failures", max_failures.to_string())],
-        ),
-        NodeKind::IfThenElse => (Kind::IfThenElse, "IfThenElse", vec![]),
-        NodeKind::WhileDoElse => (Kind::WhileDoElse, "WhileDoElse", vec![]),
-        NodeKind::Inverter => (Kind::Inverter, "Inverter", vec![]),
-        NodeKind::ForceSuccess => (Kind::ForceSuccess, "ForceSuccess", vec![]),
-        NodeKind::ForceFailure => (Kind::ForceFailure, "ForceFailure", vec![]),
-        NodeKind::RepeatCycles(n) => (Kind::Repeat(count(n)), "Repeat", vec![("num_cycles", count(n).to_string())]),
-        NodeKind::RetryUntilSuccessful(n) => {
-            (Kind::Retry(count(n)), "RetryUntilSuccessful", vec![("num_attempts", count(n).to_string())])
-        }
-        NodeKind::KeepRunningUntilFailure => (Kind::KeepRunningUntilFailure, "KeepRunningUntilFailure", vec![]),
-        NodeKind::RunOnce { then_skip } => {
-            (Kind::RunOnce { then_skip }, "RunOnce", vec![("then_skip", then_skip.to_string())])
-        }
-        NodeKind::TimeLimit(span) => (Kind::Timeout(span.get()), "Timeout", vec![("msec", span.get().to_string())]),
-        NodeKind::Delay(span) => (Kind::Delay(span.get()), "Delay", vec![("delay_msec", span.get().to_string())]),
-        // Nav2's, with the rate that gives the period back (as the XML export writes it).
-        NodeKind::RateController(span) => (
-            Kind::RateController(span.get()),
-            "RateController",
-            vec![("hz", (1000.0 / f64::from(span.get())).to_string())],
-        ),
-        NodeKind::PipelineSequence => (Kind::PipelineSequence, "PipelineSequence", vec![]),
-        NodeKind::Recovery { retries } => {
-            (Kind::Recovery(i32::from(retries)), "RecoveryNode", vec![("number_of_retries", retries.to_string())])
-        }
-        NodeKind::RoundRobin => (Kind::RoundRobin, "RoundRobin", vec![]),
-        NodeKind::ManualSelector { repeat_last } => (
-            Kind::ManualSelector { repeat_last },
-            "ManualSelector",
-            vec![("repeat_last_selection", repeat_last.to_string())],
-        ),
-        NodeKind::AlwaysSuccess => (Kind::AlwaysSuccess, "AlwaysSuccess", vec![]),
-        NodeKind::AlwaysFailure => (Kind::AlwaysFailure, "AlwaysFailure", vec![]),
-        NodeKind::Sleep(span) => (Kind::Sleep(span.get()), "Sleep", vec![("msec", span.get().to_string())]),
-        // An image keeps a script's program, not its text: the text comes from the
-        // imported document's attributes.
-        NodeKind::Script(_) => (Kind::Script, "Script", vec![]),
-        NodeKind::ScriptCondition(_) => (Kind::ScriptCondition, "ScriptCondition", vec![]),
-        NodeKind::Precondition { otherwise, .. } => {
-            let (s, name) = status_code(otherwise);
-            (Kind::Precondition(s), "Precondition", vec![("else", name.to_string())])
-        }
-        // Our tick-counting Repeat, Retry and Timeout have no BehaviorTree.CPP
-        // equivalent; Nav2's plugin decorators (gates) each change status in their own
-        // way, which the replay does not model.
-        _ => return None,
-    })
-}
-
-/// A status as the replay codes it, and as BehaviorTree.CPP names it.
-fn status_code(s: bt_core::Status) -> (u8, &'static str) {
-    use crate::btlog::replay::status;
-    match s {
-        bt_core::Status::Success => (status::SUCCESS, "SUCCESS"),
-        bt_core::Status::Failure => (status::FAILURE, "FAILURE"),
-        bt_core::Status::Running => (status::RUNNING, "RUNNING"),
-        bt_core::Status::Skipped => (status::SKIPPED, "SKIPPED"),
-    }
-}
-
 /// A loop's kind and registration ID (`None` for one the program registers, whose ID
 /// the document gives), from its table in `values`.
 fn loop_kind(table: bt_core::Code, if_empty: bt_core::Status, values: &[u16]) -> Option<(Kind, Option<&'static str>)> {
-    use bt_core::script::{Element, Queue, queue, queue_element};
+    use bt_core::script::{Queue, queue, queue_element};
     let words = table.words(values);
-    let element = match queue_element(words)?.0 {
-        Element::Int => Some("LoopInt"),
-        Element::Bool => Some("LoopBool"),
-        Element::Double => Some("LoopDouble"),
-        Element::String => Some("LoopString"),
-        Element::Registered => None,
-    };
+    let element = kinds::loop_entry(queue_element(words)?.0).map(|e| e.id);
     let elements = match queue(words)? {
         Queue::Literal(l) => Some(l.first().copied()?),
         Queue::Key { .. } => None,
     };
-    Some((Kind::Loop { elements, if_empty: status_code(if_empty).0 }, element))
-}
-
-/// Defaults of built-in ports that BehaviorTree.CPP adds when absent, in the order of
-/// its models' ports.
-fn builtin_defaults(element: &str) -> &'static [(&'static str, &'static str)] {
-    match element {
-        "Parallel" => &[("failure_count", "1"), ("success_count", "-1")],
-        "ParallelAll" => &[("max_failures", "1")],
-        "RunOnce" => &[("then_skip", "true")],
-        "RecoveryNode" => &[("number_of_retries", "1")],
-        "RateController" => &[("hz", "10.000000")],
-        "ManualSelector" => &[("repeat_last_selection", "false")],
-        "Precondition" => &[("else", "FAILURE")],
-        "LoopInt" | "LoopBool" | "LoopDouble" | "LoopString" => &[("if_empty", "SUCCESS")],
-        _ => &[],
-    }
+    Some((Kind::Loop { elements, if_empty: kinds::status_code(if_empty).0 }, element))
 }
 
 /// The attribute order BehaviorTree.CPP prints for ports given in `given` order (all
@@ -528,22 +415,22 @@ impl LogTree {
                     // The inputs as BehaviorTree.CPP orders them, then the output `value`.
                     let remap = stdmap::order(written.iter().map(|(k, _)| k.as_str()));
                     let inputs: Vec<String> = remap.into_iter().filter(|k| k != "value").collect();
-                    let mut attrs = inputs_order(&inputs, written, &[("if_empty", "SUCCESS")]);
+                    let mut attrs = inputs_order(&inputs, written, kinds::LOOP_LOG_DEFAULTS);
                     attrs.extend(written.iter().filter(|(k, _)| k == "value").cloned());
                     (kind, element.to_string(), attrs, None)
                 }
                 other => {
                     let children = u16::try_from(i).map_or(0, |id| bt_core::children(nodes, id).count());
-                    let Some((kind, element, canonical)) = builtin(other, children) else {
+                    let Some((entry, canonical)) = kinds::written(other, children) else {
                         return Err(NotExpressible { node: i, kind: other.name() });
                     };
                     // The attributes as the document wrote them (`failure_count="-1"`),
                     // else as the kind gives them back.
                     let given = match params.get(i).copied().flatten() {
                         Some(written) => written.to_vec(),
-                        None => canonical.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
+                        None => canonical.params.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
                     };
-                    (kind, element.to_string(), attr_order(given, builtin_defaults(element)), None)
+                    (canonical.log, entry.id.to_string(), attr_order(given, entry.log_defaults), None)
                 }
             };
             let name = names.get(i).cloned().flatten().or(default_name).unwrap_or_else(|| element.clone());

@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 use bt_core::{BehaviorId, BehaviorInfo, Catalog, LeafKind, PortInfo};
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::builtin;
+use crate::kinds::{self, Origin};
 use crate::xml::model::{ModelKind, NodeModel, PortModel, classify};
 
 /// One behavior: a leaf type with its ports.
@@ -43,7 +43,8 @@ impl Models {
     pub fn new(models: &[NodeModel]) -> Result<Self> {
         let mut by_id: BTreeMap<String, NodeModel> = BTreeMap::new();
         for m in models {
-            if m.kind != ModelKind::SubTree && builtin(&m.id).is_some() {
+            if m.kind != ModelKind::SubTree && kinds::by_id(&m.id).is_some_and(|e| e.origin == Origin::BehaviorTreeCpp)
+            {
                 continue;
             }
             if let Some(first) = by_id.get(&m.id) {
@@ -78,7 +79,9 @@ impl Models {
                 let kind = match m.kind {
                     ModelKind::Action => LeafKind::Action,
                     ModelKind::Condition => LeafKind::Condition,
-                    ModelKind::Decorator if crate::xml::builtin::nav2(&m.id).is_none() => LeafKind::Action,
+                    ModelKind::Decorator if kinds::by_id(&m.id).is_none_or(|e| e.origin != Origin::Nav2) => {
+                        LeafKind::Action
+                    }
                     _ => return None,
                 };
                 Some(Behavior { id: m.id.clone(), kind, ports: m.ports.clone() })

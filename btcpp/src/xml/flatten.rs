@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::builtin::{SCRIPT_ATTRIBUTES, is_port_name};
+use crate::kinds::SCRIPT_ATTRIBUTES;
 use crate::xml::document::{Document, Element, TreeDef};
 use crate::xml::model::{ModelKind, NodeModel, convert};
 
@@ -400,4 +400,13 @@ impl Flattener<'_> {
             hook_scope: parent,
         })
     }
+}
+
+/// Whether an attribute name is one BehaviorTree.CPP takes as a port: it starts with a
+/// letter and is not `name` or `ID` (attributes starting with `_` are metadata such as
+/// `_uid`, `_fullpath`, `_description`, ignored as BehaviorTree.CPP ignores them, or
+/// the scripted conditions of [`SCRIPT_ATTRIBUTES`]).
+#[must_use]
+pub fn is_port_name(name: &str) -> bool {
+    name.starts_with(|c: char| c.is_alphabetic()) && name != "name" && name != "ID"
 }

@@ -9,7 +9,6 @@
 //! a [`bt_core::Catalog`]. An imported tree becomes an image with its names
 //! ([`Imported::names`], [`Imported::named_image`]) through `bt-formats`.
 
-pub mod builtin;
 pub mod catalog;
 pub mod document;
 pub mod flatten;

@@ -13,27 +13,25 @@
 //! of other characters turned into `_` (`put_0_on_1`), numbered if two collide; the
 //! full name stays on each node as its `name`.
 //!
-//! Other kinds map to their BehaviorTree.CPP counterparts: `SequenceWithMemory` to
-//! `Sequence` (which resumes at the running child), `FallbackWithMemory` to `Fallback`,
-//! `Parallel` with `success_count`/`failure_count`, `Inverter`, `ForceSuccess`,
-//! `ForceFailure`, `Repeat(num_cycles)`, `Retry` to `RetryUntilSuccessful`. `Timeout`
-//! counts ticks here and milliseconds there, so it is refused.
+//! Other kinds map to their BehaviorTree.CPP counterparts as [`crate::kinds`] says:
+//! `SequenceWithMemory` to `Sequence` (which resumes at the running child),
+//! `FallbackWithMemory` to `Fallback`, `Parallel` with `success_count`/`failure_count`,
+//! `RepeatCycles` to `Repeat(num_cycles)`, and so on. bt-core's `Repeat`, `Retry` and
+//! `Timeout` count ticks, where BehaviorTree.CPP's count cycles or milliseconds, so they
+//! are refused.
 
-use std::collections::{BTreeMap, BTreeSet};
+mod models;
+mod names;
+
 use std::fmt::Write as _;
 
-use bt_core::{BehaviorId, Catalog, LeafKind, Node, NodeKind, PortValue};
+use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortValue};
 
-/// An argument as the catalog renders it, e.g. `cube`.
-pub(crate) fn arg_text<C: Catalog + ?Sized>(catalog: &C, behavior: u16, position: usize, value: u16) -> String {
-    struct A<'a, C: ?Sized>(&'a C, u16, usize, u16);
-    impl<C: Catalog + ?Sized> std::fmt::Display for A<'_, C> {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            self.0.write_arg(f, self.1, self.2, self.3)
-        }
-    }
-    A(catalog, behavior, position, value).to_string()
-}
+pub(crate) use names::{arg_text, port_name, type_id};
+
+use crate::kinds::{self, Attrs, Shape};
+use models::Declared;
+use names::{attr_text, behavior_name, escape};
 
 /// `a` or `an` and the kind's name, by its first letter's sound: `an Inverter`.
 fn article(word: &str) -> String {
@@ -96,96 +94,6 @@ pub enum XmlError {
     },
 }
 
-/// Attributes as written: ` key="value"` each.
-fn attr_text(written: &[(String, String)]) -> String {
-    written.iter().map(|(k, v)| format!(" {k}=\"{}\"", escape(v))).collect()
-}
-
-/// The attributes of script node or guard `i`: known only for an imported tree.
-fn script_attrs(options: &XmlOptions<'_>, i: usize, n: &Node) -> Result<String, XmlError> {
-    match options.params.get(i) {
-        Some(written) => Ok(attr_text(written)),
-        None => Err(XmlError::ScriptText {
-            node: i,
-            kind: n.kind().name(),
-            why: "an image keeps its program, not its text (export the imported document: \
-                  sim-host import TREE.xml --format xml)"
-                .into(),
-        }),
-    }
-}
-
-fn escape(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => o.push_str("&amp;"),
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            '"' => o.push_str("&quot;"),
-            '\'' => o.push_str("&apos;"),
-            c => o.push(c),
-        }
-    }
-    o
-}
-
-/// Whether the writer uses `p` as a port name as it is (after `-` becomes `_`).
-pub(crate) fn is_port_name(p: &str) -> bool {
-    p.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-        && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        && p != "name"
-        && p != "ID"
-}
-
-/// The port value `position` of `behavior` is written as: a declared port's name as it
-/// is; a grounded argument's name ([`Catalog::port_name`]) when BehaviorTree.CPP accepts
-/// it (a letter first, not `name` or `ID`; `-` becomes `_`), else `arg{position}`.
-pub(crate) fn port_name<C: Catalog + ?Sized>(catalog: &C, behavior: BehaviorId, position: usize) -> String {
-    if let Some(p) = catalog.port(behavior, position) {
-        return p.name.to_string();
-    }
-    match catalog.port_name(behavior, position) {
-        Some(p) if is_port_name(p) => p.replace('-', "_"),
-        _ => format!("arg{position}"),
-    }
-}
-
-fn behavior_name<C: Catalog + ?Sized>(catalog: &C, id: BehaviorId) -> String {
-    catalog.info(id).map_or_else(|| format!("behavior{id}"), |i| i.name.to_string())
-}
-
-/// The values of a leaf, inline or from `values`.
-fn leaf_values<'a>(leaf: &'a bt_core::Leaf, values: &'a [u16]) -> &'a [u16] {
-    leaf.args_in(values)
-}
-
-/// A node type ID usable as an XML element name: letters, digits, `_` and `-`,
-/// starting with a letter; other characters become `_` (one per run, none at the ends).
-/// A name that already is one is kept as it is.
-pub(crate) fn type_id(name: &str) -> String {
-    if name.starts_with(|c: char| c.is_ascii_alphabetic())
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    {
-        return name.to_string();
-    }
-    let mut id = String::with_capacity(name.len() + 1);
-    for c in name.chars() {
-        if c.is_ascii_alphanumeric() || c == '-' {
-            id.push(c);
-        } else if !id.is_empty() && !id.ends_with('_') {
-            id.push('_');
-        }
-    }
-    while id.ends_with('_') {
-        id.pop();
-    }
-    if !id.starts_with(|c: char| c.is_ascii_alphabetic()) {
-        id.insert(0, 'b');
-    }
-    id
-}
-
 /// What else [`to_xml_with`] writes.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct XmlOptions<'a> {
@@ -233,143 +141,117 @@ pub fn to_xml_with<C: Catalog + ?Sized>(
 ) -> Result<String, XmlError> {
     let tree_id = if options.tree_id.is_empty() { "MainTree" } else { options.tree_id };
     let tree_id = escape(tree_id);
-    let mut out = format!(
+    let out = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"{tree_id}\">\n  <BehaviorTree ID=\"{tree_id}\">\n",
     );
-    let mut open: Vec<(usize, String)> = Vec::new();
-    // Behaviors used as plugin decorators (gates): declared as `<Decorator>`.
-    let mut gates: BTreeSet<BehaviorId> = BTreeSet::new();
-    // Per behavior used: its kind, arity and type ID (distinct: numbered on collision).
-    let mut used: BTreeMap<BehaviorId, (LeafKind, usize, String)> = BTreeMap::new();
-    let mut taken = BTreeSet::new();
-    let mut declare =
-        |b: BehaviorId, kind: LeafKind, argc: usize, used: &mut BTreeMap<BehaviorId, (LeafKind, usize, String)>| {
-            used.entry(b)
-                .or_insert_with(|| {
-                    let base = type_id(&behavior_name(catalog, b));
-                    let mut id = base.clone();
-                    let mut k = 2;
-                    while !taken.insert(id.clone()) {
-                        id = format!("{base}_{k}");
-                        k += 1;
-                    }
-                    (kind, argc, id)
-                })
-                .2
-                .clone()
-        };
+    let mut w = Writer { nodes, catalog, options, out, open: Vec::new(), declared: Declared::default(), carried: None };
     if options.all_behaviors {
-        for b in 0..catalog.len() {
-            let Ok(b) = BehaviorId::try_from(b) else { break };
-            if let Some(info) = catalog.info(b) {
-                declare(b, info.kind, usize::from(info.arity), &mut used);
-            }
-        }
+        w.declared.declare_all(catalog);
     }
-    let indent = |depth: usize| "  ".repeat(depth + 2);
-    // A guard's attributes, for the node it guards (the next one).
-    let mut carried: Option<String> = None;
     for (i, n) in nodes.iter().enumerate() {
-        while let Some((end, tag)) = open.last() {
+        w.close(i);
+        w.node(i, n)?;
+    }
+    w.close(usize::MAX);
+    w.out.push_str("  </BehaviorTree>\n");
+    w.declared.write(catalog, &mut w.out);
+    w.out.push_str("</root>\n");
+    Ok(w.out)
+}
+
+/// A document being written, node by node in pre-order.
+struct Writer<'a, C: ?Sized> {
+    nodes: &'a [Node],
+    catalog: &'a C,
+    options: &'a XmlOptions<'a>,
+    out: String,
+    /// Elements open: the end of their subtree and their tag.
+    open: Vec<(usize, String)>,
+    /// The behaviors of the leaves and gates written.
+    declared: Declared,
+    /// A guard's attributes, for the node it guards (the next one).
+    carried: Option<String>,
+}
+
+impl<C: Catalog + ?Sized> Writer<'_, C> {
+    /// The indentation of an element inside `depth` open ones.
+    fn indent(depth: usize) -> String {
+        "  ".repeat(depth + 2)
+    }
+
+    /// Closes the open elements whose subtrees end at or before node `i`.
+    fn close(&mut self, i: usize) {
+        while let Some((end, tag)) = self.open.last() {
             if *end > i {
                 break;
             }
             let tag = tag.clone();
-            open.pop();
-            let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
+            self.open.pop();
+            let _ = writeln!(self.out, "{}</{tag}>", Self::indent(self.open.len()));
         }
-        let end = i + usize::from(n.size());
-        if n.size() == 0 || end > nodes.len() || open.last().is_some_and(|(e, _)| end > *e) {
-            return Err(XmlError::Malformed { node: i });
+    }
+
+    /// Writes an element: `<tag attrs/>` for a leaf, else opened until its subtree ends.
+    fn element(&mut self, tag: &str, attrs: &str, leaf: bool, end: usize) {
+        let pad = Self::indent(self.open.len());
+        if leaf {
+            let _ = writeln!(self.out, "{pad}<{tag}{attrs}/>");
+        } else {
+            let _ = writeln!(self.out, "{pad}<{tag}{attrs}>");
+            self.open.push((end, tag.to_string()));
         }
-        let pad = indent(open.len());
+    }
+
+    /// Node `i`'s `name` and `_uid`, and the attributes a guard in front of it carried.
+    fn meta(&mut self, i: usize) -> String {
         let mut meta = String::new();
-        let named = matches!(options.names.get(i), Some(Some(_)));
-        if let Some(Some(name)) = options.names.get(i) {
+        if let Some(Some(name)) = self.options.names.get(i) {
             let _ = write!(meta, " name=\"{}\"", escape(name));
         }
         // BehaviorTree.CPP numbers the nodes of a document with one tree and no SubTree
         // nodes in pre-order from 1: the uids its logs (and ours) show.
-        match options.uids.get(i) {
+        match self.options.uids.get(i) {
             Some(uid) => {
                 let _ = write!(meta, " _uid=\"{uid}\"");
             }
-            None if options.uids.is_empty() => {
+            None if self.options.uids.is_empty() => {
                 let _ = write!(meta, " _uid=\"{}\"", i + 1);
             }
             None => {}
         }
-        if let Some(c) = carried.take() {
+        if let Some(c) = self.carried.take() {
             meta.push_str(&c);
         }
-        let (tag, attrs): (&'static str, String) = match *n.kind() {
+        meta
+    }
+
+    fn node(&mut self, i: usize, n: &Node) -> Result<(), XmlError> {
+        let end = i + usize::from(n.size());
+        if n.size() == 0 || end > self.nodes.len() || self.open.last().is_some_and(|(e, _)| end > *e) {
+            return Err(XmlError::Malformed { node: i });
+        }
+        let meta = self.meta(i);
+        match *n.kind() {
             // A guard is its node's scripted attributes: written on the node.
             NodeKind::Guard(_) => {
-                carried = Some(script_attrs(options, i, n)?);
-                continue;
+                self.carried = Some(script_attrs(self.options, i, n)?);
+                Ok(())
             }
-            NodeKind::Sequence => ("ReactiveSequence", String::new()),
-            NodeKind::Fallback => ("ReactiveFallback", String::new()),
-            NodeKind::SequenceWithMemory => ("Sequence", String::new()),
-            NodeKind::FallbackWithMemory => ("Fallback", String::new()),
-            NodeKind::SequenceStar => ("SequenceWithMemory", String::new()),
-            NodeKind::Parallel { success_threshold, failure_threshold, count_skipped } => {
-                // A success count that counts skipped children was negative in the XML.
-                let children = bt_core::children(nodes, u16::try_from(i).unwrap_or(u16::MAX)).count();
-                let success = if count_skipped {
-                    i64::from(success_threshold) - i64::try_from(children).unwrap_or(i64::MAX) - 1
-                } else {
-                    i64::from(success_threshold)
-                };
-                ("Parallel", format!(" success_count=\"{success}\" failure_count=\"{failure_threshold}\""))
-            }
-            NodeKind::ParallelAll { max_failures } => ("ParallelAll", format!(" max_failures=\"{max_failures}\"")),
-            NodeKind::IfThenElse => ("IfThenElse", String::new()),
-            NodeKind::WhileDoElse => ("WhileDoElse", String::new()),
-            NodeKind::Inverter => ("Inverter", String::new()),
-            NodeKind::ForceSuccess => ("ForceSuccess", String::new()),
-            NodeKind::ForceFailure => ("ForceFailure", String::new()),
-            NodeKind::RepeatCycles(k) => ("Repeat", format!(" num_cycles=\"{}\"", count(k))),
-            NodeKind::RetryUntilSuccessful(k) => ("RetryUntilSuccessful", format!(" num_attempts=\"{}\"", count(k))),
-            NodeKind::KeepRunningUntilFailure => ("KeepRunningUntilFailure", String::new()),
-            NodeKind::RunOnce { then_skip } => ("RunOnce", format!(" then_skip=\"{then_skip}\"")),
-            NodeKind::TimeLimit(span) => ("Timeout", format!(" msec=\"{}\"", span.get())),
-            NodeKind::Delay(span) => ("Delay", format!(" delay_msec=\"{}\"", span.get())),
-            NodeKind::PipelineSequence => ("PipelineSequence", String::new()),
-            NodeKind::Recovery { retries } => ("RecoveryNode", format!(" number_of_retries=\"{retries}\"")),
-            NodeKind::RoundRobin => ("RoundRobin", String::new()),
-            NodeKind::ManualSelector { repeat_last } => {
-                ("ManualSelector", format!(" repeat_last_selection=\"{repeat_last}\""))
-            }
-            // The period is whole milliseconds; the rate that gives it back.
-            NodeKind::RateController(span) => ("RateController", format!(" hz=\"{}\"", 1000.0 / f64::from(span.get()))),
-            // Our tick-counting kinds count ticks, not cycles or milliseconds: no
-            // BehaviorTree.CPP node does what they do.
-            NodeKind::Repeat(_) => return Err(XmlError::NotExpressible { node: i, kind: "Repeat" }),
-            NodeKind::Retry(_) => return Err(XmlError::NotExpressible { node: i, kind: "Retry" }),
-            NodeKind::Timeout(_) => return Err(XmlError::NotExpressible { node: i, kind: "Timeout" }),
-            // The image keeps a script's program, not its text: written only where the
-            // document's attributes are known (an imported tree).
-            NodeKind::Script(_) | NodeKind::ScriptCondition(_) | NodeKind::Precondition { .. } => {
-                let tag = n.kind().name();
-                let attrs = script_attrs(options, i, n)?;
-                if matches!(n.kind(), NodeKind::Precondition { .. }) {
-                    let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
-                    open.push((end, tag.to_string()));
-                } else {
-                    let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}/>");
-                }
-                continue;
+            NodeKind::Condition(leaf) => self.leaf(i, &leaf, LeafKind::Condition, &meta),
+            NodeKind::Action(leaf) => self.leaf(i, &leaf, LeafKind::Action, &meta),
+            NodeKind::Gate(leaf) => {
+                let b = leaf.behavior();
+                let values = leaf.args_in(self.options.values);
+                let tag = self.declared.declare_gate(self.catalog, b, values.len());
+                let a = port_attrs(self.catalog, b, values);
+                self.element(&tag, &format!("{meta}{a}"), false, end);
+                Ok(())
             }
             // Written from the document's attributes, as scripts are.
             NodeKind::Loop { table, .. } => {
                 use bt_core::script::Element;
-                let tag = match bt_core::script::queue_element(table.words(options.values)) {
-                    Some((Element::Int, _)) => "LoopInt",
-                    Some((Element::Bool, _)) => "LoopBool",
-                    Some((Element::Double, _)) => "LoopDouble",
-                    Some((Element::String, _)) => "LoopString",
-                    Some((Element::Registered, _)) => match options.ids.get(i) {
+                let tag = match bt_core::script::queue_element(table.words(self.options.values)) {
+                    Some((Element::Registered, _)) => match self.options.ids.get(i) {
                         Some(id) => id,
                         None => {
                             return Err(XmlError::NotExpressible {
@@ -378,91 +260,65 @@ pub fn to_xml_with<C: Catalog + ?Sized>(
                             });
                         }
                     },
+                    Some((element, _)) => kinds::loop_entry(element).ok_or(XmlError::Malformed { node: i })?.id,
                     None => return Err(XmlError::Malformed { node: i }),
                 };
-                let attrs = script_attrs(options, i, n)?;
-                let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
-                open.push((end, tag.to_string()));
-                continue;
+                let attrs = script_attrs(self.options, i, n)?;
+                self.element(tag, &format!("{meta}{attrs}"), false, end);
+                Ok(())
             }
-            NodeKind::Sleep(span) => {
-                let _ = writeln!(out, "{pad}<Sleep{meta} msec=\"{}\"/>", span.get());
-                continue;
-            }
-            NodeKind::AlwaysSuccess | NodeKind::AlwaysFailure => {
-                let tag = if matches!(n.kind(), NodeKind::AlwaysSuccess) { "AlwaysSuccess" } else { "AlwaysFailure" };
-                let _ = writeln!(out, "{pad}<{tag}{meta}/>");
-                continue;
-            }
-            NodeKind::Gate(leaf) => {
-                let b = leaf.behavior();
-                let values = leaf_values(&leaf, options.values);
-                let tag = declare(b, LeafKind::Action, values.len(), &mut used);
-                gates.insert(b);
-                let a = port_attrs(catalog, b, values);
-                let _ = writeln!(out, "{pad}<{tag}{meta}{a}>");
-                open.push((end, tag));
-                continue;
-            }
-            NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
-                let kind =
-                    if matches!(n.kind(), NodeKind::Condition(_)) { LeafKind::Condition } else { LeafKind::Action };
-                let b = leaf.behavior();
-                let name = behavior_name(catalog, b);
-                let values = leaf_values(&leaf, options.values);
-                let tag = declare(b, kind, values.len(), &mut used);
-                let mut a = String::new();
-                if !named && tag != name {
-                    let _ = write!(a, " name=\"{}\"", escape(&name));
-                }
-                a.push_str(&meta);
-                a.push_str(&port_attrs(catalog, b, values));
-                let _ = writeln!(out, "{pad}<{tag}{a}/>");
-                continue;
-            }
-        };
-        let attrs = match options.params.get(i) {
-            Some(written) => attr_text(written),
-            None => attrs,
-        };
-        let _ = writeln!(out, "{pad}<{tag}{meta}{attrs}>");
-        open.push((end, tag.to_string()));
-    }
-    while let Some((_, tag)) = open.pop() {
-        let _ = writeln!(out, "{}</{tag}>", indent(open.len()));
-    }
-    out.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
-    for (&b, &(kind, argc, ref name)) in &used {
-        let tag = match kind {
-            _ if gates.contains(&b) => "Decorator",
-            LeafKind::Condition => "Condition",
-            LeafKind::Action => "Action",
-        };
-        if argc == 0 {
-            let _ = writeln!(out, "    <{tag} ID=\"{name}\"/>");
-            continue;
+            ref kind => self.builtin(i, n, kind, &meta, end),
         }
-        let _ = writeln!(out, "    <{tag} ID=\"{name}\">");
-        for pos in 0..argc {
-            let _ = match catalog.port(b, pos) {
-                Some(p) => {
-                    let ty = if p.type_name.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" type=\"{}\"", escape(p.type_name))
-                    };
-                    let default = p.default.map_or(String::new(), |d| format!(" default=\"{}\"", escape(d)));
-                    writeln!(out, "      <{} name=\"{}\"{ty}{default}/>", p.direction.tag(), p.name)
-                }
-                None => {
-                    writeln!(out, "      <input_port name=\"{}\" type=\"std::string\"/>", port_name(catalog, b, pos))
-                }
-            };
-        }
-        let _ = writeln!(out, "    </{tag}>");
     }
-    out.push_str("  </TreeNodesModel>\n</root>\n");
-    Ok(out)
+
+    /// A leaf in the compact form, its values as ports.
+    fn leaf(&mut self, i: usize, leaf: &Leaf, kind: LeafKind, meta: &str) -> Result<(), XmlError> {
+        let b = leaf.behavior();
+        let name = behavior_name(self.catalog, b);
+        let values = leaf.args_in(self.options.values);
+        let tag = self.declared.declare(self.catalog, b, kind, values.len());
+        let mut a = String::new();
+        let named = matches!(self.options.names.get(i), Some(Some(_)));
+        if !named && tag != name {
+            let _ = write!(a, " name=\"{}\"", escape(&name));
+        }
+        a.push_str(meta);
+        a.push_str(&port_attrs(self.catalog, b, values));
+        self.element(&tag, &a, true, i + 1);
+        Ok(())
+    }
+
+    /// A node of a BehaviorTree.CPP or Nav2 type, as [`kinds::written`] names it.
+    fn builtin(&mut self, i: usize, n: &Node, kind: &NodeKind, meta: &str, end: usize) -> Result<(), XmlError> {
+        let children = bt_core::children(self.nodes, u16::try_from(i).unwrap_or(u16::MAX)).count();
+        let Some((entry, written)) = kinds::written(kind, children) else {
+            return Err(XmlError::NotExpressible { node: i, kind: kind.name() });
+        };
+        let attrs = match entry.map {
+            kinds::Map::Params { attrs: Attrs::Kind, .. } => attr_text(&written.params),
+            kinds::Map::Params { attrs: Attrs::Script, .. } => script_attrs(self.options, i, n)?,
+            _ => match self.options.params.get(i) {
+                Some(document) => attr_text(document),
+                None => attr_text(&written.params),
+            },
+        };
+        self.element(entry.id, &format!("{meta}{attrs}"), entry.shape == Shape::Leaf, end);
+        Ok(())
+    }
+}
+
+/// The attributes of script node or guard `i`: known only for an imported tree.
+fn script_attrs(options: &XmlOptions<'_>, i: usize, n: &Node) -> Result<String, XmlError> {
+    match options.params.get(i) {
+        Some(written) => Ok(attr_text(written)),
+        None => Err(XmlError::ScriptText {
+            node: i,
+            kind: n.kind().name(),
+            why: "an image keeps its program, not its text (export the imported document: \
+                  sim-host import TREE.xml --format xml)"
+                .into(),
+        }),
+    }
 }
 
 /// ` port="value"` for each value of a leaf, unset ports left out.
@@ -475,23 +331,4 @@ fn port_attrs<C: Catalog + ?Sized>(catalog: &C, b: BehaviorId, values: &[u16]) -
         let _ = write!(a, " {}=\"{}\"", port_name(catalog, b, pos), escape(&arg_text(catalog, b, pos, v)));
     }
     a
-}
-
-/// `num_cycles` / `num_attempts` as BehaviorTree.CPP writes them: -1 for no limit.
-fn count(n: u16) -> i32 {
-    if n == NodeKind::FOREVER { -1 } else { i32::from(n) }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::type_id;
-
-    #[test]
-    fn type_ids_are_xml_names() {
-        assert_eq!(type_id("place"), "place");
-        assert_eq!(type_id("hand-over"), "hand-over");
-        assert_eq!(type_id("put 0 on 1!"), "put_0_on_1");
-        assert_eq!(type_id("0 at pos (0.0, 0.05, 0.0)?"), "b0_at_pos_0_0_0_05_0_0");
-        assert_eq!(type_id("?!"), "b");
-    }
 }
