@@ -25,6 +25,7 @@ pub mod tree;
 use std::fmt::Write as _;
 
 use crate::kinds;
+use crate::xml::write::escape;
 
 pub use replay::{Leaves, Replay, Ticking};
 pub use run::{Mismatch, RunLog, status_of};
@@ -36,21 +37,6 @@ pub const MAGIC: &[u8; 18] = b"BTCPP4-FileLogger2";
 /// The models of BehaviorTree.CPP's built-in nodes as 4.10.0 writes them (recorded by
 /// `btcpp/tools/record-builtin-models.sh`).
 const BUILTIN_MODELS: &str = include_str!("builtin-models.xml");
-
-fn escape_attr(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '"' => o.push_str("&quot;"),
-            '&' => o.push_str("&amp;"),
-            '\'' => o.push_str("&apos;"),
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            c => o.push(c),
-        }
-    }
-    o
-}
 
 /// The built-in model entries: (ID, the entry's lines).
 fn builtin_models() -> Vec<(String, String)> {
@@ -90,7 +76,7 @@ impl LogTree {
             }
         }
         for (id, path, root) in roots {
-            let _ = writeln!(o, "    <BehaviorTree ID=\"{}\" _fullpath=\"{}\">", escape_attr(&id), escape_attr(&path));
+            let _ = writeln!(o, "    <BehaviorTree ID=\"{}\" _fullpath=\"{}\">", escape(&id), escape(&path));
             self.node_xml(root, 2, &mut o);
             o.push_str("    </BehaviorTree>\n");
         }
@@ -110,17 +96,16 @@ impl LogTree {
             if entries.iter().any(|(id, _)| *id == m.id) {
                 continue;
             }
-            let mut text = format!("        <{} ID=\"{}\"", m.tag, escape_attr(&m.id));
+            let mut text = format!("        <{} ID=\"{}\"", m.tag, escape(&m.id));
             if m.ports.is_empty() {
                 text.push_str("/>\n");
             } else {
                 text.push_str(">\n");
                 for name in stdmap::order(m.ports.iter().map(|p| p.1.as_str())) {
                     let Some((tag, _, ty, default)) = m.ports.iter().find(|p| p.1 == name) else { continue };
-                    let _ =
-                        write!(text, "            <{tag} name=\"{}\" type=\"{}\"", escape_attr(&name), escape_attr(ty));
+                    let _ = write!(text, "            <{tag} name=\"{}\" type=\"{}\"", escape(&name), escape(ty));
                     if let Some(d) = default {
-                        let _ = write!(text, " default=\"{}\"", escape_attr(d));
+                        let _ = write!(text, " default=\"{}\"", escape(d));
                     }
                     text.push_str("/>\n");
                 }
@@ -142,15 +127,15 @@ impl LogTree {
         let _ = write!(o, "{pad}<{}", n.element);
         match &n.subtree {
             Some((path, _)) => {
-                let _ = write!(o, " ID=\"{}\" _fullpath=\"{}\"", escape_attr(&n.name), escape_attr(path));
+                let _ = write!(o, " ID=\"{}\" _fullpath=\"{}\"", escape(&n.name), escape(path));
             }
             None => {
-                let _ = write!(o, " name=\"{}\"", escape_attr(&n.name));
+                let _ = write!(o, " name=\"{}\"", escape(&n.name));
             }
         }
         let _ = write!(o, " _uid=\"{}\"", n.uid);
         for (k, v) in &n.attrs {
-            let _ = write!(o, " {k}=\"{}\"", escape_attr(v));
+            let _ = write!(o, " {k}=\"{}\"", escape(v));
         }
         if n.children.is_empty() || n.subtree.is_some() {
             o.push_str("/>\n");

@@ -27,11 +27,11 @@ use std::fmt::Write as _;
 
 use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortValue};
 
-pub(crate) use names::{arg_text, port_name, type_id};
+pub(crate) use names::{arg_text, escape, port_name, type_id};
 
 use crate::kinds::{self, Attrs, Shape};
 use models::Declared;
-use names::{attr_text, behavior_name, escape};
+use names::{attr_text, behavior_name};
 
 /// `a` or `an` and the kind's name, by its first letter's sound: `an Inverter`.
 fn article(word: &str) -> String {

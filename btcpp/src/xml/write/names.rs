@@ -19,7 +19,8 @@ pub(super) fn attr_text<K: AsRef<str>>(written: &[(K, String)]) -> String {
     written.iter().map(|(k, v)| format!(" {}=\"{}\"", k.as_ref(), escape(v))).collect()
 }
 
-pub(super) fn escape(s: &str) -> String {
+/// Text as an XML attribute value (between double quotes) or element text.
+pub(crate) fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
