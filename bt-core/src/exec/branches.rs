@@ -7,21 +7,17 @@
 //! | `WhileDoElse` | — | `a`: 0 condition, 1 branch |
 //! | `Recovery` | `aux`: recoveries so far, `ext`: the child (0/1); kept unless halted Running | `a` recoveries, `ok` limit, `failed` child |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::oob;
 use super::run::Run;
-use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Observer, TickError};
 use crate::node::NodeKind;
 use crate::status::Status;
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_branches(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        x: &mut Extra,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_branches(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, x, .. } = e;
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
         let first = idx + 1;

@@ -16,31 +16,35 @@ use crate::behavior::{BehaviorSet, Observer, TickError};
 use crate::node::{Family, Node, NodeKind};
 use crate::status::{NodeStatus, Status};
 
+/// What a family is given to enter a node of its kinds: the kind and its state, the
+/// frame and side entry to fill in, whether the parent keeps BehaviorTree.CPP's statuses
+/// (see [`Run::fresh`]), and the time.
+pub(super) struct Entering<'e> {
+    pub(super) kind: &'e NodeKind,
+    pub(super) st: NodeState,
+    pub(super) frame: &'e mut Frame,
+    pub(super) x: &'e mut Extra,
+    pub(super) parent_mirrors: bool,
+    pub(super) now: u32,
+}
+
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
     /// Enters a node of one of these kinds: its family fills in its frame and side entry
     /// and says which child to tick first, or what the node returns.
-    pub(super) fn enter_btcpp(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        x: &mut Extra,
-        parent_mirrors: bool,
-        now: u32,
-    ) -> Result<Entered, TickError> {
-        frame.kind = FrameKind::Btcpp;
-        match kind.family() {
-            Family::Sequences => self.enter_sequences(kind, st, frame, x),
-            Family::Branches => self.enter_branches(kind, st, frame, x),
-            Family::ParallelAll => self.enter_parallel_all(kind, frame, x),
-            Family::Counting => self.enter_counting(kind, st, frame, x),
-            Family::Timers => self.enter_timers(kind, st, frame, parent_mirrors, now),
-            Family::Guards => self.enter_guards(kind, st, frame, parent_mirrors, now),
-            Family::Loops => self.enter_loop(kind, st, frame, parent_mirrors, now),
-            Family::ManualSelector => self.enter_manual_selector(kind, st, frame, parent_mirrors, now),
-            Family::Scripts => self.enter_scripts(kind, frame, now),
+    pub(super) fn enter_btcpp(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        e.frame.kind = FrameKind::Btcpp;
+        match e.kind.family() {
+            Family::Sequences => self.enter_sequences(e),
+            Family::Branches => self.enter_branches(e),
+            Family::ParallelAll => self.enter_parallel_all(e),
+            Family::Counting => self.enter_counting(e),
+            Family::Timers => self.enter_timers(e),
+            Family::Guards => self.enter_guards(e),
+            Family::Loops => self.enter_loop(e),
+            Family::ManualSelector => self.enter_manual_selector(e),
+            Family::Scripts => self.enter_scripts(e),
             Family::Ordered | Family::Parallel | Family::Decorators | Family::Leaves => {
-                Err(oob(usize::from(frame.node)))
+                Err(oob(usize::from(e.frame.node)))
             }
         }
     }

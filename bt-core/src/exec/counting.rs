@@ -6,21 +6,17 @@
 //! | `RepeatCycles`, `RetryUntilSuccessful` | `aux`: the count | `a` count, `ok` limit, `child_was_idle` |
 //! | `RunOnce` | `aux`: 0 not yet, 1 succeeded, 2 failed; kept for ever | — |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::oob;
 use super::run::Run;
-use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Observer, TickError};
 use crate::node::NodeKind;
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_counting(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        x: &mut Extra,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_counting(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, x, .. } = e;
         let idx = usize::from(frame.node);
         let first = idx + 1;
         Ok(match *kind {

@@ -7,23 +7,18 @@
 //! |---|---|---|
 //! | `Loop` | `aux`: elements taken from a literal queue, `ext`: 1 while its child runs | — |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Frame, Returned};
+use super::oob;
 use super::run::Run;
-use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
 use crate::node::{NodeId, NodeKind};
 use crate::script::{Queue, ScriptFault, element, queue};
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_loop(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        parent_mirrors: bool,
-        now: u32,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_loop(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, parent_mirrors, now, .. } = e;
         let idx = usize::from(frame.node);
         let first = idx + 1;
         let NodeKind::Loop { table, if_empty } = *kind else {

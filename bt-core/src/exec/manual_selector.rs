@@ -5,9 +5,10 @@
 //! |---|---|---|
 //! | `ManualSelector` | `aux`: the last selection ([`remembered`]); kept for ever | `a`: 1 when it asked on this tick |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Frame, Returned};
+use super::oob;
 use super::run::Run;
-use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Context, Observer, Selection, TickError};
 use crate::node::{NodeId, NodeKind};
 use crate::status::{NodeStatus, Status};
@@ -36,14 +37,8 @@ const fn remembered(aux: u16) -> Option<Selection> {
 }
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_manual_selector(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        parent_mirrors: bool,
-        now: u32,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_manual_selector(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, parent_mirrors, now, .. } = e;
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
         let first = idx + 1;

@@ -222,6 +222,31 @@ struct Stack<const DEPTH: usize> {
     side: Side<DEPTH>,
 }
 
+/// Binds a tick's pieces: `$run`, the [`Run`] over the executor's tree, its state (one
+/// entry per node, which lets the compiler drop the state bounds checks) and the caller's
+/// behaviors, and the stack's `$frames` and `$extra`. A macro, not a function: returned
+/// from a function, even one always inlined, the pieces cost the plain loop 3 to 5 % more
+/// instructions per tick on the benchmark trees.
+macro_rules! tick_pieces {
+    ($exec:ident, $behaviors:ident, $observer:ident, $full:literal => $run:ident, $frames:ident, $extra:ident) => {
+        let Stack { frames: $frames, extra: $extra, side } = &mut $exec.stack;
+        let nodes = $exec.tree.nodes();
+        let state = match $exec.state.get_mut(..nodes.len()) {
+            Some(s) => s,
+            None => return Err(oob(nodes.len())),
+        };
+        let mut $run = Run::<B, O, DEPTH, $full> {
+            nodes,
+            values: $exec.tree.values(),
+            state,
+            side,
+            behaviors: $behaviors,
+            observer: $observer,
+            still_running: $exec.still_running,
+        };
+    };
+}
+
 impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
     /// An executor over `tree` using `state` (at least one entry per node), which it
     /// resets to Idle.
@@ -322,23 +347,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         if self.stack.side.full {
             return self.tick_full(behaviors, now, observer);
         }
-        let Stack { frames, extra, side } = &mut self.stack;
-        let nodes = self.tree.nodes();
-        // Exactly one state per node: lets the compiler drop the state bounds checks.
-        let state = match self.state.get_mut(..nodes.len()) {
-            Some(s) => s,
-            None => return Err(oob(nodes.len())),
-        };
-        let values = self.tree.values();
-        let mut run = Run::<B, O, DEPTH, false> {
-            nodes,
-            values,
-            state,
-            side,
-            behaviors,
-            observer,
-            still_running: self.still_running,
-        };
+        tick_pieces!(self, behaviors, observer, false => run, frames, extra);
         let result = run.run_loop(frames, extra, now, 0, 0, None);
         if result.is_err() {
             // Mid-tick, nodes on the path have not taken their new status yet: scan all.
@@ -357,23 +366,9 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         now: u32,
         observer: &mut O,
     ) -> Result<Status, TickError> {
-        let Stack { frames, extra, side } = &mut self.stack;
-        let nodes = self.tree.nodes();
-        let state = match self.state.get_mut(..nodes.len()) {
-            Some(s) => s,
-            None => return Err(oob(nodes.len())),
-        };
-        let values = self.tree.values();
-        let mut run = Run::<B, O, DEPTH, true> {
-            nodes,
-            values,
-            state,
-            side,
-            behaviors,
-            observer,
-            still_running: self.still_running,
-        };
-        run.tick_full(frames, extra, now, self.timers, self.guards)
+        let (timers, guards) = (self.timers, self.guards);
+        tick_pieces!(self, behaviors, observer, true => run, frames, extra);
+        run.tick_full(frames, extra, now, timers, guards)
     }
 
     /// Halts every Running action (post-order) and resets the whole tree to Idle.

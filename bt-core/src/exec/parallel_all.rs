@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | `ParallelAll` | — | `ok` finished, `failed`, `skipped`, `children`, `failure` |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Extra, Frame, Returned};
 use super::oob;
 use super::run::Run;
@@ -13,12 +14,8 @@ use crate::node::NodeKind;
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_parallel_all(
-        &mut self,
-        kind: &NodeKind,
-        frame: &mut Frame,
-        x: &mut Extra,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_parallel_all(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, frame, x, .. } = e;
         let idx = usize::from(frame.node);
         let NodeKind::ParallelAll { max_failures } = *kind else {
             return Err(oob(idx));

@@ -3,7 +3,8 @@
 //! and `AlwaysFailure`; and running a program through the behavior set, for them and
 //! for the guards and loops.
 
-use super::frame::{Entered, Frame};
+use super::btcpp::Entering;
+use super::frame::Entered;
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
@@ -12,7 +13,8 @@ use crate::script::{Value, truth};
 use crate::status::Status;
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_scripts(&mut self, kind: &NodeKind, frame: &Frame, now: u32) -> Result<Entered, TickError> {
+    pub(super) fn enter_scripts(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, frame, now, .. } = e;
         let idx = usize::from(frame.node);
         Ok(Entered::Decided(match *kind {
             NodeKind::Script(code) => {

@@ -7,21 +7,17 @@
 //! | `PipelineSequence` | `aux`: the furthest child that ran (0: the first) | `ok` that child, `skipped`, `children` |
 //! | `RoundRobin` | `aux`: the next child (0-based), `ext`: failures; kept unless halted Running | `ok` next, `failed`, `skipped`, `children` |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::oob;
 use super::run::Run;
-use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Observer, TickError};
 use crate::node::NodeKind;
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
-    pub(super) fn enter_sequences(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        x: &mut Extra,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_sequences(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, x, .. } = e;
         let idx = usize::from(frame.node);
         let end = usize::from(frame.end);
         let first = idx + 1;

@@ -13,6 +13,8 @@
 //! function in three parts: the node, the child loop of a reactive Sequence or Fallback,
 //! and the way up.
 
+#[cfg(feature = "btcpp")]
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Extra, Frame, FrameKind, Returned};
 #[cfg(feature = "btcpp")]
 use super::halting::Scan;
@@ -402,7 +404,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize, const FULL: bool> Run<'_, 
                 Err(oob(usize::from(frame.node)))
             }
             #[cfg(feature = "btcpp")]
-            _ if FULL => self.full().enter_btcpp(kind, st, frame, x, parent_mirrors, now),
+            _ if FULL => self.full().enter_btcpp(Entering { kind, st, frame, x, parent_mirrors, now }),
             // The plain loop runs no other kind.
             _ => {
                 let _ = (parent_mirrors, now);

@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | `TimeLimit`, `Delay`, `RateController`, `Sleep` | `aux` + `ext`: start time (24 bits of `now`) | — |
 
+use super::btcpp::Entering;
 use super::frame::{Ascent, Entered, Frame, Returned};
 use super::run::Run;
 use super::{NodeState, oob};
@@ -62,14 +63,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         }
     }
 
-    pub(super) fn enter_timers(
-        &mut self,
-        kind: &NodeKind,
-        st: NodeState,
-        frame: &mut Frame,
-        parent_mirrors: bool,
-        now: u32,
-    ) -> Result<Entered, TickError> {
+    pub(super) fn enter_timers(&mut self, e: Entering<'_>) -> Result<Entered, TickError> {
+        let Entering { kind, st, frame, parent_mirrors, now, .. } = e;
         let idx = usize::from(frame.node);
         let first = idx + 1;
         let running = frame.running;
