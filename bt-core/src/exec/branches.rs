@@ -7,8 +7,8 @@
 //! | `WhileDoElse` | — | `a`: 0 condition, 1 branch |
 //! | `Recovery` | `aux`: recoveries so far, `ext`: the child (0/1); kept unless halted Running | `a` recoveries, `ok` limit, `failed` child |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered, Extra, Returned};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Observer, TickError};
@@ -51,13 +51,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_branches(
-        &mut self,
-        kind: &NodeKind,
-        top: &mut Frame,
-        x: &mut Extra,
-        returned: Returned,
-    ) -> Result<Ascent, TickError> {
+    pub(super) fn ascend_branches(&mut self, a: Ascending<'_>) -> Result<Ascent, TickError> {
+        let Ascending { kind, top, x, returned, .. } = a;
         let Returned { node: c, end: child_end, r } = returned;
         let node = usize::from(top.node);
         let end = usize::from(top.end);

@@ -28,6 +28,16 @@ pub(super) struct Entering<'e> {
     pub(super) now: u32,
 }
 
+/// What a family is given when a child of one of its nodes returned: the node's kind, its
+/// frame and side entry, what the child returned, and the time.
+pub(super) struct Ascending<'a> {
+    pub(super) kind: &'a NodeKind,
+    pub(super) top: &'a mut Frame,
+    pub(super) x: &'a mut Extra,
+    pub(super) returned: Returned,
+    pub(super) now: u32,
+}
+
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
     /// Enters a node of one of these kinds: its family fills in its frame and side entry
     /// and says which child to tick first, or what the node returns.
@@ -59,15 +69,16 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         now: u32,
     ) -> Result<Ascent, TickError> {
         let kind = *self.node(usize::from(top.node))?.kind();
+        let a = Ascending { kind: &kind, top, x, returned, now };
         match kind.family() {
-            Family::Sequences => self.ascend_sequences(&kind, top, x, returned),
-            Family::Branches => self.ascend_branches(&kind, top, x, returned),
-            Family::ParallelAll => self.ascend_parallel_all(top, x, returned),
-            Family::Counting => self.ascend_counting(&kind, top, x, returned),
-            Family::Timers => Ok(self.ascend_timers(&kind, top, returned, now)),
-            Family::Guards => self.ascend_guards(&kind, top, returned, now),
-            Family::Loops => Ok(self.ascend_loop(top, returned)),
-            Family::ManualSelector => Ok(self.ascend_manual_selector(top, returned)),
+            Family::Sequences => self.ascend_sequences(a),
+            Family::Branches => self.ascend_branches(a),
+            Family::ParallelAll => self.ascend_parallel_all(a),
+            Family::Counting => self.ascend_counting(a),
+            Family::Timers => Ok(self.ascend_timers(a)),
+            Family::Guards => self.ascend_guards(a),
+            Family::Loops => Ok(self.ascend_loop(a)),
+            Family::ManualSelector => Ok(self.ascend_manual_selector(a)),
             Family::Scripts | Family::Ordered | Family::Parallel | Family::Decorators | Family::Leaves => {
                 Err(oob(returned.node))
             }

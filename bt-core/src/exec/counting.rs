@@ -6,8 +6,8 @@
 //! | `RepeatCycles`, `RetryUntilSuccessful` | `aux`: the count | `a` count, `ok` limit, `child_was_idle` |
 //! | `RunOnce` | `aux`: 0 not yet, 1 succeeded, 2 failed; kept for ever | — |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered, Extra};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Observer, TickError};
@@ -42,13 +42,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_counting(
-        &mut self,
-        kind: &NodeKind,
-        top: &mut Frame,
-        x: &mut Extra,
-        returned: Returned,
-    ) -> Result<Ascent, TickError> {
+    pub(super) fn ascend_counting(&mut self, a: Ascending<'_>) -> Result<Ascent, TickError> {
+        let Ascending { kind, top, x, returned, .. } = a;
         let r = returned.r;
         let node = usize::from(top.node);
         let first = node + 1;

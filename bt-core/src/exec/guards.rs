@@ -9,8 +9,8 @@
 //! | `Precondition` | `aux`: 1 while its child is under way; kept for ever | — |
 //! | `Gate` | — | — |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
@@ -76,13 +76,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_guards(
-        &mut self,
-        kind: &NodeKind,
-        top: &Frame,
-        returned: Returned,
-        now: u32,
-    ) -> Result<Ascent, TickError> {
+    pub(super) fn ascend_guards(&mut self, a: Ascending<'_>) -> Result<Ascent, TickError> {
+        let Ascending { kind, top, returned, now, .. } = a;
         let node = usize::from(top.node);
         let r = returned.r;
         match *kind {

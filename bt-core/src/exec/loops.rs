@@ -7,8 +7,8 @@
 //! |---|---|---|
 //! | `Loop` | `aux`: elements taken from a literal queue, `ext`: 1 while its child runs | — |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
@@ -56,7 +56,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         }
     }
 
-    pub(super) fn ascend_loop(&mut self, top: &Frame, returned: Returned) -> Ascent {
+    pub(super) fn ascend_loop(&mut self, a: Ascending<'_>) -> Ascent {
+        let Ascending { top, returned, .. } = a;
         let node = usize::from(top.node);
         let first = node + 1;
         let taken = self.state.get(node).map_or(0, |s| s.aux);

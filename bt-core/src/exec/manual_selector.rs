@@ -5,8 +5,8 @@
 //! |---|---|---|
 //! | `ManualSelector` | `aux`: the last selection ([`remembered`]); kept for ever | `a`: 1 when it asked on this tick |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Context, Observer, Selection, TickError};
@@ -94,7 +94,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_manual_selector(&mut self, top: &Frame, returned: Returned) -> Ascent {
+    pub(super) fn ascend_manual_selector(&mut self, a: Ascending<'_>) -> Ascent {
+        let Ascending { top, returned, .. } = a;
         // BehaviorTree.CPP's node marks itself Running before it asks, so a child that
         // skips leaves it Running; when it repeats its last selection without asking, it
         // keeps its status (see `manual_selector_skipped_status`). Its children keep

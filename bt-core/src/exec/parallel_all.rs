@@ -5,8 +5,8 @@
 //! |---|---|---|
 //! | `ParallelAll` | — | `ok` finished, `failed`, `skipped`, `children`, `failure` |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered, Extra, Returned};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Observer, TickError};
@@ -48,12 +48,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_parallel_all(
-        &mut self,
-        top: &Frame,
-        x: &mut Extra,
-        returned: Returned,
-    ) -> Result<Ascent, TickError> {
+    pub(super) fn ascend_parallel_all(&mut self, a: Ascending<'_>) -> Result<Ascent, TickError> {
+        let Ascending { top, x, returned, .. } = a;
         let Returned { end: child_end, r, .. } = returned;
         let node = usize::from(top.node);
         let end = usize::from(top.end);

@@ -7,8 +7,8 @@
 //! | `PipelineSequence` | `aux`: the furthest child that ran (0: the first) | `ok` that child, `skipped`, `children` |
 //! | `RoundRobin` | `aux`: the next child (0-based), `ext`: failures; kept unless halted Running | `ok` next, `failed`, `skipped`, `children` |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Extra, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered, Extra, Returned};
 use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Observer, TickError};
@@ -53,13 +53,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_sequences(
-        &mut self,
-        kind: &NodeKind,
-        top: &mut Frame,
-        x: &mut Extra,
-        returned: Returned,
-    ) -> Result<Ascent, TickError> {
+    pub(super) fn ascend_sequences(&mut self, a: Ascending<'_>) -> Result<Ascent, TickError> {
+        let Ascending { kind, top, x, returned, .. } = a;
         let Returned { node: c, end: child_end, r } = returned;
         let node = usize::from(top.node);
         let end = usize::from(top.end);

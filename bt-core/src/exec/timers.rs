@@ -6,8 +6,8 @@
 //! |---|---|---|
 //! | `TimeLimit`, `Delay`, `RateController`, `Sleep` | `aux` + `ext`: start time (24 bits of `now`) | — |
 
-use super::btcpp::Entering;
-use super::frame::{Ascent, Entered, Frame, Returned};
+use super::btcpp::{Ascending, Entering};
+use super::frame::{Ascent, Entered};
 use super::run::Run;
 use super::{NodeState, oob};
 use crate::behavior::{BehaviorSet, Observer, TickError};
@@ -120,7 +120,8 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         })
     }
 
-    pub(super) fn ascend_timers(&mut self, kind: &NodeKind, top: &Frame, returned: Returned, now: u32) -> Ascent {
+    pub(super) fn ascend_timers(&mut self, a: Ascending<'_>) -> Ascent {
+        let Ascending { kind, top, returned, now, .. } = a;
         if matches!(kind, NodeKind::RateController(_)) && returned.r == Status::Success {
             self.set_start(usize::from(top.node), now);
         }
