@@ -170,20 +170,6 @@ impl Catalog for [BehaviorInfo<'_>] {
     }
 }
 
-impl<const N: usize> Catalog for [BehaviorInfo<'_>; N] {
-    fn len(&self) -> usize {
-        N
-    }
-
-    fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
-        self.get(usize::from(id)).copied()
-    }
-
-    fn fingerprint(&self) -> u64 {
-        fingerprint(self)
-    }
-}
-
 /// A behavior and its ports: the entries of a behavior set whose behaviors declare ports
 /// (as `sim-host catalog --rust` writes it from BehaviorTree.CPP models).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -220,21 +206,48 @@ impl Catalog for [Behavior<'_>] {
     }
 }
 
-impl<const N: usize> Catalog for [Behavior<'_>; N] {
+/// An array of entries is the set its slice is (`const` tables such as
+/// `[BehaviorInfo; 11]` or `[Behavior; 74]`).
+impl<T, const N: usize> Catalog for [T; N]
+where
+    [T]: Catalog,
+{
     fn len(&self) -> usize {
         N
     }
 
     fn info(&self, id: BehaviorId) -> Option<BehaviorInfo<'_>> {
-        self.get(usize::from(id)).map(|b| b.info)
+        self.as_slice().info(id)
     }
 
     fn port(&self, id: BehaviorId, position: usize) -> Option<PortInfo<'_>> {
-        self.get(usize::from(id))?.ports.get(position).copied()
+        self.as_slice().port(id, position)
+    }
+
+    fn port_name(&self, id: BehaviorId, position: usize) -> Option<&str> {
+        self.as_slice().port_name(id, position)
     }
 
     fn fingerprint(&self) -> u64 {
-        fingerprint_with_ports(self)
+        self.as_slice().fingerprint()
+    }
+
+    fn write_leaf(&self, f: &mut core::fmt::Formatter<'_>, leaf: &crate::Leaf, args: &[u16]) -> core::fmt::Result {
+        self.as_slice().write_leaf(f, leaf, args)
+    }
+
+    fn write_arg(
+        &self,
+        f: &mut core::fmt::Formatter<'_>,
+        behavior: BehaviorId,
+        position: usize,
+        value: u16,
+    ) -> core::fmt::Result {
+        self.as_slice().write_arg(f, behavior, position, value)
+    }
+
+    fn parse_arg(&self, behavior: BehaviorId, position: usize, text: &str) -> Option<u16> {
+        self.as_slice().parse_arg(behavior, position, text)
     }
 }
 

@@ -6,11 +6,7 @@
 
 mod common;
 use bt_core::{Node, NodeKind, NodeStatus, Status};
-use common::{Scripted, act, build, children_idle, cond};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
+use common::{F, R, S, Scripted, act, build, children_idle, cond};
 
 fn if_then_else(condition: Status, then: Status, otherwise: Option<Status>) -> (Status, Scripted) {
     let nodes = build(|b| {

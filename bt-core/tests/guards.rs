@@ -6,12 +6,7 @@
 mod common;
 use bt_core::script::{Hook, Value};
 use bt_core::{Code, NodeKind, Status};
-use common::{Scripted, act, build};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
-const K: Status = Status::Skipped;
+use common::{F, K, R, S, Scripted, act, build};
 
 /// A gate that opens when `open` is set, else answers `closed`; records `starting`.
 struct GateWorld {

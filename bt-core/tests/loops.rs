@@ -8,11 +8,7 @@
 mod common;
 use bt_core::script::QUEUE_KEY;
 use bt_core::{Code, Node, NodeKind, Status};
-use common::{Call, Scripted, act, build};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
+use common::{Call, F, R, S, Scripted, act, build};
 
 /// The int type of a loop table's header (`script::Element::Int`).
 const INT: u16 = 1;

@@ -9,11 +9,7 @@
 mod common;
 use bt_core::script::ScriptFault;
 use bt_core::{ArgumentFault, Builder, LoadError, Node, NodeKind, NodeStatus, Selection, Status, TickError, Tree};
-use common::{Call, Scripted, act, build, cond};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
+use common::{Call, F, R, S, Scripted, act, build, cond};
 
 /// ManualSelector[A0, A1, A2] at the root.
 fn three(repeat_last: bool) -> &'static [Node] {

@@ -6,10 +6,7 @@
 
 mod common;
 use bt_core::{NodeKind, NodeStatus, Status};
-use common::{Call, Scripted, act, build};
-
-const S: Status = Status::Success;
-const R: Status = Status::Running;
+use common::{Call, R, S, Scripted, act, build};
 
 fn par3(s: u16, f: u16) -> &'static [bt_core::Node] {
     build(|b| {

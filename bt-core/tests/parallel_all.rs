@@ -3,12 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{NodeKind, Status};
-use common::{Scripted, act, build};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
+use bt_core::NodeKind;
+use common::{F, R, S, Scripted, act, build};
 
 #[test]
 fn parallel_all_waits_for_every_child_then_counts_failures() {

@@ -4,11 +4,8 @@
 
 mod common;
 use bt_core::script::{ScriptFault, Value};
-use bt_core::{Code, NodeKind, NodeStatus, Status, TickError};
-use common::{Scripted, act, build};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
+use bt_core::{Code, NodeKind, NodeStatus, TickError};
+use common::{F, S, Scripted, act, build};
 
 #[test]
 fn always_success_and_always_failure() {

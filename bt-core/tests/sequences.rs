@@ -6,13 +6,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{Node, NodeKind, NodeStatus, Status};
-use common::{Scripted, act, build, children_idle, cond};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
-const K: Status = Status::Skipped;
+use bt_core::{Node, NodeKind, NodeStatus};
+use common::{F, K, R, S, Scripted, act, build, children_idle, cond};
 
 #[test]
 fn sequence_star_keeps_its_place_after_a_failure() {

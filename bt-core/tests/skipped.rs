@@ -4,13 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{NodeKind, NodeStatus, Status};
-use common::{Scripted, act, build};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
-const K: Status = Status::Skipped;
+use bt_core::{NodeKind, NodeStatus};
+use common::{F, K, R, S, Scripted, act, build};
 
 #[test]
 fn a_sequence_whose_children_all_skip_skips_and_stays_running() {

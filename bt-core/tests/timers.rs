@@ -3,12 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 mod common;
-use bt_core::{NodeKind, NodeStatus, Span, Status};
-use common::{Call, Scripted, act, build, cond, over_action};
-
-const S: Status = Status::Success;
-const F: Status = Status::Failure;
-const R: Status = Status::Running;
+use bt_core::{NodeKind, NodeStatus, Span};
+use common::{Call, F, R, S, Scripted, act, build, cond, over_action};
 
 fn span(ms: u32) -> Span {
     Span::new(ms).unwrap()

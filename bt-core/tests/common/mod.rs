@@ -7,6 +7,15 @@ use bt_core::{
     BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, NodeKind, NodeStatus, Observer, Selection, Status,
 };
 
+/// Success, Failure, Running and Skipped, as the tests write them.
+pub const S: Status = Status::Success;
+/// Failure.
+pub const F: Status = Status::Failure;
+/// Running.
+pub const R: Status = Status::Running;
+/// Skipped.
+pub const K: Status = Status::Skipped;
+
 /// Behaviors `0..16` are conditions `C0?`..`C15?`, `16..32` actions `A0!`..`A15!`.
 pub const N: u16 = 16;
 
