@@ -4,10 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::{anyhow, bail};
-use bt_core::{Node, Tree};
 use btcpp::btlog::{LogTree, RunLog, replay::status};
 
-use bt_formats::DEPTH;
 use sim_host::input::{self, Limit};
 use sim_host::text::count;
 
@@ -64,14 +62,10 @@ fn ran(list: &str) -> Option<Vec<(usize, u8)>> {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = input::read(&args.image, Limit::IMAGE)?;
-    let (known, header) = catalogs::for_image_with(&args.image, &bytes, &args.nodes)?;
-    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    // The value table (extended leaves' arguments) has fewer entries than the image bytes.
-    let mut values = vec![0u16; bytes.len()];
-    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
-        .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
-    let log_tree = LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref())
-        .map_err(|e| anyhow!("{}: {e}", args.image.display()))?;
+    let log_tree = catalogs::load_image(&args.image, &bytes, &args.nodes, |known, _, tree| {
+        LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref())
+            .map_err(|e| anyhow!("{}: {e}", args.image.display()))
+    })?;
     let text = input::read_text(&args.from_trace, Limit::TRACE)?;
     let mut period_usec: i64 = 100_000;
     let mut log = RunLog::new(&log_tree, 0);

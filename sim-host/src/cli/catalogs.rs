@@ -79,6 +79,27 @@ pub fn by_fingerprint(fingerprint: u64) -> Option<Known> {
     all().into_iter().find(|k| k.catalog.fingerprint() == fingerprint)
 }
 
+/// Loads `bytes`, the image named `name`, as a controller would (envelope, CRC,
+/// fingerprint, nodes, validation) against the names [`for_image_with`] finds for it
+/// (`models` first), and hands the names, the envelope and the tree to `f`.
+///
+/// # Errors
+/// As [`for_image_with`]; an image that does not load (naming it); what `f` returns.
+pub fn load_image<R>(
+    name: &std::path::Path,
+    bytes: &[u8],
+    models: &[std::path::PathBuf],
+    f: impl FnOnce(Known, bt_core::image::Header, bt_core::Tree<'_, { bt_formats::DEPTH }>) -> anyhow::Result<R>,
+) -> anyhow::Result<R> {
+    let (known, header) = for_image_with(name, bytes, models)?;
+    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
+    // The value table (extended leaves' values) has fewer entries than the image bytes.
+    let mut values = vec![0u16; bytes.len()];
+    let tree = bt_core::load_with(bytes, known.catalog.as_ref(), &mut storage, &mut values)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", name.display()))?;
+    f(known, header, tree)
+}
+
 /// Reads an image's envelope and finds the names to show it with: the image's own
 /// names section when it matches the image's behavior set (the truth, whatever the
 /// problem), else the built-in set with that fingerprint, else ids only (`#3(#0, #1)`),

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use bt_core::{MAX_ARGS, Node, PortTable, Tree};
+use bt_core::{MAX_ARGS, PortTable, Tree};
 use bt_formats::{DEPTH, dot, tokens};
 
 use super::catalogs;
@@ -47,29 +47,26 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
     let bytes = sim_host::input::read(path, sim_host::input::Limit::IMAGE)?;
-    let (known, header) = catalogs::for_image_with(path, &bytes, &args.nodes)?;
-    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let mut values = vec![0u16; usize::from(u16::MAX)];
-    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let values = tree.values();
-    let text = match args.format {
-        Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),
-        Format::Tokens if !values.is_empty() => anyhow::bail!(
-            "{}: --format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
-             write it with --format ascii, dot or xml",
-            path.display()
-        ),
-        Format::Tokens => {
-            let mut t = tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
-                anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
-            })?;
-            t.push('\n');
-            t
-        }
-        Format::Dot => dot::to_dot_with(tree.nodes(), values, known.catalog.as_ref()),
-        Format::Xml => xml(path, &bytes, &tree, &known)?,
-    };
+    let text = catalogs::load_image(path, &bytes, &args.nodes, |known, _, tree| {
+        let values = tree.values();
+        Ok(match args.format {
+            Format::Ascii => tree.display(known.catalog.as_ref()).to_string(),
+            Format::Tokens if !values.is_empty() => anyhow::bail!(
+                "{}: --format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
+                 write it with --format ascii, dot or xml",
+                path.display()
+            ),
+            Format::Tokens => {
+                let mut t = tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
+                    anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
+                })?;
+                t.push('\n');
+                t
+            }
+            Format::Dot => dot::to_dot_with(tree.nodes(), values, known.catalog.as_ref()),
+            Format::Xml => xml(path, &bytes, &tree, &known)?,
+        })
+    })?;
     output::write(args.out.as_ref().unwrap_or(&Target::Stdout), text.as_bytes(), Content::Text)?;
     Ok(())
 }

@@ -2,8 +2,6 @@
 
 use std::path::PathBuf;
 
-use bt_core::{Node, Tree};
-use bt_formats::DEPTH;
 
 use super::catalogs;
 use super::output::out;
@@ -29,22 +27,19 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
     let bytes = sim_host::input::read(path, sim_host::input::Limit::IMAGE)?;
-    let (known, header) = catalogs::for_image_with(path, &bytes, &args.nodes)?;
-    let mut storage = vec![Node::EMPTY; usize::from(header.node_count)];
-    let mut values = vec![0u16; usize::from(u16::MAX)];
-    let tree: Tree<'_, DEPTH> = bt_core::load_with(&bytes, known.catalog.as_ref(), &mut storage, &mut values)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let note = known.note.as_ref().map(|n| format!("note       {n}\n")).unwrap_or_default();
-    out!(
-        "image      {}\nformat     version {}\nbehaviors  {:#018x} ({})\nnodes      {} (depth {})\nbytes      {}\n{note}\n{}",
-        path.display(),
-        header.version,
-        header.fingerprint,
-        known.name,
-        tree.len(),
-        tree.depth(),
-        header.len,
-        tree.display(known.catalog.as_ref())
-    )?;
-    Ok(())
+    catalogs::load_image(path, &bytes, &args.nodes, |known, header, tree| {
+        let note = known.note.as_ref().map(|n| format!("note       {n}\n")).unwrap_or_default();
+        out!(
+            "image      {}\nformat     version {}\nbehaviors  {:#018x} ({})\nnodes      {} (depth {})\nbytes      {}\n{note}\n{}",
+            path.display(),
+            header.version,
+            header.fingerprint,
+            known.name,
+            tree.len(),
+            tree.depth(),
+            header.len,
+            tree.display(known.catalog.as_ref())
+        )?;
+        Ok(())
+    })
 }
