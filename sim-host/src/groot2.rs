@@ -180,6 +180,12 @@ impl Server {
         lock(&self.shared.publisher).change(core, status, now_usec());
     }
 
+    /// Node `uid` (BehaviorTree.CPP's numbering) changed to `status` (its status byte,
+    /// 0 to 4): for producers that speak BehaviorTree.CPP's terms.
+    pub fn set(&self, uid: u16, status: u8) {
+        lock(&self.shared.publisher).set(uid, status, now_usec());
+    }
+
     /// Serves `tree` from now on under a new UUID; returns it.
     pub fn swap(&self, tree: &LogTree) -> [u8; 16] {
         let uuid = new_uuid();
