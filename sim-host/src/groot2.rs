@@ -84,7 +84,11 @@ impl Listen {
     }
 
     fn endpoint(&self, port: u16) -> String {
-        if self.host.contains(':') { format!("tcp://[{}]:{port}", self.host) } else { format!("tcp://{}:{port}", self.host) }
+        if self.host.contains(':') {
+            format!("tcp://[{}]:{port}", self.host)
+        } else {
+            format!("tcp://{}:{port}", self.host)
+        }
     }
 }
 

@@ -54,8 +54,8 @@ pub struct Args {
     /// Milliseconds between ticks with --start (0: back to back).
     #[arg(long, default_value_t = 100)]
     pub period: u16,
-    /// Deploy this image while serving: it swaps in at --at-tick (default: the next
-    /// tick), and Groot2 is given the new tree.
+    /// Deploy this image while serving (before --start starts the controller): it
+    /// swaps in at --at-tick (default: the next tick), and Groot2 is given the new tree.
     #[arg(long, value_name = "IMAGE")]
     pub deploy: Option<PathBuf>,
     /// With --deploy: the tick to swap the new tree in before.
@@ -83,7 +83,9 @@ impl Seen {
         Some(match *reply {
             Reply::Status { tick, node, status } => Self::Status { tick, node, status: NodeStatus::from(status) },
             Reply::Tick { tick, status, changes, micros } => Self::Tick { tick, status, changes, micros },
-            Reply::Swapped { tick, image, halted } => Self::Swapped { tick, crc: image.crc, nodes: image.nodes, halted },
+            Reply::Swapped { tick, image, halted } => {
+                Self::Swapped { tick, crc: image.crc, nodes: image.nodes, halted }
+            }
             Reply::Garbled { fault } => Self::Garbled(fault.code()),
             _ => return None,
         })
@@ -130,10 +132,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         uuid_text(&server.uuid())
     )?;
     let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
-    if args.start {
-        let tick = link.start(None, args.period, &mut keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        out!("ticking from tick {tick} every {} ms\n", args.period)?;
-    }
     if let Some((path, Checked { image, .. })) = &next {
         match link.deploy(image, args.at_tick, &mut keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))? {
             Verdict::Accepted { swap_at, .. } => {
@@ -144,6 +142,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 bail!("the controller at {name} rejected {}: {}", path.display(), link::describe(&fault))
             }
         }
+    }
+    if args.start {
+        let tick = link.start(None, args.period, &mut keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        out!("ticking from tick {tick} every {} ms\n", args.period)?;
     }
     let mut ticks = 0u32;
     'session: loop {

@@ -9,8 +9,8 @@ use anyhow::bail;
 use bt_core::{Catalog, NodeKind, NodeStatus};
 use bt_link::Reply;
 use bt_link::host::Client;
-use btcpp::btlog::replay::status as btlog_status;
 use btcpp::btlog::LogWriter;
+use btcpp::btlog::replay::status as btlog_status;
 use crossterm::{cursor, terminal};
 
 use super::link::{self, Io, Line, Running, Target};
@@ -71,7 +71,8 @@ impl Live {
 
     /// A Groot2 replay log of this tree, its clock starting at `usec`.
     fn log(&self, usec: i64) -> anyhow::Result<Groot> {
-        let tree = self.running.log_tree("--btlog").map_err(|e| anyhow::anyhow!("{e}; record it with --trace instead"))?;
+        let tree =
+            self.running.log_tree("--btlog").map_err(|e| anyhow::anyhow!("{e}; record it with --trace instead"))?;
         let mut uid = vec![None; self.running.nodes.len()];
         for n in &tree.nodes {
             if let Some(slot) = n.core.and_then(|c| uid.get_mut(c)) {
@@ -96,11 +97,7 @@ impl Live {
                 Some(NodeStatus::Running) => " [*]",
                 _ => "",
             };
-            out.push(format!(
-                "{}{}{mark}",
-                "    ".repeat(ends.len()),
-                Label(catalog, node.kind(), values)
-            ));
+            out.push(format!("{}{}{mark}", "    ".repeat(ends.len()), Label(catalog, node.kind(), values)));
             if !matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
                 ends.push(i + usize::from(node.size()));
             }
