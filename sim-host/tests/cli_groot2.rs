@@ -259,3 +259,52 @@ fn groot2_sees_a_then_b_with_the_controller_s_statuses_through_a_swap() {
     assert_eq!(ticks, 50);
     assert_eq!(traced[..], sent[..traced.len()], "the bridge's trace is the controller's stream");
 }
+
+/// `sim-host ARGS --groot2 127.0.0.1:PORT --period 0 --groot2-linger 5`, questioned
+/// once the run is over: its stderr's first line, then FULLTREE and STATUS.
+fn simulated(args: &[&str]) -> (String, Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    let port = free_ports();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim-host"))
+        .args(args)
+        .args(["--groot2", &format!("127.0.0.1:{port}"), "--period", "0", "--groot2-linger", "5"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The run is over when stderr says so.
+    let mut stderr = child.stderr.take().unwrap();
+    let mut text = String::new();
+    let mut buf = [0u8; 256];
+    while !text.contains("the run is over") {
+        let n = stderr.read(&mut buf).unwrap();
+        assert!(n > 0, "{text}");
+        text.push_str(&String::from_utf8_lossy(&buf[..n]));
+    }
+    let ctx = zmq::Context::new();
+    let groot = client(&ctx, port);
+    let tree = ask(&groot, &[header(b'T', 1)]);
+    let status = ask(&groot, &[header(b'S', 2)]);
+    assert!(child.wait().unwrap().success());
+    (text, tree, status)
+}
+
+#[test]
+fn a_simulated_run_is_served_as_it_runs_and_held_after_it() {
+    let (text, tree, status) = simulated(&["run", "--task", "tower"]);
+    let spec = planner::duplo::Task::Tower.spec();
+    let nodes = planner::duplo::plan(planner::duplo::Task::Tower).unwrap().nodes;
+    assert_eq!(tree[1], LogTree::new(&nodes, &spec).unwrap().xml().into_bytes(), "{text}");
+    assert_eq!(status[1].len(), 3 * nodes.len());
+    // The root succeeded: Success, as BehaviorTree.CPP shows it.
+    assert_eq!(status[1][2], 2, "{text}");
+    assert!(text.contains("1 tree served"), "{text}");
+}
+
+#[test]
+fn each_expansion_of_a_scenario_is_a_new_tree_for_groot2() {
+    let (text, tree, _) = simulated(&["scenario", "cube", "--world", "symbolic"]);
+    // The goal alone, then each of the 7 expansions of the story.
+    assert!(text.contains("8 trees served"), "{text}");
+    let xml = String::from_utf8(tree[1].clone()).unwrap();
+    assert_eq!(xml.matches("_uid=").count(), 37, "{xml}");
+}

@@ -11,7 +11,7 @@ use bt_core::NodeStatus;
 use bt_link::host::{LinkError, Verdict};
 use bt_link::{Reply, WireStatus};
 use btcpp::groot2::uuid_text;
-use sim_host::groot2::{DEFAULT_PORT, Event, Listen, Server};
+use sim_host::groot2::{DEFAULT_PORT, Event, Listen, Server, Watch};
 use sim_host::text::count;
 
 use super::deploy::Checked;
@@ -195,4 +195,74 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     out!("{} watched\n", count(ticks, "tick"))?;
     Ok(())
+}
+
+/// `--groot2 [PORT]` and its pacing, for runs the host simulates.
+#[derive(clap::Args, Debug)]
+pub struct Serve {
+    /// Serve the run to Groot2 as it runs, on PORT or HOST:PORT (1667 when none is
+    /// given; the publish socket takes the next port). Each tree the run makes (the
+    /// planner's expansions) is served under a new tree UUID.
+    #[arg(long, value_name = "[HOST:]PORT", num_args = 0..=1, default_missing_value = "1667")]
+    pub groot2: Option<String>,
+    /// With --groot2: one tick per tick of the simulated clock (100 ms), the default.
+    #[arg(long, requires = "groot2", conflicts_with = "period")]
+    pub realtime: bool,
+    /// With --groot2: milliseconds between ticks instead (0: as fast as the run goes).
+    #[arg(long, value_name = "MS", requires = "groot2")]
+    pub period: Option<u64>,
+    /// With --groot2: how long to go on serving the last tree and its statuses after the
+    /// run ends, in seconds (default: until Ctrl-C).
+    #[arg(long, value_name = "SECONDS", requires = "groot2")]
+    pub groot2_linger: Option<u64>,
+}
+
+impl Serve {
+    /// The watch to run with: off without --groot2; else listening, having said where.
+    ///
+    /// # Errors
+    /// A bad address or a port that cannot be listened on.
+    pub fn watch(&self) -> anyhow::Result<Watch> {
+        let Some(listen) = &self.groot2 else { return Ok(Watch::off()) };
+        let listen = Listen::parse(listen).map_err(|e| anyhow::anyhow!("--groot2: {e}"))?;
+        let ms = self.period.unwrap_or(u64::from(sim_host::episode::TICK_MS));
+        let watch = Watch::new(&listen, Duration::from_millis(ms))?;
+        output::stderr(
+            format!("Groot2: connect to port {} of this machine ({}); {ms} ms a tick\n", listen.port, listen)
+                .as_bytes(),
+        )?;
+        Ok(watch)
+    }
+
+    /// After the run: a tree Groot2 could not be given is an error; otherwise the last
+    /// state is served on for --groot2-linger seconds, or until Ctrl-C.
+    ///
+    /// # Errors
+    /// A tree with a kind BehaviorTree.CPP does not have, or stderr failing.
+    pub fn finish(&self, watch: &Watch) -> anyhow::Result<()> {
+        let Some(server) = watch.server() else { return Ok(()) };
+        if let Some(e) = watch.error() {
+            bail!("{e}");
+        }
+        let trees = watch.served().len();
+        let linger =
+            self.groot2_linger.map_or_else(|| "until Ctrl-C".to_string(), |s| format!("for {}", count(s, "second")));
+        output::stderr(
+            format!("Groot2: the run is over ({} served); its last state stays up {linger}\n", count(trees, "tree"))
+                .as_bytes(),
+        )?;
+        let until = self.groot2_linger.map(|s| Instant::now() + Duration::from_secs(s));
+        while until.is_none_or(|t| Instant::now() < t) {
+            std::thread::sleep(Duration::from_millis(100));
+            for e in server.events() {
+                let line = match e {
+                    Event::Connected => "Groot2 connected\n".to_string(),
+                    Event::Gone => "Groot2 gone (no request for 5 s)\n".to_string(),
+                    Event::Fault(f) => format!("Groot2 socket: {f}\n"),
+                };
+                output::stderr(line.as_bytes())?;
+            }
+        }
+        Ok(())
+    }
 }

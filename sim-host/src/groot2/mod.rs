@@ -22,6 +22,9 @@ use bt_core::NodeStatus;
 use btcpp::btlog::LogTree;
 use btcpp::groot2::Publisher;
 
+mod watch;
+pub use watch::{Names, Watch};
+
 /// Groot2's default port (BehaviorTree.CPP's `Groot2Publisher` default); the publish
 /// socket is on the next one.
 pub const DEFAULT_PORT: u16 = 1667;
