@@ -55,7 +55,7 @@ struct Moving(Arc<Pause>);
 impl BehaviorSet for Moving {
     fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let t = ctx.now / PERIOD + u32::from(leaf.behavior());
-        if t % 3 == 0 { Status::Failure } else { Status::Success }
+        if t.is_multiple_of(3) { Status::Failure } else { Status::Success }
     }
     fn action(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let t = ctx.now / PERIOD + u32::from(leaf.behavior());
