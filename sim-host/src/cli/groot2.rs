@@ -92,6 +92,17 @@ impl Seen {
     }
 }
 
+/// The note about a tree's names, on stderr, once a session.
+fn note(running: &Running, noted: &mut bool) -> anyhow::Result<()> {
+    if let Some(n) = &running.note
+        && !*noted
+    {
+        *noted = true;
+        output::stderr(format!("note: {n}\n").as_bytes())?;
+    }
+    Ok(())
+}
+
 fn say_events(server: &Server) -> anyhow::Result<()> {
     for e in server.events() {
         match e {
@@ -119,6 +130,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut queue: VecDeque<Seen> = VecDeque::new();
     let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
     let mut running = Running::read(&mut link, &name, info.fingerprint, &mut keep)?;
+    // Said once: the names Groot2 gets are ids.
+    let mut noted = false;
+    note(&running, &mut noted)?;
     let server = Server::start(&listen, &running.log_tree("Groot2")?)?;
     let mut trace = String::new();
     let _ = writeln!(trace, "image {:08x} nodes={}", running.crc, running.nodes.len());
@@ -167,6 +181,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                     // The new tree's changes come after Swapped: they wait in the queue.
                     let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
                     running = Running::read(&mut link, &name, info.fingerprint, &mut keep)?;
+                    note(&running, &mut noted)?;
                     let uuid = server.swap(&running.log_tree("Groot2")?);
                     out!(
                         "swap before tick {tick}: image {crc:08x}, {} ({} of the old tree halted); \

@@ -111,6 +111,8 @@ pub struct Running {
     pub catalog: Box<dyn Catalog>,
     /// The CRC-32 naming the image on the link.
     pub crc: u32,
+    /// What to say about the names (none in the image, and the set unknown: ids).
+    pub note: Option<String>,
 }
 
 impl Running {
@@ -138,7 +140,7 @@ impl Running {
         let tree: Tree<'_, DEPTH> = bt_core::load_with(&image, known.catalog.as_ref(), &mut nodes, &mut values)
             .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
         let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
-        Ok(Self { nodes, values, catalog: known.catalog, crc: bt_link::image_crc(&image) })
+        Ok(Self { nodes, values, catalog: known.catalog, crc: bt_link::image_crc(&image), note: known.note })
     }
 
     /// The tree as BehaviorTree.CPP instantiates it (for Groot2), `what` naming the
