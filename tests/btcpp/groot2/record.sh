@@ -24,12 +24,7 @@ mkdir -p "$work"
 install="${BTCPP_INSTALL:-}"
 if [ -z "$install" ]; then
   install="$work/install"
-  cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DBTCPP_SHARED_LIBS=ON \
-    -DBTCPP_BUILD_TOOLS=OFF -DBTCPP_EXAMPLES=OFF -DBUILD_TESTING=OFF \
-    -DBTCPP_GROOT_INTERFACE=ON -DBTCPP_SQLITE_LOGGING=OFF \
-    -DCMAKE_INSTALL_PREFIX="$install" >/dev/null
-  cmake --build "$work/build" -j "${JOBS:-2}" >/dev/null
-  cmake --install "$work/build" >/dev/null
+  "$here/../install-btcpp.sh" "$src" "$work/build" "$install" ON
 fi
 cmake -S "$here" -B "$work/publisher" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$install" >/dev/null
 cmake --build "$work/publisher" >/dev/null
