@@ -308,3 +308,26 @@ fn each_expansion_of_a_scenario_is_a_new_tree_for_groot2() {
     let xml = String::from_utf8(tree[1].clone()).unwrap();
     assert_eq!(xml.matches("_uid=").count(), 37, "{xml}");
 }
+
+#[test]
+fn a_tree_without_names_is_served_with_ids_and_the_bridge_says_so_once() {
+    // BehaviorTree.CPP models this binary does not know, and an image without names.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/btcpp/fixtures/groot2/tree.xml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let imported = btcpp::xml::import_text(&path, &text, &btcpp::xml::ImportOptions::default()).unwrap();
+    let image = bt_formats::Image::new(&imported.nodes).encode(imported.fingerprint()).unwrap();
+    assert!(bt_core::image::section(&image, bt_core::image::SECTION_NAMES).unwrap().is_none());
+    let (addr, controller) =
+        link_common::controller_for::<64, _, _>(imported, Some(image), Moving(Arc::default()), None);
+    let port = free_ports();
+    let out = Command::new(env!("CARGO_BIN_EXE_sim-host"))
+        .args(["groot2", "--tcp", &addr, "--listen", &format!("127.0.0.1:{port}"), "--start"])
+        .args(["--period", "5", "--ticks", "20"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("note: ").count(), 1, "{stderr}");
+    assert!(stderr.contains("shown as ids"), "{stderr}");
+    controller.join().unwrap();
+}

@@ -105,6 +105,16 @@ pub fn cube_image(dir: &Path) -> (PathBuf, Vec<u8>) {
 /// there, in order (the controller's own record of its status stream).
 pub fn controller<const NODES: usize, A: App + Send + 'static>(
     boot: Option<Vec<u8>>,
+    app: A,
+    tap: Option<Tap>,
+) -> (String, JoinHandle<()>) {
+    controller_for::<NODES, _, _>(catalog(), boot, app, tap)
+}
+
+/// [`controller`] for the behavior set of `set`.
+pub fn controller_for<const NODES: usize, A: App + Send + 'static, C: bt_core::Catalog + Send + 'static>(
+    set: C,
+    boot: Option<Vec<u8>>,
     mut app: A,
     tap: Option<Tap>,
 ) -> (String, JoinHandle<()>) {
@@ -115,7 +125,7 @@ pub fn controller<const NODES: usize, A: App + Send + 'static>(
         stream.set_nonblocking(true).unwrap();
         let mut board = Tcp { stream, closed: false, started: Instant::now(), tap: tap.map(|t| (Decoder::new(), t)) };
         let mut storage = Box::new(Storage::<NODES, 640, 32>::new());
-        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(&mut storage, &catalog(), boot.as_deref(), &mut board, &mut app);
+        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(&mut storage, &set, boot.as_deref(), &mut board, &mut app);
     });
     (addr, handle)
 }
