@@ -31,6 +31,7 @@
 
 pub mod btlog;
 mod error;
+pub mod groot2;
 pub mod kinds;
 pub mod xml;
 

@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod episode;
+pub mod groot2;
 pub mod input;
 pub mod learn;
 pub mod physics;

@@ -35,12 +35,7 @@ echo "== BehaviorTree.CPP $(grep -m1 -o '<version>[^<]*' "$src/package.xml" | cu
 install="${BTCPP_INSTALL:-}"
 if [ -z "$install" ]; then
   install="$work/install"
-  cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DBTCPP_SHARED_LIBS=ON \
-    -DBTCPP_BUILD_TOOLS=OFF -DBTCPP_EXAMPLES=OFF -DBUILD_TESTING=OFF \
-    -DBTCPP_GROOT_INTERFACE=OFF -DBTCPP_SQLITE_LOGGING=OFF \
-    -DCMAKE_INSTALL_PREFIX="$install" >/dev/null
-  cmake --build "$work/build" -j "$jobs" >/dev/null
-  cmake --install "$work/build" >/dev/null
+  JOBS="$jobs" "$here/install-btcpp.sh" "$src" "$work/build" "$install" OFF
 fi
 cmake -S "$here" -B "$work/harness" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$install" >/dev/null
 cmake --build "$work/harness" >/dev/null

@@ -8,7 +8,8 @@
 //! cargo-web rust-web-src`; installed by apt where it may, else `rust-src` by rustup;
 //! rustup's prebuilt targets are not enough, see `Toolchain` in main.rs); the ARM binutils
 //! (`binutils-arm-none-eabi`: the linker, nm, size, addr2line, objdump) and QEMU
-//! (`qemu-system-arm`). apt never removes a package to install these: a package it
+//! (`qemu-system-arm`); a C++ compiler (`g++`: the `zmq` crate builds libzmq for
+//! sim-host's Groot2 server). apt never removes a package to install these: a package it
 //! would remove is upgraded with them instead, and if that does not settle it the
 //! install stops and says which.
 
@@ -101,6 +102,11 @@ fn missing() -> Vec<Missing> {
     }
     if !tool("qemu-system-arm") {
         out.push(Missing { what: "qemu-system-arm".into(), fix: Fix::Apt("qemu-system-arm") });
+    }
+    // sim-host links libzmq (Groot2's transport), which the `zmq` crate builds from
+    // source with the C++ compiler.
+    if !tool("c++") {
+        out.push(Missing { what: "a C++ compiler (libzmq for sim-host's Groot2 server)".into(), fix: Fix::Apt("g++") });
     }
     // sim-host's `learn --list` test runs the listed commands through GNU parallel.
     if !tool("parallel") {

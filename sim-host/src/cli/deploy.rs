@@ -1,11 +1,11 @@
 //! `sim-host deploy IMAGE --port PATH|--tcp HOST:PORT`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
 use bt_link::Reply;
-use bt_link::host::Verdict;
+use bt_link::host::{ControllerInfo, Verdict};
 
 use bt_formats::DEPTH;
 use sim_host::input::{self, Limit};
@@ -53,37 +53,76 @@ pub struct Args {
     pub strip_names: bool,
 }
 
+/// An image file read whole, checked against the controller it goes to: the behavior
+/// set it was built for and the bytes the controller holds.
+pub struct Checked {
+    /// The bytes to send (without the names section with `strip_names`).
+    pub image: Vec<u8>,
+    /// Its header.
+    pub header: bt_core::image::Header,
+}
+
+impl Checked {
+    /// Reads `path` whole; its header must read.
+    ///
+    /// # Errors
+    /// The file, or a header that does not read, naming the file.
+    pub fn read(path: &Path) -> anyhow::Result<(Vec<u8>, bt_core::image::Header)> {
+        let image = input::read(path, Limit::IMAGE)?;
+        let header = bt_core::image::read_header(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        Ok((image, header))
+    }
+
+    /// Checks `image` (read from `path`) against `info`, the controller at `name`
+    /// running `set`.
+    ///
+    /// # Errors
+    /// Another behavior set, or an image larger than the controller holds, naming the
+    /// file.
+    pub fn check(
+        path: &Path,
+        (image, header): (Vec<u8>, bt_core::image::Header),
+        strip_names: bool,
+        info: &ControllerInfo,
+        set: &str,
+        name: &str,
+    ) -> anyhow::Result<Self> {
+        // The names section is the host tools' alone: the same nodes, values and ports.
+        let image = if strip_names {
+            bt_formats::image::strip_names(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+        } else {
+            image
+        };
+        if header.fingerprint != info.fingerprint {
+            bail!(
+                "{}: built for behavior set {:#018x}, the controller at {name} runs {set}",
+                path.display(),
+                header.fingerprint
+            );
+        }
+        if image.len() > info.image_capacity as usize {
+            let names = bt_core::image::section(&image, bt_core::image::SECTION_NAMES).ok().flatten();
+            let hint = names.map_or(String::new(), |n| {
+                format!("; --strip-names leaves out the {} of names the controller never reads", count(n.len(), "byte"))
+            });
+            bail!(
+                "{}: {}, the controller at {name} holds images of at most {}{hint}",
+                path.display(),
+                count(image.len(), "byte"),
+                count(info.image_capacity, "byte")
+            );
+        }
+        Ok(Self { image, header })
+    }
+}
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let path = &args.image;
-    let image = input::read(path, Limit::IMAGE)?;
-    let header = bt_core::image::read_header(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    // The names section is the host tools' alone: the same nodes, values and ports.
-    let image = if args.strip_names {
-        bt_formats::image::strip_names(&image).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-    } else {
-        image
-    };
+    // The file's own faults first, before the link is opened.
+    let file = Checked::read(path)?;
     let (mut link, name) = link::open(&args.target, &args.line)?;
     let (info, set) = link::hello(&mut link, &name)?;
-    if header.fingerprint != info.fingerprint {
-        bail!(
-            "{}: built for behavior set {:#018x}, the controller at {name} runs {set}",
-            path.display(),
-            header.fingerprint
-        );
-    }
-    if image.len() > info.image_capacity as usize {
-        let names = bt_core::image::section(&image, bt_core::image::SECTION_NAMES).ok().flatten();
-        let hint = names.map_or(String::new(), |n| {
-            format!("; --strip-names leaves out the {} of names the controller never reads", count(n.len(), "byte"))
-        });
-        bail!(
-            "{}: {}, the controller at {name} holds images of at most {}{hint}",
-            path.display(),
-            count(image.len(), "byte"),
-            count(info.image_capacity, "byte")
-        );
-    }
+    let Checked { image, header } = Checked::check(path, file, args.strip_names, &info, &set, &name)?;
     out!("controller {name}: link protocol {}, behavior set {set}\n", info.version)?;
     let started = Instant::now();
     let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;

@@ -16,6 +16,7 @@ mod catalog;
 mod catalogs;
 mod deploy;
 mod export;
+mod groot2;
 mod import;
 mod inspect;
 mod learn;
@@ -78,6 +79,8 @@ enum Command {
     Deploy(deploy::Args),
     /// Watch a running controller's tree live, status by status.
     Monitor(monitor::Args),
+    /// Serve a running controller's tree to Groot2, live, across hot swaps.
+    Groot2(groot2::Args),
     /// Measure the planner on a folder of PDDL benchmarks, side by side with pyperplan.
     #[command(long_about = bench_pddl::LONG_ABOUT)]
     BenchPddl(bench_pddl::Args),
@@ -114,6 +117,7 @@ pub fn main() -> ExitCode {
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Deploy(args)) => deploy::run(&args),
         Some(Command::Monitor(args)) => monitor::run(&args),
+        Some(Command::Groot2(args)) => groot2::run(&args),
         Some(Command::BenchPddl(args)) => bench_pddl::run(&args),
     };
     match result {

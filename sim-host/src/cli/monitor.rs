@@ -6,18 +6,16 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
-use bt_core::{Catalog, Node, NodeKind, NodeStatus, Tree};
+use bt_core::{Catalog, NodeKind, NodeStatus};
 use bt_link::Reply;
 use bt_link::host::Client;
+use btcpp::btlog::LogWriter;
 use btcpp::btlog::replay::status as btlog_status;
-use btcpp::btlog::{LogTree, LogWriter};
 use crossterm::{cursor, terminal};
 
-use super::link::{self, Io, Line, Target};
-use super::{catalogs, output};
+use super::link::{self, Io, Line, Running, Target};
+use super::output;
 use sim_host::text::count;
-
-use planner::DEPTH;
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -60,36 +58,22 @@ pub struct Args {
 
 /// The tree the controller runs, with live statuses.
 struct Live {
-    nodes: Vec<Node>,
-    values: Vec<u16>,
+    running: Running,
     status: Vec<NodeStatus>,
-    catalog: Box<dyn Catalog>,
-    crc: u32,
 }
 
 impl Live {
     fn read(link: &mut Client<Box<dyn Io>>, name: &str, fingerprint: u64) -> anyhow::Result<Self> {
-        let image = link.read_image(&mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        // Names from the image's names section when it has one, else from the known
-        // behavior set with this fingerprint.
-        let (known, header) = catalogs::for_image(Path::new(name), &image)?;
-        if header.fingerprint != fingerprint {
-            bail!("{name}: the image read back is for behavior set {:#018x}", header.fingerprint);
-        }
-        let mut nodes = vec![Node::EMPTY; usize::from(header.node_count)];
-        let mut values = vec![0u16; image.len()];
-        let tree: Tree<'_, DEPTH> = bt_core::load_with(&image, known.catalog.as_ref(), &mut nodes, &mut values)
-            .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
-        let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
-        let status = vec![NodeStatus::Idle; nodes.len()];
-        Ok(Self { nodes, values, status, catalog: known.catalog, crc: bt_link::image_crc(&image) })
+        let running = Running::read(link, name, fingerprint, &mut |_| {})?;
+        let status = vec![NodeStatus::Idle; running.nodes.len()];
+        Ok(Self { running, status })
     }
 
     /// A Groot2 replay log of this tree, its clock starting at `usec`.
     fn log(&self, usec: i64) -> anyhow::Result<Groot> {
-        let tree = LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref())
-            .map_err(|e| anyhow::anyhow!("--btlog: image {:08x}: {e}; record it with --trace instead", self.crc))?;
-        let mut uid = vec![None; self.nodes.len()];
+        let tree =
+            self.running.log_tree("--btlog").map_err(|e| anyhow::anyhow!("{e}; record it with --trace instead"))?;
+        let mut uid = vec![None; self.running.nodes.len()];
         for n in &tree.nodes {
             if let Some(slot) = n.core.and_then(|c| uid.get_mut(c)) {
                 *slot = Some(n.uid);
@@ -101,8 +85,9 @@ impl Live {
     /// Lines of the py_trees-style view with status marks.
     fn lines(&self) -> Vec<String> {
         let mut ends: Vec<usize> = Vec::new();
-        let mut out = Vec::with_capacity(self.nodes.len());
-        for (i, node) in self.nodes.iter().enumerate() {
+        let mut out = Vec::with_capacity(self.running.nodes.len());
+        let (nodes, values, catalog) = (&self.running.nodes, &self.running.values, self.running.catalog.as_ref());
+        for (i, node) in nodes.iter().enumerate() {
             while ends.last().is_some_and(|&e| e <= i) {
                 ends.pop();
             }
@@ -112,11 +97,7 @@ impl Live {
                 Some(NodeStatus::Running) => " [*]",
                 _ => "",
             };
-            out.push(format!(
-                "{}{}{mark}",
-                "    ".repeat(ends.len()),
-                Label(self.catalog.as_ref(), node.kind(), &self.values)
-            ));
+            out.push(format!("{}{}{mark}", "    ".repeat(ends.len()), Label(catalog, node.kind(), values)));
             if !matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
                 ends.push(i + usize::from(node.size()));
             }
@@ -207,10 +188,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     writeln!(
         out,
         "controller {name}: behavior set {set}, image {:08x}, {}",
-        live.crc,
-        count(live.nodes.len(), "node")
+        live.running.crc,
+        count(live.running.nodes.len(), "node")
     )?;
-    trace.push_str(&format!("image {:08x} nodes={}\n", live.crc, live.nodes.len()));
+    trace.push_str(&format!("image {:08x} nodes={}\n", live.running.crc, live.running.nodes.len()));
     if args.start {
         let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         writeln!(out, "ticking from tick {tick} every {} ms", args.period)?;

@@ -78,6 +78,8 @@ pub struct Args {
     /// tick k at k x 100 ms of simulated time).
     #[arg(long, value_name = "FILE.btlog")]
     pub btlog: Option<PathBuf>,
+    #[command(flatten)]
+    pub serve: super::groot2::Serve,
 }
 
 /// Microseconds of simulated time per tick (10 Hz) in replay logs.
@@ -91,7 +93,12 @@ fn parse_task(s: &str) -> Result<Task, String> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    let Some(task) = args.task else { return super::run_strips::run(&args.strips, args.tree.as_deref()) };
+    let Some(task) = args.task else {
+        if args.serve.groot2.is_some() {
+            bail!("--groot2 serves brick-task episodes and scenarios; not runs of a PDDL problem (--domain)");
+        }
+        return super::run_strips::run(&args.strips, args.tree.as_deref());
+    };
     let spec = task.spec();
     let (nodes, source) = match &args.tree {
         Some(path) => (read_tree(path, &spec)?, path.display().to_string()),
@@ -161,10 +168,12 @@ fn foreign(fingerprint: u64, spec: &Spec) -> String {
 fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &Args) -> anyhow::Result<()> {
     let spec = world.spec().clone();
     let mut runner = Runner::new(world)?;
+    let mut watch = args.serve.watch()?;
+    watch.names(std::sync::Arc::new(spec.clone()));
     // The trace for pictures, and the leaf calls of every tick for the replay log.
-    let mut rec = (Trace::default(), LeafCalls::default());
+    let mut rec = ((Trace::default(), LeafCalls::default()), &mut watch);
     let e = runner.run_recorded(tree, &mut rec).map_err(|err| anyhow!("{source}: {err}"))?;
-    let (trace, calls) = rec;
+    let ((trace, calls), _) = rec;
     let log = match &args.btlog {
         Some(_) => {
             let log_tree = btcpp::btlog::LogTree::new(tree.nodes(), &spec)
@@ -219,7 +228,7 @@ fn episode<W: BrickWorld>(world: W, tree: Tree<'_, DEPTH>, source: &str, args: &
     } else {
         output::stdout(out.as_bytes())?;
     }
-    Ok(())
+    args.serve.finish(&watch)
 }
 
 fn report(out: &mut String, spec: &Spec, e: &Episode, limit: u32) {

@@ -65,6 +65,8 @@ pub struct Args {
     /// the run, it covers the ticks of the final tree, after the last expansion.
     #[arg(long, value_name = "FILE.btlog")]
     pub btlog: Option<PathBuf>,
+    #[command(flatten)]
+    pub serve: super::groot2::Serve,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -90,7 +92,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         WorldKind::Symbolic
     });
-    show(scenario, world, args.seed, args.svg.as_ref(), args.btlog.as_ref())
+    let mut watch = args.serve.watch()?;
+    show(scenario, world, args.seed, args.svg.as_ref(), args.btlog.as_ref(), &mut watch)?;
+    args.serve.finish(&watch)
 }
 
 /// `sim-host` without arguments: the blended demo in the physics world.
@@ -103,7 +107,7 @@ pub fn demo() -> anyhow::Result<()> {
          External agents then get in the way and help; watch the tree cope without replanning.\n\
          (Other scenarios: `sim-host scenario --list`; all commands: `sim-host --help`.)\n\n"
     )?;
-    show(Scenario::Cube, WorldKind::Physics, None, None, None)
+    show(Scenario::Cube, WorldKind::Physics, None, None, None, &mut sim_host::groot2::Watch::off())
 }
 
 /// The replay log of the run's final tree: its ticks after the last expansion.
@@ -132,8 +136,9 @@ fn show(
     seed: Option<u64>,
     svg: Option<&Target>,
     btlog_path: Option<&PathBuf>,
+    watch: &mut sim_host::groot2::Watch,
 ) -> anyhow::Result<()> {
-    let run = match scenario::run(scenario, world, seed) {
+    let run = match scenario::run_watched(scenario, world, seed, watch) {
         Ok(run) => run,
         Err(e) => {
             // What happened up to the error, then the error (which names the tick).

@@ -49,8 +49,9 @@ pub fn belief_from_conditions<B: BehaviorSet + ?Sized>(world: &mut B, g: &Ground
 }
 
 /// Runs the tree of `trees` in `world` with `agents` for at most `max_ticks`, writing the
-/// narration to `out`: tick `k` at `k * TICK_MS`; after every tick that does not end the
-/// run (and after an expansion) the agents act and the world steps.
+/// narration to `out` and serving the run to Groot2 through `watch` (if it is on): tick
+/// `k` at `k * TICK_MS`; after every tick that does not end the run (and after an
+/// expansion) the agents act and the world steps.
 ///
 /// # Errors
 /// An invalid tree, a behavior that broke the tick rules, or the planner giving up,
@@ -62,6 +63,7 @@ pub fn run<W, T, A, C>(
     agents: &mut A,
     max_ticks: u32,
     out: &mut String,
+    watch: &mut crate::groot2::Watch,
 ) -> anyhow::Result<Record>
 where
     W: Scene,
@@ -78,7 +80,7 @@ where
     let mut narration = Narration::new(catalog, out);
     let mut ends = (Failures::first(), FirstSuccess);
     Runner::new(settings)
-        .run_growing::<DEPTH, _, _, _, _, _>(trees, world, &mut ends, agents, &mut narration)
+        .run_growing::<DEPTH, _, _, _, _, _>(trees, world, &mut ends, agents, &mut (&mut narration, watch))
         .map_err(|e| match e.kind {
             RunErrorKind::Grow(g) => anyhow::anyhow!("tick {}: the planner cannot expand the tree: {g}", e.tick),
             RunErrorKind::Invalid(v) => anyhow::anyhow!("tick {}: the tree is not valid: {v}", e.tick),

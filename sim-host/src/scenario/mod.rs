@@ -50,6 +50,7 @@ use planner::duplo::{Spec, Task};
 use planner::{Expanding, Options, PddlCatalog, Planner, domains};
 use worlds::{Fixed, WorldKind};
 
+use crate::groot2::Watch;
 use crate::physics::PhysicsBrickWorld;
 use crate::physics::mobile::MobileWorld;
 use crate::symbolic::SymbolicBrickWorld;
@@ -174,6 +175,15 @@ pub const MAX_TICKS: u32 = 600;
 /// A world the scenario does not offer, or a failure of the planner or the tree (an
 /// [`Interrupted`] with the narration so far, the error naming the tick).
 pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::Result<Run> {
+    run_watched(scenario, world, seed, &mut Watch::off())
+}
+
+/// [`run`], served to Groot2 as it runs through `watch`: each tree, each status change,
+/// each tick at its time.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_watched(scenario: Scenario, world: WorldKind, seed: Option<u64>, watch: &mut Watch) -> anyhow::Result<Run> {
     if !scenario.worlds().contains(&world) {
         anyhow::bail!(
             "scenario `{}` has no {} world (it runs in: {})",
@@ -188,6 +198,7 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
         Scenario::Cube => {
             let g = Arc::new(domains::cube_sphere().context("loading the cube/sphere domain")?);
             let catalog = Arc::new(PddlCatalog::new(g.problem()));
+            watch.names(catalog.clone());
             let mut planner = Planner::new(g.clone(), Options::default())?;
             let mut agents = match seed {
                 Some(s) => {
@@ -208,11 +219,11 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let record = match world {
                 WorldKind::Symbolic => {
                     let mut w = cube::SymbolicCube::new(g);
-                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
+                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out, watch)
                 }
                 WorldKind::Physics => {
                     let mut w = MobileWorld::new();
-                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
+                    driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out, watch)
                 }
             }
             .map_err(|e| interrupted(&out, e))?;
@@ -225,6 +236,7 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
         Scenario::Cellphone => {
             let g = Arc::new(domains::cellphone().context("loading the cellphone domain")?);
             let catalog = Arc::new(PddlCatalog::new(g.problem()));
+            watch.names(catalog.clone());
             let mut planner = Planner::new(g.clone(), Options::default())?;
             let _ = writeln!(
                 out,
@@ -234,7 +246,7 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
             let mut w = strips::StripsScene::new(g);
             let mut trees = Expanding::new(&mut planner, catalog.as_ref());
             let mut agents = cellphone::Disturbances::new(ActionNames(catalog.clone()));
-            let record = driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out)
+            let record = driver::run(&mut w, &mut trees, catalog.as_ref(), &mut agents, MAX_TICKS, &mut out, watch)
                 .map_err(|e| interrupted(&out, e))?;
             summary(&mut out, &record);
             Ok(Run { narration: out, record, catalog, goal_region: None })
@@ -242,6 +254,7 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
         Scenario::Bricks(task) => {
             let plan = planner::duplo::plan(task).with_context(|| format!("planning the {} task", task.name()))?;
             let spec = task.spec();
+            watch.names(Arc::new(spec.clone()));
             let _ = writeln!(
                 out,
                 "the planner's tree ({}, planned offline from the goal conditions) runs in the \
@@ -254,12 +267,12 @@ pub fn run(scenario: Scenario, world: WorldKind, seed: Option<u64>) -> anyhow::R
                 WorldKind::Symbolic => {
                     let mut w = Bricks::new(SymbolicBrickWorld::new(&spec)?);
                     let limit = w.0.tick_limit();
-                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out)
+                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out, watch)
                 }
                 WorldKind::Physics => {
                     let mut w = Bricks::new(PhysicsBrickWorld::new(&spec)?);
                     let limit = w.0.tick_limit();
-                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out)
+                    driver::run(&mut w, &mut tree, &spec, &mut (), limit, &mut out, watch)
                 }
             }
             .map_err(|e| interrupted(&out, e))?;
