@@ -143,28 +143,93 @@ impl<'a> Transfer<'a> {
 
 /// How long to wait for the controller to answer one request.
 pub const ANSWER_TIMEOUT: Duration = Duration::from_secs(2);
-/// How often a chunk is sent before the deployment gives up.
-pub const CHUNK_TRIES: u32 = 4;
+/// How many times in a row a deployment waits [`ANSWER_TIMEOUT`] / 4 without progress
+/// before it gives up.
+pub const CHUNK_TRIES: u32 = 8;
+/// Bytes of chunks a deployment sends ahead of the controller's acknowledgement: four
+/// chunks. A controller's receive queue should hold them (with their framing, about 320
+/// bytes); [`Client::set_window`] changes it.
+pub const WINDOW: usize = 4 * MAX_CHUNK;
+
+/// The time a [`Client`] measures its deadlines with.
+pub type ClockFn = Box<dyn Fn() -> Instant + Send>;
 
 /// A blocking client: one request, then its answer; every other reply that arrives
 /// meanwhile (status changes, tick statistics) goes to the caller's `watch`.
-#[derive(Debug)]
 pub struct Client<T> {
     io: T,
     decoder: Decoder<MAX_FRAME>,
+    /// Bytes read and not yet decoded: `buf[at..len]`.
     buf: Vec<u8>,
     at: usize,
+    len: usize,
     /// Bytes written and read, for throughput figures.
     pub sent: u64,
     /// Bytes read.
     pub received: u64,
+    /// Bytes of chunks sent ahead of the acknowledgement.
+    window: usize,
+    /// An operation gave up: replies to it may still arrive.
+    stale: bool,
+    /// The last token of a resynchronizing `Ping`.
+    token: u32,
+    /// Where deadlines are measured: the system's clock, or a simulation's.
+    clock: Option<ClockFn>,
+}
+
+impl<T: std::fmt::Debug> std::fmt::Debug for Client<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Client")
+            .field("io", &self.io)
+            .field("sent", &self.sent)
+            .field("received", &self.received)
+            .field("window", &self.window)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<T: Read + Write> Client<T> {
     /// A client over `io`, whose reads should time out (say after 50 ms) so that the
     /// client can notice its own deadlines.
     pub fn new(io: T) -> Self {
-        Self { io, decoder: Decoder::new(), buf: vec![0; 4096], at: 0, sent: 0, received: 0 }
+        Self {
+            io,
+            decoder: Decoder::new(),
+            buf: vec![0; 4096],
+            at: 0,
+            len: 0,
+            sent: 0,
+            received: 0,
+            window: WINDOW,
+            stale: false,
+            token: 0,
+            clock: None,
+        }
+    }
+
+    /// Measures deadlines with `clock` instead of the system's: for a simulated link
+    /// whose reads advance a simulated time, so that timeouts and resends happen in
+    /// that time (the loss tests run thousands of deployments so, in seconds).
+    #[must_use]
+    pub fn with_clock(mut self, clock: ClockFn) -> Self {
+        self.clock = Some(clock);
+        self
+    }
+
+    fn now(&self) -> Instant {
+        self.clock.as_ref().map_or_else(Instant::now, |c| c())
+    }
+
+    /// Bytes of chunks a deployment sends ahead of the acknowledgement ([`WINDOW`]
+    /// unless set).
+    #[must_use]
+    pub fn window(&self) -> usize {
+        self.window
+    }
+
+    /// Sets [`Client::window`]: [`MAX_CHUNK`] is stop-and-wait, one chunk at a time.
+    pub fn set_window(&mut self, bytes: usize) {
+        self.window = bytes.max(MAX_CHUNK);
     }
 
     /// The byte link.
@@ -203,9 +268,9 @@ impl<T: Read + Write> Client<T> {
     /// [`LinkError::Timeout`] (naming `waiting_for`), [`LinkError::Closed`], or the
     /// link's read error.
     pub fn next(&mut self, deadline: Instant, waiting_for: &'static str) -> Result<Reply<'_>, LinkError> {
-        let started = Instant::now();
+        let started = self.now();
         loop {
-            while self.at < self.buf.len() {
+            while self.at < self.len {
                 let byte = self.buf[self.at];
                 self.at += 1;
                 match self.decoder.feed(byte) {
@@ -218,21 +283,17 @@ impl<T: Read + Write> Client<T> {
                     }
                 }
             }
-            if Instant::now() >= deadline {
+            if self.now() >= deadline {
                 return Err(LinkError::Timeout { waiting_for, after: deadline.saturating_duration_since(started) });
             }
-            self.buf.resize(4096, 0);
+            (self.at, self.len) = (0, 0);
             match self.io.read(&mut self.buf) {
                 Ok(0) => return Err(LinkError::Closed),
                 Ok(n) => {
                     self.received += n as u64;
-                    self.buf.truncate(n);
-                    self.at = 0;
+                    self.len = n.min(self.buf.len());
                 }
-                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {
-                    self.buf.clear();
-                    self.at = 0;
-                }
+                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {}
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
                 Err(e) => return Err(e.into()),
             }
@@ -255,7 +316,7 @@ impl<T: Read + Write> Client<T> {
         watch: &mut dyn FnMut(&Reply<'_>),
         mut pick: impl FnMut(&Reply<'_>) -> Option<R>,
     ) -> Result<R, LinkError> {
-        let deadline = Instant::now() + timeout;
+        let deadline = self.now() + timeout;
         loop {
             let reply = self.next(deadline, waiting_for)?;
             if let Some(r) = pick(&reply) {
@@ -298,57 +359,172 @@ impl<T: Read + Write> Client<T> {
 
     /// Sends a [`Transfer`] as described, faults included, and waits for the verdict.
     ///
+    /// Pipelined: `Deploy` and the chunks go out without waiting for answers, at most
+    /// [`Client::window`] bytes of chunks ahead of the controller's cumulative
+    /// acknowledgement, and `Commit` as soon as the `Deploy` is acknowledged and the
+    /// last chunk sent, so a deployment takes one round trip plus its time on the
+    /// line. A gap (a chunk lost or garbled on the way) is resent from its start once
+    /// the acknowledgements show it, or after [`ANSWER_TIMEOUT`] / 4 without progress; a
+    /// lost `Deploy` or `Commit` is sent again. After [`CHUNK_TRIES`] such timeouts in a
+    /// row the deployment gives up with [`LinkError::Timeout`].
+    ///
     /// # Errors
     /// As [`Client::deploy`].
     pub fn transfer(&mut self, t: &Transfer<'_>, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<Verdict, LinkError> {
-        enum Step {
-            Ack(u32),
-            Refused(Fault),
+        if self.stale {
+            self.resync(watch)?;
         }
-        let ack = |r: &Reply<'_>| match *r {
-            Reply::ChunkAck { received } => Some(Step::Ack(received)),
-            Reply::Rejected { fault } if !matches!(fault, Fault::Superseded { .. }) => Some(Step::Refused(fault)),
-            _ => None,
-        };
-        self.send(&Request::Deploy { len: t.len, crc: t.crc, swap_at: t.swap_at })?;
-        if let Step::Refused(fault) = self.wait("ChunkAck", ANSWER_TIMEOUT, watch, ack)? {
-            return Ok(Verdict::Rejected(fault));
-        }
-        let mut offset = 0usize;
-        let mut tries = 0;
-        let mut index = 0usize;
-        let mut wire = [0u8; MAX_CHUNK];
-        while offset < t.bytes.len() {
-            let end = (offset + MAX_CHUNK).min(t.bytes.len());
-            let chunk = &mut wire[..end - offset];
-            chunk.copy_from_slice(&t.bytes[offset..end]);
-            if let Some(at) = t.flip.filter(|&at| (offset..end).contains(&at)) {
-                chunk[at - offset] ^= 1;
-            }
-            if let Some((_, garbage)) = t.garbage.filter(|&(i, _)| i == index) {
-                self.raw(garbage)?;
-            }
-            self.send(&Request::Chunk { offset: offset as u32, bytes: chunk })?;
-            index += 1;
-            match self.wait("ChunkAck", ANSWER_TIMEOUT / 4, watch, ack) {
-                Ok(Step::Ack(received)) => {
-                    let received = received as usize;
-                    if received > offset {
-                        tries = 0;
-                    }
-                    offset = received.min(t.bytes.len());
-                }
-                Ok(Step::Refused(fault)) => return Ok(Verdict::Rejected(fault)),
-                Err(LinkError::Timeout { .. }) if tries + 1 < CHUNK_TRIES => tries += 1,
+        self.stale = true;
+        let verdict = self.pipelined(t, watch)?;
+        self.stale = false;
+        Ok(verdict)
+    }
+
+    /// Waits for the answer to a fresh `Ping`, dropping everything before it: replies
+    /// to an operation that gave up, which would otherwise be taken for the next one's.
+    fn resync(&mut self, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<(), LinkError> {
+        self.token = self.token.wrapping_add(1) | 0x8000_0000;
+        let token = self.token;
+        for _ in 0..CHUNK_TRIES {
+            self.send(&Request::Ping { token })?;
+            match self.wait("State", ANSWER_TIMEOUT / 4, watch, |r| {
+                matches!(*r, Reply::State { token: t, .. } if t == token).then_some(())
+            }) {
+                Ok(()) => return Ok(()),
+                Err(LinkError::Timeout { .. }) => {}
                 Err(e) => return Err(e),
             }
         }
-        self.send(&Request::Commit)?;
-        self.wait("Accepted or Rejected", ANSWER_TIMEOUT, watch, |r| match *r {
-            Reply::Accepted { crc, nodes, swap_at } => Some(Verdict::Accepted { crc, nodes, swap_at }),
-            Reply::Rejected { fault } if !matches!(fault, Fault::Superseded { .. }) => Some(Verdict::Rejected(fault)),
-            _ => None,
-        })
+        Err(LinkError::Timeout { waiting_for: "State", after: ANSWER_TIMEOUT })
+    }
+
+    fn pipelined(&mut self, t: &Transfer<'_>, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<Verdict, LinkError> {
+        enum Step {
+            Ack(u32),
+            Accepted(Verdict),
+            Incomplete(u32),
+            NoTransfer,
+            Refused(Fault),
+        }
+        let deploy = Request::Deploy { len: t.len, crc: t.crc, swap_at: t.swap_at };
+        let ours = (t.bytes.len() == t.len as usize).then(|| crate::image_crc(t.bytes));
+        let total = t.bytes.len();
+        let patience = ANSWER_TIMEOUT / 4;
+        self.send(&deploy)?;
+        // `opened`: the controller acknowledged our `Deploy` (its `ChunkAck{0}`); acks
+        // and refusals before it belong to an earlier transfer.
+        let (mut opened, mut acked, mut next, mut committed) = (false, 0usize, 0usize, false);
+        let mut rewound_at = None;
+        // A `Commit` sent to learn whether a transfer the controller no longer has
+        // went through.
+        let mut probing = false;
+        let mut index = 0usize;
+        let mut tries = 0;
+        let mut deadline = self.now() + patience;
+        let mut wire = [0u8; MAX_CHUNK];
+        loop {
+            while next < total && next - acked < self.window {
+                let end = (next + MAX_CHUNK).min(total);
+                let chunk = &mut wire[..end - next];
+                chunk.copy_from_slice(&t.bytes[next..end]);
+                if let Some(at) = t.flip.filter(|&at| (next..end).contains(&at)) {
+                    chunk[at - next] ^= 1;
+                }
+                if let Some((_, garbage)) = t.garbage.filter(|&(i, _)| i == index) {
+                    self.raw(garbage)?;
+                }
+                self.send(&Request::Chunk { offset: next as u32, bytes: chunk })?;
+                index += 1;
+                next = end;
+            }
+            // `Commit` only once the controller has our `Deploy`: a commit that reached
+            // it without (our `Deploy` lost, an earlier transfer's ack taken for ours)
+            // could not swap in anything but an image it already holds.
+            if opened && next >= total && !committed {
+                self.send(&Request::Commit)?;
+                committed = true;
+            }
+            let step = match self.next(deadline, "ChunkAck") {
+                Ok(reply) => match reply {
+                    Reply::ChunkAck { received } => Some(Step::Ack(received)),
+                    Reply::Accepted { crc, nodes, swap_at } if ours.is_none_or(|c| c == crc) => {
+                        Some(Step::Accepted(Verdict::Accepted { crc, nodes, swap_at }))
+                    }
+                    Reply::Rejected { fault: Fault::Incomplete { received, .. } } => Some(Step::Incomplete(received)),
+                    Reply::Rejected { fault: Fault::NoTransfer } => Some(Step::NoTransfer),
+                    Reply::Rejected { fault: Fault::Superseded { .. } } => None,
+                    Reply::Rejected { fault } => Some(Step::Refused(fault)),
+                    ref other => {
+                        watch(other);
+                        None
+                    }
+                },
+                Err(LinkError::Timeout { .. }) => {
+                    tries += 1;
+                    if tries >= CHUNK_TRIES {
+                        return Err(LinkError::Timeout { waiting_for: "ChunkAck", after: patience * CHUNK_TRIES });
+                    }
+                    if probing {
+                        // No verdict to the probe: the controller never had our `Deploy`.
+                        self.send(&deploy)?;
+                        (opened, acked, next, committed, rewound_at, probing) = (false, 0, 0, false, None, false);
+                    } else if committed {
+                        // The verdict was lost, or the commit: ask again (a controller
+                        // answers a repeated `Commit` as the first, and says `incomplete`
+                        // if chunks are missing).
+                        self.send(&Request::Commit)?;
+                    } else if opened {
+                        // Resend what is not acknowledged.
+                        next = acked;
+                    } else {
+                        self.send(&deploy)?;
+                    }
+                    deadline = self.now() + patience;
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            match step {
+                None => {}
+                Some(Step::Accepted(verdict)) if opened => return Ok(verdict),
+                Some(Step::Refused(fault)) if opened || matches!(fault, Fault::TooLarge { .. }) => {
+                    return Ok(Verdict::Rejected(fault));
+                }
+                Some(Step::Ack(0)) if !opened => {
+                    opened = true;
+                    deadline = self.now() + patience;
+                }
+                Some(Step::Ack(received)) if opened => {
+                    let received = (received as usize).min(total);
+                    if received > acked {
+                        (acked, tries, rewound_at) = (received, 0, None);
+                        next = next.max(acked);
+                        deadline = self.now() + patience;
+                    } else if received == acked && next > acked && rewound_at != Some(acked) {
+                        // A chunk past a gap: go back to the gap, once per gap.
+                        (next, committed, rewound_at) = (acked, false, Some(acked));
+                    }
+                }
+                Some(Step::Incomplete(received)) if opened => {
+                    let received = (received as usize).min(total);
+                    if received >= total {
+                        // Everything there was to send arrived: the transfer is short.
+                        return Ok(Verdict::Rejected(Fault::Incomplete { received: received as u32, len: t.len }));
+                    }
+                    (acked, next, committed, probing) = (acked.max(received), received, false, false);
+                }
+                Some(Step::NoTransfer) if opened && !probing => {
+                    // The controller has no transfer open: our commit went through and
+                    // its verdict was lost, or our `Deploy` never arrived (the ack taken
+                    // for it was an earlier one's). A repeated `Commit` tells: the
+                    // verdict again, or nothing (then a timeout starts again).
+                    self.send(&Request::Commit)?;
+                    probing = true;
+                    deadline = self.now() + patience;
+                }
+                Some(_) => {}
+            }
+        }
     }
 
     /// Starts ticking; returns the controller's state reply fields `(tick, until)`.

@@ -27,7 +27,7 @@ pub mod frame;
 pub mod host;
 pub mod wire;
 
-pub use controller::{App, Board, Storage, serve};
+pub use controller::{App, Board, Clock, Controller, SERVE_TX, Storage, serve};
 pub use frame::{Decoder, Feed};
 pub use wire::{Fault, FrameFault, ImageInfo, LOAD_CODES, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request, WireStatus};
 
