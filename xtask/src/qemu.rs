@@ -37,6 +37,9 @@ const LINK_FLASH_TARGET: u64 = 32 * 1024;
 const LINK_RAM_TARGET: u64 = 8 * 1024;
 /// The serial rate the link's throughput is measured at.
 const BAUD: u32 = 115_200;
+/// The second board: an RTIC v2 program on QEMU's lm3s6965evb (Cortex-M3).
+const RTIC_PROJECT: &str = "lm3s6965-rtic";
+const RTIC_TARGET: &str = "thumbv7m-none-eabi";
 
 /// Options of `cargo xtask qemu`.
 #[derive(Debug, Clone, Copy)]
@@ -115,58 +118,124 @@ pub fn qemu(opts: Options) -> Result {
     link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)
 }
 
-/// The link controller: the scenario on the host and under QEMU, the traces compared,
-/// its gates, and the link's throughput at 115200 baud.
+/// The link controller on both boards: the scenario on the host and under QEMU, the
+/// traces compared, the gates, and the deployment time at 115200 baud.
 fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Options) -> Result {
     step("link controller: images (planner: A = end of Example 2, blocked path, B = Fig. 3(e) free path)");
     let images = crate::link::images()?;
     step("link controller: scenario on the host build (TCP)");
     let host = crate::link::host(host_bin, &images, opts.timeout)?;
-    step("link controller: scenario under QEMU (UART0 on a TCP socket)");
-    let target = crate::link::qemu(elf, &images, opts.timeout)?;
-    for line in &target.faults {
-        eprintln!("  {line}");
+    step("RTIC board: release build of examples/lm3s6965-rtic for thumbv7m-none-eabi");
+    let rtic_elf = build_rtic()?;
+    let boards = [(crate::link::MPS2, elf.to_path_buf()), (crate::link::LM3S6965, rtic_elf)];
+    let mut figures = Vec::new();
+    for (machine, elf) in &boards {
+        step(&format!("link controller on {}: the scenario under QEMU (UART0 on a TCP socket)", machine.name));
+        let target = crate::link::qemu(*machine, elf, &images, opts.timeout)?;
+        for line in &target.faults {
+            eprintln!("  {line}");
+        }
+        if host.faults.len() != target.faults.len() {
+            return Err(format!("the host saw {} cases, QEMU {}", host.faults.len(), target.faults.len()));
+        }
+        let ticks = compare(&target.trace, &host.trace)?;
+        let swaps = target.trace.lines().filter(|l| l.starts_with("swap ")).count();
+        eprintln!(
+            "link traces identical to the host's ({ticks} ticks, {swaps} swaps); {} fault cases refused or skipped",
+            target.faults.iter().filter(|l| l.contains("refused") || l.contains("skipped")).count()
+        );
+        let (bytes, took) = target.deploy;
+        eprintln!(
+            "deploying B ({bytes} B) while A ticked took {:.1} ms (socket, not rate-limited)",
+            took.as_secs_f64() * 1e3
+        );
+        if target.stack_used == 0 {
+            return Err(format!("the controller on {} did not report its stack use", machine.name));
+        }
+        panic_free(elf)?;
+        eprintln!("no core::panicking symbols");
+        let (flash, ram) = footprint(elf, u64::from(target.stack_used), toolchain, LINK_FLASH_TARGET, LINK_RAM_TARGET)?;
+        let port = crate::link::port()?;
+        let paced = crate::link::timed_deploy(
+            crate::link::qemu_command(*machine, elf, port),
+            port,
+            &images,
+            Some(BAUD),
+            ROUNDS,
+            opts.timeout,
+        )?;
+        let port = crate::link::port()?;
+        let fast = crate::link::timed_deploy(
+            crate::link::qemu_command(*machine, elf, port),
+            port,
+            &images,
+            None,
+            ROUNDS,
+            opts.timeout,
+        )?;
+        figures.push((machine.name, flash, ram, paced, fast));
     }
-    if host.faults.len() != target.faults.len() {
-        return Err(format!("the host saw {} cases, QEMU {}", host.faults.len(), target.faults.len()));
+    step("link controller: the host build over TCP, unpaced (the software's own time)");
+    let port = crate::link::port()?;
+    let own = crate::link::timed_deploy(
+        crate::link::host_command(host_bin, port),
+        port,
+        &images,
+        None,
+        ROUNDS,
+        opts.timeout,
+    )?;
+    step(&format!(
+        "link controller: the cube tree deployed, best of {} (host paced to {BAUD} baud, 10 bits a byte)",
+        ROUNDS / 2
+    ));
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    eprintln!(
+        "{:<32} {:>8} {:>8} {:>12} {:>10} {:>7} {:>10}",
+        "board", "flash", "RAM", "at 115200", "wire time", "ratio", "unpaced"
+    );
+    for (name, flash, ram, paced, fast) in &figures {
+        let wire = paced.wire_time(BAUD);
+        eprintln!(
+            "{name:<32} {flash:>6} B {ram:>6} B {:>9.1} ms {:>7.1} ms {:>6.2}x {:>7.1} ms",
+            ms(paced.took),
+            ms(wire),
+            paced.took.as_secs_f64() / wire.as_secs_f64(),
+            ms(fast.took)
+        );
     }
-    let ticks = compare(&target.trace, &host.trace)?;
-    let swaps = target.trace.lines().filter(|l| l.starts_with("swap ")).count();
     eprintln!(
-        "link traces identical ({ticks} ticks, {swaps} swaps); {} fault cases refused or skipped on both",
-        target.faults.iter().filter(|l| l.contains("refused") || l.contains("skipped")).count()
+        "{:<32} {:>8} {:>8} {:>12} {:>10} {:>7} {:>7.1} ms",
+        "host build (TCP)",
+        "-",
+        "-",
+        "-",
+        "-",
+        "-",
+        ms(own.took)
     );
-    let (bytes, took) = target.deploy;
     eprintln!(
-        "deploying B ({bytes} B) while A ticked took {:.1} ms under QEMU (socket, not rate-limited)",
-        took.as_secs_f64() * 1e3
-    );
-
-    step("link controller: panic freedom and footprint");
-    if target.stack_used == 0 {
-        return Err("the controller did not report its stack use".into());
-    }
-    panic_free(elf)?;
-    eprintln!("no core::panicking symbols in {LINK}");
-    footprint(elf, u64::from(target.stack_used), toolchain, LINK_FLASH_TARGET, LINK_RAM_TARGET)?;
-
-    step(&format!("link controller: the cube tree deployed at {BAUD} baud (host side paced to 10 bits per byte)"));
-    let (image, wire, took) = crate::link::paced_deploy(elf, &images, Some(BAUD), opts.timeout)?;
-    let secs = took.as_secs_f64();
-    eprintln!(
-        "{image} B image, {wire} B on the wire both ways, in {:.1} ms: {:.0} image B/s ({:.0} wire B/s of the line's {} B/s)",
-        secs * 1e3,
-        image as f64 / secs,
-        wire as f64 / secs,
-        BAUD / 10
-    );
-    let (_, _, fast) = crate::link::paced_deploy(elf, &images, None, opts.timeout)?;
-    eprintln!(
-        "the same deployment unpaced (QEMU's socket and UART model alone): {:.1} ms, {:.0} image B/s",
-        fast.as_secs_f64() * 1e3,
-        image as f64 / fast.as_secs_f64()
+        "({} B image, {} B on the wire both ways; wire time: those bytes at {BAUD} baud one after the other)",
+        own.image, own.wire
     );
     Ok(())
+}
+
+/// Deployments timed per board and rate: A and B alternate, A's best counts.
+const ROUNDS: usize = 6;
+
+/// Builds the RTIC program; returns its ELF.
+fn build_rtic() -> Result<PathBuf> {
+    let dir = root().join("examples").join(RTIC_PROJECT);
+    let toolchain = toolchain_for(RTIC_TARGET)?;
+    let target_dir = target_dir().join("lm3s6965");
+    let mut build = crate::cross_cargo(RTIC_TARGET)?;
+    build.arg("--target-dir").arg(&target_dir);
+    if matches!(toolchain, Toolchain::Debian) {
+        build.env("CARGO_TARGET_THUMBV7M_NONE_EABI_LINKER", "arm-none-eabi-ld");
+    }
+    crate::run_in(&dir, &mut build)?;
+    Ok(target_dir.join(RTIC_TARGET).join("release").join(LINK))
 }
 
 /// The ARM binutils and QEMU, with the package that has them.
@@ -371,7 +440,13 @@ fn compiler(toolchain: Toolchain) -> String {
 
 /// Prints flash and RAM against the targets, bt-core's share of the code, and gates
 /// on both targets.
-fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64, ram_target: u64) -> Result {
+fn footprint(
+    elf: &Path,
+    stack_hwm: u64,
+    toolchain: Toolchain,
+    flash_target: u64,
+    ram_target: u64,
+) -> Result<(u64, u64)> {
     let out = Command::new("arm-none-eabi-size").arg(elf).output().map_err(|e| format!("arm-none-eabi-size: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout);
     let nums: Vec<u64> =
@@ -426,7 +501,7 @@ fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64
     if flash > flash_target {
         return Err(format!("flash {flash} B is over the {flash_target} B target"));
     }
-    Ok(())
+    Ok((flash, ram))
 }
 
 fn percent(part: u64, whole: u64) -> f64 {
@@ -502,6 +577,9 @@ fn crate_of(path: &str) -> String {
     }
     if file.contains("/bt-link/src/") {
         return "bt-link".into();
+    }
+    if file.contains("/lm3s6965-rtic/") {
+        return "lm3s6965-rtic".into();
     }
     if file.contains("/firmware-example/") {
         return "firmware-example".into();

@@ -129,6 +129,15 @@ pub fn serve<C, B, A, const NODES: usize, const BYTES: usize, const VALUES: usiz
     }
 }
 
+/// Copies `src` to the start of `dst`, which is at least as long: `copy_from_slice`
+/// without its length check, which links a panic where the compiler cannot see that
+/// the lengths agree.
+fn copy(dst: &mut [u8], src: &[u8]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
 /// Sends everything the controller queued.
 fn flush<C, B, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize, const TX: usize>(
     controller: &mut Controller<'_, C, NODES, BYTES, VALUES, DEPTH, TX>,

@@ -149,7 +149,7 @@ where
         let Some(slot) = self.storage.slots.get_mut(self.run) else { return Err(LoadError::EmptyTree) };
         let result = match slot.bytes.get_mut(..image.len()) {
             Some(buf) => {
-                buf.copy_from_slice(image);
+                super::copy(buf, image);
                 slot.load::<C, DEPTH>(image.len(), catalog)
             }
             None => Err(LoadError::TooManyNodes { count: image.len(), capacity: BYTES }),
@@ -455,7 +455,7 @@ impl Session {
         if offset == received
             && let Some(dst) = spare.bytes.get_mut(offset as usize..end as usize)
         {
-            dst.copy_from_slice(bytes);
+            super::copy(dst, bytes);
             self.incoming = Incoming::Receiving { len, crc, swap_at, received: end };
             return Reply::ChunkAck { received: end };
         }

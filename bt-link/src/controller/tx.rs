@@ -47,7 +47,7 @@ impl<const N: usize> Tx<N> {
     pub(super) fn push_reserving(&mut self, reply: &Reply<'_>, reserve: usize) {
         let mut buf = [0u8; MAX_ENCODED];
         // Every reply fits MAX_ENCODED (a unit test of `frame` holds the largest to it).
-        let Ok(bytes) = frame::encode(reply, &mut buf) else { return };
+        let Ok(bytes) = frame::encode_reply(reply, &mut buf) else { return };
         let n = bytes.len();
         if self.free() < n.saturating_add(reserve) {
             self.lost = self.lost.saturating_add(1);
@@ -67,7 +67,7 @@ impl<const N: usize> Tx<N> {
             self.end = live;
         }
         if let Some(dst) = self.buf.get_mut(self.end..self.end + n) {
-            dst.copy_from_slice(bytes);
+            super::copy(dst, bytes);
             self.end += n;
         } else {
             self.lost = self.lost.saturating_add(1);
