@@ -40,6 +40,8 @@ const BAUD: u32 = 115_200;
 /// The second board: an RTIC v2 program on QEMU's lm3s6965evb (Cortex-M3).
 const RTIC_PROJECT: &str = "lm3s6965-rtic";
 const RTIC_TARGET: &str = "thumbv7m-none-eabi";
+/// Its variant with slots of 16 KiB, for timing a 16 KiB deployment.
+const LINK_16K: &str = "controller-16k";
 
 /// Options of `cargo xtask qemu`.
 #[derive(Debug, Clone, Copy)]
@@ -126,8 +128,9 @@ fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Option
     step("link controller: scenario on the host build (TCP)");
     let host = crate::link::host(host_bin, &images, opts.timeout)?;
     step("RTIC board: release build of examples/lm3s6965-rtic for thumbv7m-none-eabi");
-    let rtic_elf = build_rtic()?;
-    let boards = [(crate::link::MPS2, elf.to_path_buf()), (crate::link::LM3S6965, rtic_elf)];
+    let rtic_dir = build_rtic()?;
+    let boards = [(crate::link::MPS2, elf.to_path_buf()), (crate::link::LM3S6965, rtic_dir.join(LINK))];
+    let cube = (&images.a[..], &images.b[..]);
     let mut figures = Vec::new();
     for (machine, elf) in &boards {
         step(&format!("link controller on {}: the scenario under QEMU (UART0 on a TCP socket)", machine.name));
@@ -155,39 +158,25 @@ fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Option
         panic_free(elf)?;
         eprintln!("no core::panicking symbols");
         let (flash, ram) = footprint(elf, u64::from(target.stack_used), toolchain, LINK_FLASH_TARGET, LINK_RAM_TARGET)?;
-        let port = crate::link::port()?;
-        let paced = crate::link::timed_deploy(
-            crate::link::qemu_command(*machine, elf, port),
-            port,
-            &images,
-            Some(BAUD),
-            ROUNDS,
-            opts.timeout,
-        )?;
-        let port = crate::link::port()?;
-        let fast = crate::link::timed_deploy(
-            crate::link::qemu_command(*machine, elf, port),
-            port,
-            &images,
-            None,
-            ROUNDS,
-            opts.timeout,
-        )?;
+        let paced = timed_on(*machine, elf, cube, Some(BAUD), ROUNDS, opts.timeout)?;
+        let fast = timed_on(*machine, elf, cube, None, ROUNDS, opts.timeout)?;
         figures.push((machine.name, flash, ram, paced, fast));
     }
     step("link controller: the host build over TCP, unpaced (the software's own time)");
     let port = crate::link::port()?;
-    let own = crate::link::timed_deploy(
-        crate::link::host_command(host_bin, port),
-        port,
-        &images,
-        None,
-        ROUNDS,
-        opts.timeout,
-    )?;
+    let own =
+        crate::link::timed_deploy(crate::link::host_command(host_bin, port), port, cube, None, ROUNDS, opts.timeout)?;
     step(&format!(
-        "link controller: the cube tree deployed, best of {} (host paced to {BAUD} baud, 10 bits a byte)",
-        ROUNDS / 2
+        "link controller on {}: a {} B image deployed (the cube tree with a names section), slots of 16 KiB",
+        crate::link::LM3S6965.name,
+        crate::link::LARGE
+    ));
+    let large = (&images.large[..], &images.b[..]);
+    let big = rtic_dir.join(LINK_16K);
+    let large_paced = timed_on(crate::link::LM3S6965, &big, large, Some(BAUD), 1, opts.timeout)?;
+    let large_fast = timed_on(crate::link::LM3S6965, &big, large, None, 1, opts.timeout)?;
+    step(&format!(
+        "link controller: the cube tree deployed, best of {ROUNDS} (host paced to {BAUD} baud, 10 bits a byte)"
     ));
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     eprintln!(
@@ -218,13 +207,37 @@ fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Option
         "({} B image, {} B on the wire both ways; wire time: those bytes at {BAUD} baud one after the other)",
         own.image, own.wire
     );
+    let wire = large_paced.wire_time(BAUD);
+    eprintln!(
+        "{} B image on {}: {:.1} ms at {BAUD} baud, wire time {:.1} ms ({} B both ways), ratio {:.2}x; unpaced {:.1} ms",
+        large_paced.image,
+        crate::link::LM3S6965.name,
+        ms(large_paced.took),
+        ms(wire),
+        large_paced.wire,
+        large_paced.took.as_secs_f64() / wire.as_secs_f64(),
+        ms(large_fast.took)
+    );
     Ok(())
 }
 
-/// Deployments timed per board and rate: A and B alternate, A's best counts.
-const ROUNDS: usize = 6;
+/// Times `pair` ([`crate::link::timed_deploy`]) on a fresh QEMU running `elf`.
+fn timed_on(
+    machine: crate::link::Machine,
+    elf: &Path,
+    pair: (&[u8], &[u8]),
+    baud: Option<u32>,
+    rounds: usize,
+    timeout: Duration,
+) -> Result<crate::link::Timed> {
+    let port = crate::link::port()?;
+    crate::link::timed_deploy(crate::link::qemu_command(machine, elf, port), port, pair, baud, rounds, timeout)
+}
 
-/// Builds the RTIC program; returns its ELF.
+/// Deployments of the cube tree timed per board and rate (with B between them).
+const ROUNDS: usize = 3;
+
+/// Builds the RTIC programs; returns the folder of their ELFs.
 fn build_rtic() -> Result<PathBuf> {
     let dir = root().join("examples").join(RTIC_PROJECT);
     let toolchain = toolchain_for(RTIC_TARGET)?;
@@ -235,7 +248,7 @@ fn build_rtic() -> Result<PathBuf> {
         build.env("CARGO_TARGET_THUMBV7M_NONE_EABI_LINKER", "arm-none-eabi-ld");
     }
     crate::run_in(&dir, &mut build)?;
-    Ok(target_dir.join(RTIC_TARGET).join("release").join(LINK))
+    Ok(target_dir.join(RTIC_TARGET).join("release"))
 }
 
 /// The ARM binutils and QEMU, with the package that has them.

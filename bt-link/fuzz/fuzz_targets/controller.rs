@@ -4,29 +4,13 @@
 //! be a frame the host decodes.
 #![no_main]
 
-use bt_core::{BehaviorInfo, BehaviorSet, Context, Leaf, Node, NodeId, Status, fingerprint};
+#[path = "common.rs"]
+mod common;
+
 use bt_link::frame::{self, Decoder, Feed};
-use bt_link::{App, Clock, Controller, Reply, Request, Storage};
+use bt_link::{Clock, Controller, Reply, Request, Storage};
+use common::{SET, World, boot, framed};
 use libfuzzer_sys::fuzz_target;
-
-const SET: [BehaviorInfo<'static>; 3] =
-    [BehaviorInfo::condition("c?", 0), BehaviorInfo::condition("d?", 1), BehaviorInfo::action("a!", 1)];
-
-struct World(u8);
-
-impl BehaviorSet for World {
-    fn condition(&mut self, _: &Leaf, _: Context<'_>) -> Status {
-        self.0 = self.0.wrapping_mul(31).wrapping_add(7);
-        if self.0 & 1 == 0 { Status::Success } else { Status::Failure }
-    }
-    fn action(&mut self, _: &Leaf, _: Context<'_>) -> Status {
-        self.0 = self.0.wrapping_mul(31).wrapping_add(7);
-        [Status::Success, Status::Failure, Status::Running][usize::from(self.0 % 3)]
-    }
-    fn halt(&mut self, _: &Leaf, _: NodeId) {}
-}
-
-impl App for World {}
 
 struct Time(u32);
 
@@ -36,41 +20,10 @@ impl Clock for Time {
     }
 }
 
-/// Pieces of input sealed as valid frames (so that requests get past the CRC), as in
-/// the `serve` target.
-fn framed(data: &[u8]) -> Vec<u8> {
-    let mut out = Vec::new();
-    let mut buf = [0u8; frame::MAX_ENCODED];
-    if let Ok(f) = frame::encode(&Request::Start { until: None, period_ms: 1 }, &mut buf) {
-        out.extend_from_slice(f);
-    }
-    let mut rest = data;
-    while let Some((&n, tail)) = rest.split_first() {
-        let n = usize::from(n % 80).min(tail.len());
-        let (body, tail) = tail.split_at(n);
-        let mut raw = body.to_vec();
-        raw.extend_from_slice(&frame::crc32(body).to_le_bytes());
-        let mut enc = vec![0u8; raw.len() + raw.len() / 254 + 2];
-        let len = cobs::encode(&raw, &mut enc);
-        out.extend_from_slice(&enc[..len]);
-        out.push(0);
-        rest = tail;
-    }
-    out
-}
-
 fuzz_target!(|data: &[u8]| {
     let Some((&mode, data)) = data.split_first() else { return };
-    let boot = {
-        let mut nodes = [Node::EMPTY; 3];
-        let mut b = bt_core::Builder::<4>::new(&mut nodes);
-        let _ = b.sequence().and_then(|b| b.condition(0, &[])).and_then(|b| b.action(2, &[1])).and_then(|b| b.end());
-        let nodes = b.finish().expect("a valid tree");
-        let mut img = [0u8; 64];
-        let n = bt_core::encode(nodes, fingerprint(&SET), &mut img).expect("fits");
-        img[..n].to_vec()
-    };
-    let input = if mode & 1 == 1 { framed(data) } else { data.to_vec() };
+    let boot = boot();
+    let input = if mode & 1 == 1 { framed(&Request::Start { until: None, period_ms: 1 }, data) } else { data.to_vec() };
     let mut storage = Storage::<24, 256, 16>::new();
     // A small transmit queue, so that it fills and status frames are dropped.
     let mut controller = Controller::<_, 24, 256, 16, 8, 160>::new(&mut storage, &SET);

@@ -80,13 +80,14 @@ pub trait App: BehaviorSet {
 }
 
 /// The transmit queue of [`serve`], in bytes.
-pub const SERVE_TX: usize = 512;
+pub const SERVE_TX: usize = 384;
 
 /// Runs a [`Controller`] over a polled [`Board`]: boots `boot` (if any), then feeds it
 /// every byte the board has, sends what it queues, and polls it for ticks, until
 /// [`Board::closed`]. Ticking starts on the host's `Start`. The transmit queue holds
 /// [`SERVE_TX`] bytes, which [`Board::write`] empties after every step: one tick's
-/// status changes must fit (36 of them).
+/// status changes must fit (26 of them; more are dropped and counted in a `Lost`
+/// reply).
 ///
 /// # The tree's clock
 ///
