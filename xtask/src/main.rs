@@ -25,6 +25,7 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod boards;
 mod link;
 mod qemu;
 mod setup;

@@ -25,8 +25,9 @@ fuzz_target!(|data: &[u8]| {
     let boot = boot();
     let input = if mode & 1 == 1 { framed(&Request::Start { until: None, period_ms: 1 }, data) } else { data.to_vec() };
     let mut storage = Storage::<24, 256, 16>::new();
-    // A small transmit queue, so that it fills and status frames are dropped.
-    let mut controller = Controller::<_, 24, 256, 16, 8, 160>::new(&mut storage, &SET);
+    // A small transmit queue, so that it fills, input waits and status frames are
+    // dropped.
+    let mut controller = Controller::<_, 24, 256, 16, 8, { bt_link::controller::MIN_TX + 40 }>::new(&mut storage, &SET);
     let mut world = World(mode);
     let _ = controller.boot(&boot, &mut world);
     let mut time = Time(0);

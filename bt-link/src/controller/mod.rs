@@ -22,7 +22,7 @@ mod session;
 mod storage;
 mod tx;
 
-pub use self::session::Controller;
+pub use self::session::{Controller, MIN_TX};
 pub use self::storage::{Slot, Storage};
 
 /// The controller's clock and memory probe: what [`Controller::poll`] and the answers

@@ -15,6 +15,10 @@ use crate::wire::{Fault, ImageInfo, PROTOCOL_VERSION, Reply, Request, WireStatus
 /// replies one request can cause (a `Deploy` answers with up to two frames).
 const INPUT_RESERVE: usize = 2 * MAX_ENCODED;
 
+/// The smallest transmit queue a [`Controller`] takes (a smaller `TX` does not
+/// compile): room for the answers to one request, or it would never take a byte.
+pub const MIN_TX: usize = INPUT_RESERVE;
+
 /// The controller's side of the link, without I/O.
 ///
 /// It owns the session (the transfer under way, the tick count, the schedule) and
@@ -34,7 +38,8 @@ const INPUT_RESERVE: usize = 2 * MAX_ENCODED;
 /// reply before the tick's `Tick` says how many. Ticks keep their schedule whatever the
 /// line carries: a line too slow for the status stream loses status frames, never
 /// ticks. Size `TX` for one tick's changes and the answers of a window of chunks, with
-/// what the line has not yet sent: 256 bytes hold 18 frames, 512 bytes 36.
+/// what the line has not yet sent: 256 bytes hold 18 frames, 512 bytes 36. At least
+/// [`MIN_TX`].
 ///
 /// Never panics and never allocates, whatever bytes arrive.
 #[derive(Debug)]
@@ -123,6 +128,7 @@ where
     /// A controller over `storage`, for trees of `catalog`'s behavior set; without a
     /// tree until [`boot`](Self::boot) or a deployment brings one.
     pub fn new(storage: &'a mut Storage<NODES, BYTES, VALUES>, catalog: &'a C) -> Self {
+        const { assert!(TX >= MIN_TX, "the transmit queue TX must hold at least MIN_TX bytes") };
         let fingerprint = catalog.fingerprint();
         Self {
             storage,
