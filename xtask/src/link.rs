@@ -123,6 +123,7 @@ enum Seen {
     Tick(u32),
     Swapped { tick: u32, crc: u32, halted: u16 },
     Garbled(FrameFault),
+    Lost(u16),
 }
 
 fn record(log: &mut Vec<Seen>, r: &Reply<'_>) {
@@ -131,6 +132,7 @@ fn record(log: &mut Vec<Seen>, r: &Reply<'_>) {
         Reply::Tick { tick, .. } => log.push(Seen::Tick(tick)),
         Reply::Swapped { tick, image, halted } => log.push(Seen::Swapped { tick, crc: image.crc, halted }),
         Reply::Garbled { fault } => log.push(Seen::Garbled(fault)),
+        Reply::Lost { frames, .. } => log.push(Seen::Lost(frames)),
         _ => {}
     }
 }
@@ -324,6 +326,10 @@ fn drive(stream: TcpStream, img: &Images, report: &mut Vec<String>) -> Result<(u
     let ticks: Vec<u32> = log.iter().filter_map(|s| if let Seen::Tick(t) = s { Some(*t) } else { None }).collect();
     if ticks != (0..END).collect::<Vec<_>>() {
         return Err(format!("ticks reported: {} (expected 0..{END} once each, in order)", ticks.len()));
+    }
+    let lost: u32 = log.iter().map(|s| if let Seen::Lost(n) = s { u32::from(*n) } else { 0 }).sum();
+    if lost > 0 {
+        return Err(format!("the controller dropped {lost} status frames: its transmit queue is too small"));
     }
     report.push(format!("stop at tick {}: {} halted", stopped.tick, halted_actions(stopped.halted as usize)));
     let _ = link.io().shutdown(Shutdown::Both);

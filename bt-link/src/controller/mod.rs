@@ -86,7 +86,7 @@ pub const SERVE_TX: usize = 384;
 /// every byte the board has, sends what it queues, and polls it for ticks, until
 /// [`Board::closed`]. Ticking starts on the host's `Start`. The transmit queue holds
 /// [`SERVE_TX`] bytes, which [`Board::write`] empties after every step: one tick's
-/// status changes must fit (26 of them; more are dropped and counted in a `Lost`
+/// status changes must fit (20 of them; more are dropped and counted in a `Lost`
 /// reply).
 ///
 /// # The tree's clock

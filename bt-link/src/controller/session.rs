@@ -38,8 +38,9 @@ pub const MIN_TX: usize = INPUT_RESERVE;
 /// reply before the tick's `Tick` says how many. Ticks keep their schedule whatever the
 /// line carries: a line too slow for the status stream loses status frames, never
 /// ticks. Size `TX` for one tick's changes and the answers of a window of chunks, with
-/// what the line has not yet sent: 256 bytes hold 18 frames, 512 bytes 36. At least
-/// [`MIN_TX`].
+/// what the line has not yet sent: status frames are queued while they leave room for
+/// the largest reply (98 bytes), so an empty queue of 256 bytes takes 11 of them, 512
+/// bytes 29. At least [`MIN_TX`].
 ///
 /// Never panics and never allocates, whatever bytes arrive.
 #[derive(Debug)]
