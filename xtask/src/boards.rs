@@ -144,7 +144,9 @@ const ROUNDS: usize = 3;
 fn build_rtic() -> Result<PathBuf> {
     let dir = root().join("examples").join(RTIC_PROJECT);
     let toolchain = toolchain_for(RTIC_TARGET)?;
-    let target_dir = target_dir().join("lm3s6965");
+    // The firmware's target dir: the build scripts' host dependencies (the planner) are
+    // built once for both projects.
+    let target_dir = target_dir().join("firmware");
     let mut build = crate::cross_cargo(RTIC_TARGET)?;
     build.arg("--target-dir").arg(&target_dir);
     if matches!(toolchain, Toolchain::Debian) {
