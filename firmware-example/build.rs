@@ -45,7 +45,11 @@ fn run() -> Result<(), String> {
     *byte ^= 1;
     write(&out.join("tree-corrupt.img"), &corrupt)?;
 
-    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("none") {
+    // The mps2-an386 programs' memory map; a board project that uses this crate for the
+    // plant (without the feature) brings its own.
+    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("none")
+        && std::env::var_os("CARGO_FEATURE_MPS2_AN386").is_some()
+    {
         let memory = std::fs::read("memory.x").map_err(|e| format!("memory.x: {e}"))?;
         write(&out.join("memory.x"), &memory)?;
         // cortex-m-rt's `device` feature includes device.x for the interrupt handlers'

@@ -70,7 +70,7 @@ pub use behavior::{BehaviorSet, Context, Observer, Selection, TickError};
 pub use builder::Builder;
 pub use catalog::{Behavior, BehaviorInfo, Catalog, fingerprint, fingerprint_with_ports};
 pub use error::{ArgumentFault, BuildError, EncodeError, LoadError};
-pub use exec::{Executor, NodeState, StateTooSmall};
+pub use exec::{Carry, Executor, NodeState, StateTooSmall};
 pub use image::{encode, encode_with, load, load_with, load_with_ports};
 pub use node::{Arity, BehaviorId, Code, Leaf, LeafError, LeafKind, MAX_ARGS, Node, NodeId, NodeKind, Span};
 pub use port::{Port, PortDirection, PortInfo, PortTable, PortType, PortValue};

@@ -7,7 +7,7 @@
 
 use serde::Serialize;
 
-use crate::wire::FrameFault;
+use crate::wire::{FrameFault, Reply};
 
 /// Bytes of the CRC-32 at the end of every decoded frame.
 pub const CRC_LEN: usize = 4;
@@ -37,6 +37,23 @@ pub fn crc32(bytes: &[u8]) -> u32 {
 pub fn encode<'b, T: Serialize + ?Sized>(msg: &T, out: &'b mut [u8]) -> Result<&'b mut [u8], FrameFault> {
     let mut raw = [0u8; MAX_FRAME];
     let body = postcard::to_slice(msg, &mut raw).map_err(|_| FrameFault::TooLong)?.len();
+    seal(&mut raw, body, out)
+}
+
+/// [`encode`] for the controller's replies, encoded without serde (`reply.rs` says
+/// why); the same bytes.
+///
+/// # Errors
+/// As [`encode`].
+pub fn encode_reply<'b>(reply: &Reply<'_>, out: &'b mut [u8]) -> Result<&'b mut [u8], FrameFault> {
+    let mut raw = [0u8; MAX_FRAME];
+    let body = crate::reply::encode(reply, &mut raw).ok_or(FrameFault::TooLong)?;
+    seal(&mut raw, body, out)
+}
+
+/// Appends the CRC of `raw`'s first `body` bytes, COBS-encodes them into `out` and
+/// ends the frame.
+fn seal<'b>(raw: &mut [u8; MAX_FRAME], body: usize, out: &'b mut [u8]) -> Result<&'b mut [u8], FrameFault> {
     let crc = crc32(raw.get(..body).unwrap_or(&[])).to_le_bytes();
     raw.get_mut(body..body + CRC_LEN).ok_or(FrameFault::TooLong)?.copy_from_slice(&crc);
     let decoded = raw.get(..body + CRC_LEN).ok_or(FrameFault::TooLong)?;

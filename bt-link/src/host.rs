@@ -20,6 +20,11 @@
 use std::io::{self, Read, Write};
 use std::time::{Duration, Instant};
 
+mod paced;
+mod transfer;
+
+pub use paced::Paced;
+
 use crate::frame::{self, Decoder, Feed, MAX_ENCODED, MAX_FRAME, crc32};
 use crate::wire::{Fault, FrameFault, ImageInfo, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request};
 
@@ -143,28 +148,93 @@ impl<'a> Transfer<'a> {
 
 /// How long to wait for the controller to answer one request.
 pub const ANSWER_TIMEOUT: Duration = Duration::from_secs(2);
-/// How often a chunk is sent before the deployment gives up.
-pub const CHUNK_TRIES: u32 = 4;
+/// How many times in a row a deployment waits [`ANSWER_TIMEOUT`] / 4 without progress
+/// before it gives up.
+pub const CHUNK_TRIES: u32 = 8;
+/// Bytes of chunks a deployment sends ahead of the controller's acknowledgement: four
+/// chunks. A controller's receive queue should hold them (with their framing, about 320
+/// bytes); [`Client::set_window`] changes it.
+pub const WINDOW: usize = 4 * MAX_CHUNK;
+
+/// The time a [`Client`] measures its deadlines with.
+pub type ClockFn = Box<dyn Fn() -> Instant + Send>;
 
 /// A blocking client: one request, then its answer; every other reply that arrives
 /// meanwhile (status changes, tick statistics) goes to the caller's `watch`.
-#[derive(Debug)]
 pub struct Client<T> {
     io: T,
     decoder: Decoder<MAX_FRAME>,
+    /// Bytes read and not yet decoded: `buf[at..len]`.
     buf: Vec<u8>,
     at: usize,
+    len: usize,
     /// Bytes written and read, for throughput figures.
     pub sent: u64,
     /// Bytes read.
     pub received: u64,
+    /// Bytes of chunks sent ahead of the acknowledgement.
+    window: usize,
+    /// An operation gave up: replies to it may still arrive.
+    stale: bool,
+    /// The last token of a resynchronizing `Ping`.
+    token: u32,
+    /// Where deadlines are measured: the system's clock, or a simulation's.
+    clock: Option<ClockFn>,
+}
+
+impl<T: std::fmt::Debug> std::fmt::Debug for Client<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Client")
+            .field("io", &self.io)
+            .field("sent", &self.sent)
+            .field("received", &self.received)
+            .field("window", &self.window)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<T: Read + Write> Client<T> {
     /// A client over `io`, whose reads should time out (say after 50 ms) so that the
     /// client can notice its own deadlines.
     pub fn new(io: T) -> Self {
-        Self { io, decoder: Decoder::new(), buf: vec![0; 4096], at: 0, sent: 0, received: 0 }
+        Self {
+            io,
+            decoder: Decoder::new(),
+            buf: vec![0; 4096],
+            at: 0,
+            len: 0,
+            sent: 0,
+            received: 0,
+            window: WINDOW,
+            stale: false,
+            token: 0,
+            clock: None,
+        }
+    }
+
+    /// Measures deadlines with `clock` instead of the system's: for a simulated link
+    /// whose reads advance a simulated time, so that timeouts and resends happen in
+    /// that time (the loss tests run thousands of deployments so, in seconds).
+    #[must_use]
+    pub fn with_clock(mut self, clock: ClockFn) -> Self {
+        self.clock = Some(clock);
+        self
+    }
+
+    fn now(&self) -> Instant {
+        self.clock.as_ref().map_or_else(Instant::now, |c| c())
+    }
+
+    /// Bytes of chunks a deployment sends ahead of the acknowledgement ([`WINDOW`]
+    /// unless set).
+    #[must_use]
+    pub fn window(&self) -> usize {
+        self.window
+    }
+
+    /// Sets [`Client::window`]: [`MAX_CHUNK`] is stop-and-wait, one chunk at a time.
+    pub fn set_window(&mut self, bytes: usize) {
+        self.window = bytes.max(MAX_CHUNK);
     }
 
     /// The byte link.
@@ -203,9 +273,9 @@ impl<T: Read + Write> Client<T> {
     /// [`LinkError::Timeout`] (naming `waiting_for`), [`LinkError::Closed`], or the
     /// link's read error.
     pub fn next(&mut self, deadline: Instant, waiting_for: &'static str) -> Result<Reply<'_>, LinkError> {
-        let started = Instant::now();
+        let started = self.now();
         loop {
-            while self.at < self.buf.len() {
+            while self.at < self.len {
                 let byte = self.buf[self.at];
                 self.at += 1;
                 match self.decoder.feed(byte) {
@@ -218,21 +288,17 @@ impl<T: Read + Write> Client<T> {
                     }
                 }
             }
-            if Instant::now() >= deadline {
+            if self.now() >= deadline {
                 return Err(LinkError::Timeout { waiting_for, after: deadline.saturating_duration_since(started) });
             }
-            self.buf.resize(4096, 0);
+            (self.at, self.len) = (0, 0);
             match self.io.read(&mut self.buf) {
                 Ok(0) => return Err(LinkError::Closed),
                 Ok(n) => {
                     self.received += n as u64;
-                    self.buf.truncate(n);
-                    self.at = 0;
+                    self.len = n.min(self.buf.len());
                 }
-                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {
-                    self.buf.clear();
-                    self.at = 0;
-                }
+                Err(e) if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {}
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
                 Err(e) => return Err(e.into()),
             }
@@ -255,7 +321,7 @@ impl<T: Read + Write> Client<T> {
         watch: &mut dyn FnMut(&Reply<'_>),
         mut pick: impl FnMut(&Reply<'_>) -> Option<R>,
     ) -> Result<R, LinkError> {
-        let deadline = Instant::now() + timeout;
+        let deadline = self.now() + timeout;
         loop {
             let reply = self.next(deadline, waiting_for)?;
             if let Some(r) = pick(&reply) {
@@ -298,57 +364,43 @@ impl<T: Read + Write> Client<T> {
 
     /// Sends a [`Transfer`] as described, faults included, and waits for the verdict.
     ///
+    /// Pipelined: `Deploy` and the chunks go out without waiting for answers, at most
+    /// [`Client::window`] bytes of chunks ahead of the controller's cumulative
+    /// acknowledgement, and `Commit` as soon as the `Deploy` is acknowledged and the
+    /// last chunk sent, so a deployment takes one round trip plus its time on the
+    /// line. A gap (a chunk lost or garbled on the way) is resent from its start once
+    /// the acknowledgements show it, or after [`ANSWER_TIMEOUT`] / 4 without progress; a
+    /// lost `Deploy` or `Commit` is sent again. After [`CHUNK_TRIES`] such timeouts in a
+    /// row the deployment gives up with [`LinkError::Timeout`].
+    ///
     /// # Errors
     /// As [`Client::deploy`].
     pub fn transfer(&mut self, t: &Transfer<'_>, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<Verdict, LinkError> {
-        enum Step {
-            Ack(u32),
-            Refused(Fault),
+        if self.stale {
+            self.resync(watch)?;
         }
-        let ack = |r: &Reply<'_>| match *r {
-            Reply::ChunkAck { received } => Some(Step::Ack(received)),
-            Reply::Rejected { fault } if !matches!(fault, Fault::Superseded { .. }) => Some(Step::Refused(fault)),
-            _ => None,
-        };
-        self.send(&Request::Deploy { len: t.len, crc: t.crc, swap_at: t.swap_at })?;
-        if let Step::Refused(fault) = self.wait("ChunkAck", ANSWER_TIMEOUT, watch, ack)? {
-            return Ok(Verdict::Rejected(fault));
-        }
-        let mut offset = 0usize;
-        let mut tries = 0;
-        let mut index = 0usize;
-        let mut wire = [0u8; MAX_CHUNK];
-        while offset < t.bytes.len() {
-            let end = (offset + MAX_CHUNK).min(t.bytes.len());
-            let chunk = &mut wire[..end - offset];
-            chunk.copy_from_slice(&t.bytes[offset..end]);
-            if let Some(at) = t.flip.filter(|&at| (offset..end).contains(&at)) {
-                chunk[at - offset] ^= 1;
-            }
-            if let Some((_, garbage)) = t.garbage.filter(|&(i, _)| i == index) {
-                self.raw(garbage)?;
-            }
-            self.send(&Request::Chunk { offset: offset as u32, bytes: chunk })?;
-            index += 1;
-            match self.wait("ChunkAck", ANSWER_TIMEOUT / 4, watch, ack) {
-                Ok(Step::Ack(received)) => {
-                    let received = received as usize;
-                    if received > offset {
-                        tries = 0;
-                    }
-                    offset = received.min(t.bytes.len());
-                }
-                Ok(Step::Refused(fault)) => return Ok(Verdict::Rejected(fault)),
-                Err(LinkError::Timeout { .. }) if tries + 1 < CHUNK_TRIES => tries += 1,
+        self.stale = true;
+        let verdict = self.pipelined(t, watch)?;
+        self.stale = false;
+        Ok(verdict)
+    }
+
+    /// Waits for the answer to a fresh `Ping`, dropping everything before it: replies
+    /// to an operation that gave up, which would otherwise be taken for the next one's.
+    fn resync(&mut self, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<(), LinkError> {
+        self.token = self.token.wrapping_add(1) | 0x8000_0000;
+        let token = self.token;
+        for _ in 0..CHUNK_TRIES {
+            self.send(&Request::Ping { token })?;
+            match self.wait("State", ANSWER_TIMEOUT / 4, watch, |r| {
+                matches!(*r, Reply::State { token: t, .. } if t == token).then_some(())
+            }) {
+                Ok(()) => return Ok(()),
+                Err(LinkError::Timeout { .. }) => {}
                 Err(e) => return Err(e),
             }
         }
-        self.send(&Request::Commit)?;
-        self.wait("Accepted or Rejected", ANSWER_TIMEOUT, watch, |r| match *r {
-            Reply::Accepted { crc, nodes, swap_at } => Some(Verdict::Accepted { crc, nodes, swap_at }),
-            Reply::Rejected { fault } if !matches!(fault, Fault::Superseded { .. }) => Some(Verdict::Rejected(fault)),
-            _ => None,
-        })
+        Err(LinkError::Timeout { waiting_for: "State", after: ANSWER_TIMEOUT })
     }
 
     /// Starts ticking; returns the controller's state reply fields `(tick, until)`.
@@ -439,59 +491,4 @@ pub struct State {
     pub halted: u16,
     /// Stack bytes used since boot (0: unknown).
     pub stack_used: u32,
-}
-
-/// A byte link paced to a serial line's rate: writes and reads no faster than `baud`
-/// bits per second, 10 bits per byte (8N1). Wraps a faster link (QEMU's socket) to
-/// measure what a real line would sustain.
-#[derive(Debug)]
-pub struct Paced<T> {
-    inner: T,
-    byte_time: Duration,
-    write_free: Instant,
-    read_free: Instant,
-}
-
-impl<T> Paced<T> {
-    /// Paces `inner` at `baud`.
-    pub fn new(inner: T, baud: u32) -> Self {
-        let now = Instant::now();
-        Self {
-            inner,
-            byte_time: Duration::from_nanos(10_000_000_000 / u64::from(baud.max(1))),
-            write_free: now,
-            read_free: now,
-        }
-    }
-
-    fn pace(free: &mut Instant, byte_time: Duration, n: usize) {
-        let now = Instant::now();
-        let start = (*free).max(now);
-        *free = start + byte_time * n as u32;
-        if *free > now {
-            std::thread::sleep(*free - now);
-        }
-    }
-}
-
-impl<T: Read> Read for Paced<T> {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        // One byte at a time, as a UART delivers them.
-        let Some(first) = buf.first_mut() else { return Ok(0) };
-        let n = self.inner.read(std::slice::from_mut(first))?;
-        Self::pace(&mut self.read_free, self.byte_time, n);
-        Ok(n)
-    }
-}
-
-impl<T: Write> Write for Paced<T> {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let n = self.inner.write(buf)?;
-        Self::pace(&mut self.write_free, self.byte_time, n);
-        Ok(n)
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        self.inner.flush()
-    }
 }

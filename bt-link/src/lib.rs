@@ -4,8 +4,11 @@
 //!
 //! - [`wire`]: the messages both ways ([`Request`], [`Reply`]), postcard-encoded;
 //! - [`frame`]: COBS framing with a CRC-32 per frame, and a streaming [`Decoder`];
-//! - [`controller`]: `#![no_std]`, no allocation, no panics: [`serve`] runs a controller
-//!   over any [`Board`] (a byte link and a clock) from fixed [`Storage`];
+//! - [`controller`]: `#![no_std]`, no allocation, no panics: the [`Controller`], fed
+//!   with received bytes and the time, ticks and swaps trees in fixed [`Storage`] and
+//!   hands out the bytes to send; [`serve`] is a blocking loop over it for a polled
+//!   [`Board`], and `io` (features `embedded-io`, `embedded-io-async`) runs it over a
+//!   HAL's UART, blocking or as an async task;
 //! - `host` (feature `std`): a blocking [`Client`](host::Client) over any
 //!   `Read + Write` (a serial port, a TCP socket to QEMU).
 //!
@@ -25,9 +28,12 @@ pub mod controller;
 pub mod frame;
 #[cfg(feature = "std")]
 pub mod host;
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+pub mod io;
+mod reply;
 pub mod wire;
 
-pub use controller::{App, Board, Storage, serve};
+pub use controller::{App, Board, Clock, Controller, SERVE_TX, Storage, serve};
 pub use frame::{Decoder, Feed};
 pub use wire::{Fault, FrameFault, ImageInfo, LOAD_CODES, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request, WireStatus};
 

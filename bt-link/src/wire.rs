@@ -6,7 +6,7 @@ use bt_core::{LoadError, NodeStatus, Status};
 use serde::{Deserialize, Serialize};
 
 /// The protocol version both ends announce in `Hello`.
-pub const PROTOCOL_VERSION: u16 = 1;
+pub const PROTOCOL_VERSION: u16 = 2;
 
 /// Most image bytes one `Chunk` (host to controller) or `Image` (controller to host)
 /// frame carries.
@@ -186,6 +186,16 @@ pub enum Reply<'a> {
     Garbled {
         /// Why.
         fault: FrameFault,
+    },
+    /// Replies the controller dropped because its transmit queue was full (status
+    /// changes, mostly), since the last `Lost`; sent before the `Tick` of tick `tick`.
+    Lost {
+        /// The tick during or before which they were dropped.
+        #[serde(with = "postcard::fixint::le")]
+        tick: u32,
+        /// How many frames.
+        #[serde(with = "postcard::fixint::le")]
+        frames: u16,
     },
 }
 

@@ -18,7 +18,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing))]
 
-#[cfg(target_os = "none")]
+#[cfg(all(target_os = "none", feature = "mps2-an386"))]
 pub mod board;
 pub mod catalog;
 pub mod control;

@@ -27,7 +27,6 @@ use bt_link::{App, Board, ImageInfo, Storage};
 
 use crate::catalog::BEHAVIORS;
 use crate::control::{Line, MAX_NODES, Ran, Sink};
-use crate::plant::Plant;
 use crate::script::{self, Event};
 
 /// Deepest tree the controller accepts.
@@ -42,16 +41,18 @@ pub const VALUES: usize = 32;
 /// The controller's two image slots and the running tree's state.
 pub type LinkStorage = Storage<MAX_NODES, IMAGE_BYTES, VALUES>;
 
-/// The plant, the trace, and the record of one tick's leaves and halts.
-struct Controller<'s, S> {
-    plant: Plant,
+/// The plant, the trace, and the record of one tick's leaves and halts: the
+/// [`App`] a link controller runs, on this board or another.
+#[derive(Debug)]
+pub struct Plant<'s, S> {
+    plant: crate::plant::Plant,
     sink: &'s mut S,
     ran: heapless::Vec<Ran, MAX_NODES>,
     halted: heapless::Vec<NodeId, MAX_NODES>,
     line: Line,
 }
 
-impl<S: Sink> BehaviorSet for Controller<'_, S> {
+impl<S: Sink> BehaviorSet for Plant<'_, S> {
     fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
         let status = self.plant.condition(leaf, ctx);
         let _ = self.ran.push(Ran { node: ctx.node, status });
@@ -70,7 +71,7 @@ impl<S: Sink> BehaviorSet for Controller<'_, S> {
     }
 }
 
-impl<S: Sink> App for Controller<'_, S> {
+impl<S: Sink> App for Plant<'_, S> {
     fn booted(&mut self, result: Result<(ImageInfo, &[Node]), LoadError>) {
         let line = &mut self.line;
         match result {
@@ -150,15 +151,22 @@ fn image_fields(line: &mut Line, image: ImageInfo) {
     line.text(" crc=").hex(u64::from(image.crc), 8);
 }
 
+impl<'s, S: Sink> Plant<'s, S> {
+    /// The plant at its start, tracing to `sink`.
+    pub fn new(sink: &'s mut S) -> Self {
+        Self {
+            plant: crate::plant::Plant::new(),
+            sink,
+            ran: heapless::Vec::new(),
+            halted: heapless::Vec::new(),
+            line: Line::new(),
+        }
+    }
+}
+
 /// Runs the controller on `board` with `boot` as the first tree, tracing to `sink`,
 /// until the board closes (never, on the controller).
 pub fn serve<B: Board, S: Sink>(storage: &mut LinkStorage, boot: &[u8], board: &mut B, sink: &mut S) {
-    let mut app = Controller {
-        plant: Plant::new(),
-        sink,
-        ran: heapless::Vec::new(),
-        halted: heapless::Vec::new(),
-        line: Line::new(),
-    };
+    let mut app = Plant::new(sink);
     bt_link::serve::<_, _, _, MAX_NODES, IMAGE_BYTES, VALUES, DEPTH>(storage, &BEHAVIORS, Some(boot), board, &mut app);
 }

@@ -11,11 +11,13 @@ use crate::control::{self, Line, Outcome, Sink};
 /// cortex-m-rt's default handler: the firmware uses none. Declared here (cortex-m-rt's
 /// `device` feature) instead of cortex-m-rt's generic 240-entry table, saving 832 bytes
 /// of flash.
+#[cfg(feature = "mps2-an386")]
 #[allow(unsafe_code)]
 #[unsafe(link_section = ".vector_table.interrupts")]
 #[unsafe(no_mangle)]
 static __INTERRUPTS: [unsafe extern "C" fn(); 32] = [DefaultHandler; 32];
 
+#[cfg(feature = "mps2-an386")]
 #[allow(unsafe_code)]
 unsafe extern "C" {
     /// cortex-m-rt's handler for unused vectors (an endless loop).
@@ -23,11 +25,17 @@ unsafe extern "C" {
 }
 
 /// Trace lines to the debugger's stdout (QEMU: the terminal).
-pub(crate) struct Semihosting(Option<HostStream>);
+pub struct Semihosting(Option<HostStream>);
+
+impl core::fmt::Debug for Semihosting {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(if self.0.is_some() { "Semihosting(stdout)" } else { "Semihosting(none)" })
+    }
+}
 
 impl Semihosting {
     /// The debugger's stdout, if there is one.
-    pub(crate) fn stdout() -> Self {
+    pub fn stdout() -> Self {
         Self(hio::hstdout().ok())
     }
 }
@@ -68,9 +76,10 @@ pub fn run_and_exit(image: &[u8]) -> ! {
 }
 
 /// How much of the stack the run used.
-pub(crate) struct StackUsage {
+#[derive(Clone, Copy, Debug)]
+pub struct StackUsage {
     /// Bytes below the initial stack pointer that were written since boot.
-    pub(crate) used: u32,
+    pub used: u32,
     /// Bytes between the end of the statics and the top of RAM.
     size: u32,
 }
@@ -79,7 +88,7 @@ pub(crate) struct StackUsage {
 /// (`paint-stack`), from its lowest address upwards for the first word the program
 /// wrote: everything above it has been used at some point.
 #[allow(unsafe_code)]
-pub(crate) fn stack_usage() -> StackUsage {
+pub fn stack_usage() -> StackUsage {
     unsafe extern "C" {
         static _stack_end: u32;
         static _stack_start: u32;
@@ -103,6 +112,7 @@ pub(crate) fn stack_usage() -> StackUsage {
 
 /// A panic cannot come from bt-core or the plant (the release build is checked for
 /// `core::panicking` symbols); should one happen all the same, say where and fail.
+#[cfg(feature = "mps2-an386")]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
     let mut out = Semihosting(hio::hstdout().ok());

@@ -8,9 +8,11 @@
 //! - `cargo xtask cross`: bt-core and bt-link built with `core` only for Cortex-M4F and
 //!   Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
-//!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`).
-//! - `cargo xtask fuzz --seconds N [--target load|serve]`: the `load` fuzz target of
-//!   bt-core, or the `serve` target of bt-link (nightly + cargo-fuzz).
+//!   the corrupted-image run, the panic gate and the footprint; the link controller on
+//!   mps2-an386 and the RTIC program on lm3s6965evb (see `qemu.rs`).
+//! - `cargo xtask fuzz --seconds N [--target load|serve|controller]`: the `load` fuzz
+//!   target of bt-core, or the `serve` and `controller` targets of bt-link (nightly +
+//!   cargo-fuzz).
 //!
 //! Cross builds always build `core` from source (`-Zbuild-std=core`): with rustup's
 //! `rust-src` component where it is installed, and otherwise with Debian's packaged
@@ -23,6 +25,7 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod boards;
 mod link;
 mod qemu;
 mod setup;
@@ -67,11 +70,15 @@ enum Cmd {
         /// How long to fuzz.
         #[arg(long, default_value_t = 60)]
         seconds: u64,
-        /// `load` (bt-core's image loader) or `serve` (bt-link's controller loop).
-        #[arg(long, default_value = "load", value_parser = ["load", "serve"])]
+        /// `load` (bt-core's image loader), `serve` (bt-link's blocking controller loop) or
+        /// `controller` (bt-link's sans-IO controller: feed, poll, transmit).
+        #[arg(long, default_value = "load", value_parser = ["load", "serve", "controller"])]
         target: String,
     },
 }
+
+/// bt-link's UART adapters: tested on the host, built for the Cortex-M targets.
+const LINK_IO: &str = "bt-link/embedded-io,bt-link/embedded-io-async";
 
 /// Targets bt-core must build for with nothing but `core`: Cortex-M4F (FPU) and
 /// Cortex-M0+ (no FPU, no atomic read-modify-write).
@@ -139,9 +146,9 @@ fn ci(install_missing: bool) -> Result {
     run(cargo().args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]))?;
     step("tests");
     if has_nextest() {
-        run(cargo().args(["nextest", "run", "--workspace", "--no-fail-fast"]))?;
+        run(cargo().args(["nextest", "run", "--workspace", "--no-fail-fast", "--features", LINK_IO]))?;
     } else {
-        run(cargo().args(["test", "--workspace", "--lib", "--bins", "--tests"]))?;
+        run(cargo().args(["test", "--workspace", "--lib", "--bins", "--tests", "--features", LINK_IO]))?;
     }
     step("doc tests");
     run(cargo().args(["test", "--workspace", "--doc"]))?;
@@ -167,6 +174,8 @@ fn firmware_checks() -> Result {
     let host = host_triple()?;
     step("firmware: formatting, clippy and host tests");
     run_in(&fw, cargo().args(["fmt", "--", "--check"]))?;
+    // The RTIC board builds for its Cortex-M3 only (`cargo xtask qemu` builds it).
+    run_in(&root().join("examples").join("lm3s6965-rtic"), cargo().args(["fmt", "--", "--check"]))?;
     run_in(
         &fw,
         cargo()
@@ -259,7 +268,9 @@ fn cross() -> Result {
     for target in CORE_TARGETS {
         step(&format!("bt-core and bt-link with core only for {target}"));
         let target_dir = target_dir().join("cross");
-        run(cross_cargo(target)?.args(["-p", "bt-core", "-p", "bt-link", "--target-dir"]).arg(&target_dir))?;
+        run(cross_cargo(target)?
+            .args(["-p", "bt-core", "-p", "bt-link", "--features", LINK_IO, "--target-dir"])
+            .arg(&target_dir))?;
     }
     no_std_leaks()
 }
@@ -296,7 +307,11 @@ fn no_std_leaks() -> Result {
 }
 
 fn fuzz(seconds: u64, target: &str) -> Result {
-    let (dir, what) = if target == "serve" { ("bt-link", "bt_link::serve") } else { ("bt-core", "bt_core::load") };
+    let (dir, what) = match target {
+        "serve" => ("bt-link", "bt_link::serve"),
+        "controller" => ("bt-link", "bt_link::Controller"),
+        _ => ("bt-core", "bt_core::load"),
+    };
     step(&format!("fuzzing {what} for {seconds} s"));
     // The rustup proxy, not $CARGO: `+nightly` selects the toolchain.
     if !Command::new("cargo").args(["+nightly", "--version"]).output().is_ok_and(|o| o.status.success()) {

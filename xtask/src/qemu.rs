@@ -30,13 +30,8 @@ pub(crate) const QEMU_ARGS: [&str; 7] =
 /// code is enough to cross the flash line (see DEVELOPERS.md, "Firmware").
 const FLASH_TARGET: u64 = 16 * 1024;
 const RAM_TARGET: u64 = 4 * 1024;
-/// The link controller (issue 18): 32 KiB of flash, 8 KiB of RAM with both image slots
-/// and the stack.
+/// The link controller's program (its scenario, gates and timing: `boards.rs`).
 const LINK: &str = "controller";
-const LINK_FLASH_TARGET: u64 = 32 * 1024;
-const LINK_RAM_TARGET: u64 = 8 * 1024;
-/// The serial rate the link's throughput is measured at.
-const BAUD: u32 = 115_200;
 
 /// Options of `cargo xtask qemu`.
 #[derive(Debug, Clone, Copy)]
@@ -112,61 +107,7 @@ pub fn qemu(opts: Options) -> Result {
         target_run.wall.as_secs_f64(),
         refused.wall.as_secs_f64()
     );
-    link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)
-}
-
-/// The link controller: the scenario on the host and under QEMU, the traces compared,
-/// its gates, and the link's throughput at 115200 baud.
-fn link_scenario(elf: &Path, host_bin: &Path, toolchain: Toolchain, opts: Options) -> Result {
-    step("link controller: images (planner: A = end of Example 2, blocked path, B = Fig. 3(e) free path)");
-    let images = crate::link::images()?;
-    step("link controller: scenario on the host build (TCP)");
-    let host = crate::link::host(host_bin, &images, opts.timeout)?;
-    step("link controller: scenario under QEMU (UART0 on a TCP socket)");
-    let target = crate::link::qemu(elf, &images, opts.timeout)?;
-    for line in &target.faults {
-        eprintln!("  {line}");
-    }
-    if host.faults.len() != target.faults.len() {
-        return Err(format!("the host saw {} cases, QEMU {}", host.faults.len(), target.faults.len()));
-    }
-    let ticks = compare(&target.trace, &host.trace)?;
-    let swaps = target.trace.lines().filter(|l| l.starts_with("swap ")).count();
-    eprintln!(
-        "link traces identical ({ticks} ticks, {swaps} swaps); {} fault cases refused or skipped on both",
-        target.faults.iter().filter(|l| l.contains("refused") || l.contains("skipped")).count()
-    );
-    let (bytes, took) = target.deploy;
-    eprintln!(
-        "deploying B ({bytes} B) while A ticked took {:.1} ms under QEMU (socket, not rate-limited)",
-        took.as_secs_f64() * 1e3
-    );
-
-    step("link controller: panic freedom and footprint");
-    if target.stack_used == 0 {
-        return Err("the controller did not report its stack use".into());
-    }
-    panic_free(elf)?;
-    eprintln!("no core::panicking symbols in {LINK}");
-    footprint(elf, u64::from(target.stack_used), toolchain, LINK_FLASH_TARGET, LINK_RAM_TARGET)?;
-
-    step(&format!("link controller: the cube tree deployed at {BAUD} baud (host side paced to 10 bits per byte)"));
-    let (image, wire, took) = crate::link::paced_deploy(elf, &images, Some(BAUD), opts.timeout)?;
-    let secs = took.as_secs_f64();
-    eprintln!(
-        "{image} B image, {wire} B on the wire both ways, in {:.1} ms: {:.0} image B/s ({:.0} wire B/s of the line's {} B/s)",
-        secs * 1e3,
-        image as f64 / secs,
-        wire as f64 / secs,
-        BAUD / 10
-    );
-    let (_, _, fast) = crate::link::paced_deploy(elf, &images, None, opts.timeout)?;
-    eprintln!(
-        "the same deployment unpaced (QEMU's socket and UART model alone): {:.1} ms, {:.0} image B/s",
-        fast.as_secs_f64() * 1e3,
-        image as f64 / fast.as_secs_f64()
-    );
-    Ok(())
+    crate::boards::link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)
 }
 
 /// The ARM binutils and QEMU, with the package that has them.
@@ -254,7 +195,7 @@ fn field<'a>(out: &'a str, prefix: &str) -> Option<&'a str> {
 
 /// Compares the target's trace (without its `fw ` lines) with the host's, byte for
 /// byte; returns the number of ticks.
-fn compare(target: &str, host: &str) -> Result<usize> {
+pub(crate) fn compare(target: &str, host: &str) -> Result<usize> {
     let target: Vec<&str> = target.lines().filter(|l| !l.starts_with("fw ")).collect();
     let host: Vec<&str> = host.lines().collect();
     for (i, pair) in target.iter().zip(&host).enumerate() {
@@ -298,7 +239,7 @@ fn check_refused(run: &Captured, on: &str) -> Result<String> {
 
 /// Fails on any `core::panicking` symbol: bt-core and the plant are panic-free, and a
 /// bounds check, an overflow check or a float format slipping in would show here.
-fn panic_free(elf: &Path) -> Result {
+pub(crate) fn panic_free(elf: &Path) -> Result {
     let out =
         Command::new("arm-none-eabi-nm").arg("-C").arg(elf).output().map_err(|e| format!("arm-none-eabi-nm: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout);
@@ -371,7 +312,13 @@ fn compiler(toolchain: Toolchain) -> String {
 
 /// Prints flash and RAM against the targets, bt-core's share of the code, and gates
 /// on both targets.
-fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64, ram_target: u64) -> Result {
+pub(crate) fn footprint(
+    elf: &Path,
+    stack_hwm: u64,
+    toolchain: Toolchain,
+    flash_target: u64,
+    ram_target: u64,
+) -> Result<(u64, u64)> {
     let out = Command::new("arm-none-eabi-size").arg(elf).output().map_err(|e| format!("arm-none-eabi-size: {e}"))?;
     let text = String::from_utf8_lossy(&out.stdout);
     let nums: Vec<u64> =
@@ -426,7 +373,7 @@ fn footprint(elf: &Path, stack_hwm: u64, toolchain: Toolchain, flash_target: u64
     if flash > flash_target {
         return Err(format!("flash {flash} B is over the {flash_target} B target"));
     }
-    Ok(())
+    Ok((flash, ram))
 }
 
 fn percent(part: u64, whole: u64) -> f64 {
@@ -502,6 +449,9 @@ fn crate_of(path: &str) -> String {
     }
     if file.contains("/bt-link/src/") {
         return "bt-link".into();
+    }
+    if file.contains("/lm3s6965-rtic/") {
+        return "lm3s6965-rtic".into();
     }
     if file.contains("/firmware-example/") {
         return "firmware-example".into();

@@ -196,6 +196,17 @@ pub struct StateTooSmall {
     pub given: usize,
 }
 
+/// What an [`Executor`] carries between ticks besides the node states: the wake-up
+/// signal, and (with BehaviorTree.CPP's kinds) whether a leaf has returned Skipped, after
+/// which the tree ticks with the full loop. [`Executor::carry`] takes it,
+/// [`Executor::resume`] gives it back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Carry {
+    woken: bool,
+    #[cfg(feature = "btcpp")]
+    full: bool,
+}
+
 /// Ticks one validated tree against a behavior set.
 ///
 /// Holds the stack (`DEPTH` frames) between ticks so a tick initializes nothing; the
@@ -258,6 +269,21 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
             return Err(StateTooSmall { needed: tree.len(), given: state.len() });
         }
         state.fill(NodeState::IDLE);
+        Self::resume(tree, state, Carry::default())
+    }
+
+    /// An executor that goes on from where another over the same `tree` and `state`
+    /// stopped: the node states are kept as they are, and `carry` is what that executor's
+    /// [`Executor::carry`] returned. For a caller that cannot keep an executor between
+    /// ticks (it borrows the tree and the state): a sans-IO controller that owns the
+    /// storage and makes an executor for each tick.
+    ///
+    /// # Errors
+    /// [`StateTooSmall`] when `state` has fewer entries than the tree has nodes.
+    pub fn resume(tree: Tree<'t, DEPTH>, state: &'s mut [NodeState], carry: Carry) -> Result<Self, StateTooSmall> {
+        if state.len() < tree.len() {
+            return Err(StateTooSmall { needed: tree.len(), given: state.len() });
+        }
         let nodes = tree.nodes();
         let still_running = !nodes.iter().any(|n| match n.kind() {
             NodeKind::Parallel { .. } | NodeKind::Timeout(_) => true,
@@ -266,8 +292,11 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         });
         // Decided once: a tree of the papers' kinds ticks with the plain loop.
         let full = BTCPP && nodes.iter().any(|n| !n.kind().family().is_papers());
-        let stack =
+        #[cfg(feature = "btcpp")]
+        let full = full || carry.full;
+        let mut stack =
             Stack { frames: [Frame::default(); DEPTH], extra: [Extra::default(); DEPTH], side: Side::new(full) };
+        stack.side.woken = carry.woken;
         Ok(Self {
             tree,
             state,
@@ -298,6 +327,17 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
     #[must_use]
     pub fn woken(&self) -> bool {
         self.stack.side.woken
+    }
+
+    /// What this executor carries from one tick to the next besides the node states,
+    /// for [`Executor::resume`].
+    #[must_use]
+    pub fn carry(&self) -> Carry {
+        Carry {
+            woken: self.stack.side.woken,
+            #[cfg(feature = "btcpp")]
+            full: self.stack.side.full,
+        }
     }
 
     /// Returns [`Executor::woken`] and clears it.

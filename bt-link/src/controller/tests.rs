@@ -6,9 +6,10 @@ use bt_core::{
     BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, Status, fingerprint, image::max_image_len,
 };
 
+use super::session::Session;
 use super::*;
-use crate::frame::{Decoder, Feed, MAX_ENCODED, encode, message};
-use crate::wire::FrameFault;
+use crate::frame::{Decoder, Feed, MAX_ENCODED, MAX_FRAME, crc32, encode, message};
+use crate::wire::{Fault, FrameFault, MAX_CHUNK, PROTOCOL_VERSION, Reply, Request, WireStatus};
 
 const SET: [BehaviorInfo<'static>; 4] = [
     BehaviorInfo::condition("ok?", 0),
@@ -141,6 +142,11 @@ impl Host {
 }
 
 impl Board for Host {
+    fn micros(&mut self) -> u32 {
+        self.clock = self.clock.wrapping_add(self.clock_step);
+        self.clock
+    }
+
     fn read(&mut self) -> Option<u8> {
         loop {
             if let Some(b) = self.pending.pop_front() {
@@ -185,15 +191,11 @@ impl Board for Host {
                         Reply::State { token, tick, ticking, until, running, halted, stack_used }
                     }
                     Reply::Garbled { fault } => Reply::Garbled { fault },
+                    Reply::Lost { tick, frames } => Reply::Lost { tick, frames },
                 };
                 self.replies.push(reply);
             }
         }
-    }
-
-    fn micros(&mut self) -> u32 {
-        self.clock = self.clock.wrapping_add(self.clock_step);
-        self.clock
     }
 
     fn closed(&mut self) -> bool {
