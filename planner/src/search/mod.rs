@@ -21,11 +21,15 @@
 //! ```
 
 mod heuristic;
+pub mod landmarks;
+mod lazy;
 mod registry;
 mod successors;
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 pub use heuristic::{INFINITE, Relaxation};
@@ -37,7 +41,7 @@ use registry::Registry;
 use successors::Successors;
 
 /// Bounds of a search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct SearchOptions {
     /// Give up at this instant.
     pub deadline: Option<Instant>,
@@ -45,11 +49,29 @@ pub struct SearchOptions {
     pub memory: usize,
     /// Expansions from the helpful list after each improvement of the best h.
     pub boost: u32,
+    /// Deferred evaluation ([`lazy`]): a state is evaluated when it is taken from an
+    /// open list, not when it is generated.
+    pub lazy: bool,
+    /// With [`SearchOptions::lazy`]: alternate h_FF with the landmark count
+    /// ([`landmarks`]), as LAMA does.
+    pub landmarks: bool,
+    /// Give up as soon as this is set (another thread found what the search was for:
+    /// [`crate::plan`] runs search beside Algorithm 1 and stops it when Algorithm 1
+    /// finishes first).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for SearchOptions {
     fn default() -> Self {
-        Self { deadline: None, memory: 2 << 30, boost: 1000 }
+        Self { deadline: None, memory: 2 << 30, boost: 1000, lazy: false, landmarks: false, stop: None }
+    }
+}
+
+impl SearchOptions {
+    /// Whether the search must end now: past its deadline, or told to stop.
+    fn over(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
+            || self.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
     }
 }
 
@@ -101,6 +123,9 @@ pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> 
 /// # Errors
 /// As [`gbfs`].
 pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Result<Found, PlanError> {
+    if options.lazy {
+        return lazy::lazy_gbfs_from(g, start, options);
+    }
     let mut h = Relaxation::new(g);
     let succ = Successors::new(g);
     let mut reg = Registry::new(g, start);
@@ -148,10 +173,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
         }
         closed[id as usize] = true;
         expanded += 1;
-        if expanded & 0xFF == 0
-            && let Some(d) = options.deadline
-            && Instant::now() >= d
-        {
+        if expanded & 0xFF == 0 && options.over() {
             return Err(PlanError::Timeout { stage: "searching for a plan" });
         }
         reg.load(id, &mut state);
@@ -168,9 +190,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
                 let plan = path(&nodes, sid);
                 return Ok(Found { plan, expanded, stored: reg.len() as u64, initial_h: h0 });
             }
-            if let Some(d) = options.deadline
-                && Instant::now() >= d
-            {
+            if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
             }
             let hv = h.h_ff(&next, &mut helpful);
