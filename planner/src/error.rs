@@ -140,6 +140,13 @@ pub enum PlanError {
         /// Depth limit.
         depth: usize,
     },
+    /// A search evaluated as many states as it was allowed
+    /// ([`crate::search::SearchOptions::max_evaluated`]).
+    #[error("the search gave up after evaluating {evaluated} states, its budget")]
+    OutOfStates {
+        /// States evaluated.
+        evaluated: u64,
+    },
     /// Algorithm 1's tree outgrew the budget it has before the search-guided methods
     /// take over ([`crate::Options::algorithm1_nodes`]).
     #[error("its tree grew to {nodes} nodes without reaching the goal (its budget is {budget})")]

@@ -83,11 +83,12 @@ pub struct Options {
     pub close_backchained: bool,
     /// Offline, with [`Method::Auto`]: Algorithm 1 gives up once its tree has more
     /// bt-core nodes than this and does not reach the goal yet, and the search-guided
-    /// methods take over. Every tree Algorithm 1 finished in the IPC benchmark had
-    /// fewer than 1,500 nodes, and the shipped ones (the paper's figures, the brick
-    /// tasks, 40 blocks) have at most 664; a tree that grows past a few thousand
-    /// nodes has so far always gone on to the 65,535 nodes a bt-core tree holds
-    /// without reaching the goal, for seconds ([`crate::plan`]).
+    /// methods take over (guided backchaining has a budget of its own, this or four
+    /// times the plan's regression tree). The largest tree Algorithm 1 finished in the
+    /// IPC benchmark of `docs/planning.md` had 1,267 nodes, the shipped ones (the
+    /// paper's figures, the brick tasks, 40 blocks) have at most 664; where it went on
+    /// past a few thousand it did not finish (blocks, pegsol: to the 65,535 nodes a
+    /// bt-core tree holds, for seconds).
     pub algorithm1_nodes: usize,
     /// Offline, with [`Method::Auto`]: search for a plan on a second thread while
     /// Algorithm 1 runs, when the machine has two cores or more. The tree is the same
@@ -97,8 +98,13 @@ pub struct Options {
     /// Offline: the size the tree must fit ([`Fit`]).
     pub fit: Fit,
     /// Offline: search for the plan that guides the tree with deferred evaluation
-    /// ([`crate::search::SearchOptions::lazy`]) instead of eager (on by default: with
-    /// [`Options::landmarks`], chosen by the IPC benchmark of `docs/planning.md`).
+    /// ([`crate::search::SearchOptions::lazy`]) as well as eager: eager search with h_FF
+    /// gets 20,000 evaluated states, and where it finds no plan within them the
+    /// deferred search's plan is taken (both run at once on a machine with two cores,
+    /// and the plan never depends on which ends first). On by default, with
+    /// [`Options::landmarks`]: in the IPC benchmark of `docs/planning.md` eager search
+    /// alone missed visitall, childsnack and tetris problems, deferred search alone
+    /// parcprinter and maintenance ones.
     pub deferred: bool,
     /// Offline, with [`Options::deferred`]: the search alternates h_FF with the
     /// landmark count ([`crate::search::landmarks`]), as LAMA does (on by default).

@@ -11,7 +11,7 @@ use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
 use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
-use crate::search::{self, SearchOptions};
+use crate::search::SearchOptions;
 use crate::strips::{self, StripsWorld, Verdict};
 use crate::tree::PlanTree;
 
@@ -204,7 +204,7 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     }
     let found = match searching {
         Some(s) => s.join()?,
-        None => search::gbfs(&g, &search_options(options))?,
+        None => portfolio::search_plan(&g, &search_options(options))?,
     };
     let trace = Arc::new(
         Trace::new(&g, &found.plan).ok_or_else(|| PlanError::NoPlan("search returned an invalid plan".into()))?,

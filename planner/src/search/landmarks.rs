@@ -231,10 +231,10 @@ impl Landmarks {
             if is(parent, k) || !self.holds(k, s) {
                 continue;
             }
-            if self.before[k].iter().all(|&p| is(parent, p as usize) || self.holds(p as usize, s)) {
-                if let Some(w) = out.get_mut(k / 64) {
-                    *w |= 1 << (k % 64);
-                }
+            if self.before[k].iter().all(|&p| is(parent, p as usize) || self.holds(p as usize, s))
+                && let Some(w) = out.get_mut(k / 64)
+            {
+                *w |= 1 << (k % 64);
             }
         }
     }

@@ -1,7 +1,9 @@
-//! Heuristic search for a plan: greedy best-first search with h_FF and helpful
-//! actions, over the ground actions of a [`Grounding`].
+//! Heuristic search for a plan: greedy best-first search over the ground actions of
+//! a [`Grounding`], with h_FF and helpful actions, and with LAMA's ideas (deferred
+//! evaluation, the landmark count alternating with h_FF: [`SearchOptions::lazy`],
+//! [`SearchOptions::landmarks`], [`landmarks`]).
 //!
-//! The search is *eager*: every new state is evaluated when generated. Two open lists
+//! The eager search evaluates every new state when it is generated. Two open lists
 //! are kept, one with every state and one with the states reached by a helpful action
 //! of their parent; the search takes from them in turn, and from the helpful one for
 //! a while after each improvement of the best h (the boost of Fast Downward's and
@@ -49,9 +51,12 @@ pub struct SearchOptions {
     pub memory: usize,
     /// Expansions from the helpful list after each improvement of the best h.
     pub boost: u32,
-    /// Deferred evaluation ([`lazy`]): a state is evaluated when it is taken from an
+    /// Deferred evaluation, as LAMA searches: a state is evaluated when it is taken from an
     /// open list, not when it is generated.
     pub lazy: bool,
+    /// Give up ([`PlanError::OutOfStates`]) once this many states were evaluated
+    /// (eager search only).
+    pub max_evaluated: Option<u64>,
     /// With [`SearchOptions::lazy`]: alternate h_FF with the landmark count
     /// ([`landmarks`]), as LAMA does.
     pub landmarks: bool,
@@ -63,7 +68,15 @@ pub struct SearchOptions {
 
 impl Default for SearchOptions {
     fn default() -> Self {
-        Self { deadline: None, memory: 2 << 30, boost: 1000, lazy: false, landmarks: false, stop: None }
+        Self {
+            deadline: None,
+            memory: 2 << 30,
+            boost: 1000,
+            lazy: false,
+            landmarks: false,
+            max_evaluated: None,
+            stop: None,
+        }
     }
 }
 
@@ -192,6 +205,9 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
             }
             if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
+            }
+            if options.max_evaluated.is_some_and(|m| reg.len() as u64 > m) {
+                return Err(PlanError::OutOfStates { evaluated: reg.len() as u64 });
             }
             let hv = h.h_ff(&next, &mut helpful);
             helpful_of.push(if hv == INFINITE { Vec::new() } else { helpful.clone() });

@@ -12,7 +12,9 @@ use super::{Args, Row};
 
 /// Fails early on a name that is neither .png nor .svg.
 pub fn check(path: &Path) -> anyhow::Result<()> {
-    format_of(path).map(|_| ())
+    format_of(path).map(|_| ()).map_err(|_| {
+        anyhow!("--plot {}: the picture is written as PNG or SVG; give a name ending in .png or .svg", path.display())
+    })
 }
 
 /// One line: its label and the seconds of every instance it solved, sorted.
