@@ -17,7 +17,8 @@ pub fn check(path: &Path) -> anyhow::Result<()> {
     })
 }
 
-/// One line: its label and the seconds of every instance it solved, sorted.
+/// One line: its label and the seconds of every instance it solved, sorted (ours to
+/// the closed tree, ours to the first tree, then each peer).
 type Series = (String, Vec<f64>);
 
 fn series(rows: &[Row], args: &Args) -> Vec<Series> {
@@ -25,10 +26,16 @@ fn series(rows: &[Row], args: &Args) -> Vec<Series> {
         v.sort_by(f64::total_cmp);
         v
     };
-    let mut out = vec![(
-        "ours (sim-host plan)".to_string(),
-        sorted(rows.iter().filter(|r| r.ours.solved()).map(|r| r.ours.seconds).collect()),
-    )];
+    let mut out = vec![
+        (
+            "ours (sim-host plan)".to_string(),
+            sorted(rows.iter().filter(|r| r.ours.solved()).map(|r| r.ours.seconds).collect()),
+        ),
+        (
+            "ours, first tree (before its closure)".to_string(),
+            sorted(rows.iter().filter(|r| r.ours.solved()).map(|r| r.ours.first).collect()),
+        ),
+    ];
     for (k, (peer, _)) in args.peers().into_iter().enumerate() {
         let secs = rows.iter().filter_map(|r| r.peers.get(k)).filter(|p| p.solved).map(|p| p.seconds).collect();
         out.push((peer.name().to_string(), sorted(secs)));
@@ -90,12 +97,14 @@ fn draw<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("time per instance, s (log scale)")
         .y_desc("instances solved within that time")
+        .y_label_formatter(&|y| format!("{y:.0}"))
         .label_style(("sans-serif", 13))
         .max_light_lines(0)
         .draw()
         .map_err(|e| err(&e))?;
     for (i, (label, secs)) in lines.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
+        // The first-tree line in the colour of ours, lighter.
+        let colour = if i == 1 { COLOURS[0].mix(0.45).to_rgba() } else { COLOURS[i % COLOURS.len()].to_rgba() };
         // A step line: at each solved instance's time the count rises by one.
         let mut pts = vec![(low, 0.0)];
         for (n, &t) in secs.iter().enumerate() {
