@@ -48,7 +48,7 @@ pub fn write(path: &Path, rows: &[Row], args: &Args) -> anyhow::Result<()> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
         .map_err(|_| anyhow!("the embedded font cannot be read"))?;
     let lines = series(rows, args);
-    let title = format!("{} instances, {} s per instance", rows.len(), args.timeout);
+    let title = format!("{}, {} s per instance", sim_host::text::count(rows.len(), "instance"), args.timeout);
     let top = args.timeout as f64;
     let size = (800, 520);
     let bytes = match format_of(path)? {
