@@ -147,6 +147,14 @@ pub struct GaveUp {
 /// expanding the failed condition each time it fails, until it reaches the goal:
 /// the root returns Success with every goal condition true.
 ///
+/// With [`Method::Auto`], Algorithm 1 gives up past [`Options::algorithm1_nodes`] and
+/// guided backchaining past four times the plan's regression tree, and the search for
+/// the plan runs on threads of its own meanwhile ([`Options::parallel`]); neither
+/// changes the tree, only the time to it. A tree that does not fit [`Options::fit`]
+/// has its closure over disturbances cut until it does ([`Plan::fit`]); one that does
+/// not fit even without it gives way to the next method, and the smallest is returned
+/// where none fits (unless the fit is strict).
+///
 /// Guided backchaining with state variables not pinned ([`crate::variables`]) is tried
 /// only where plain guided backchaining fails. Where its tree's closure over
 /// disturbances does not cover every disturbed state it looked at, the plan's
@@ -162,7 +170,7 @@ pub struct GaveUp {
 /// action, nothing left to expand, an unresolvable conflict) or that runs without
 /// reaching the goal; [`PlanError::Oscillates`] with the tree and the repeating
 /// actions; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
-/// search.
+/// search; [`PlanError::TooBig`] when a strict [`Options::fit`] cannot be met.
 pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
     let mut gave_up = Vec::new();
     // The smallest tree made so far that does not fit `options.fit`: kept unless a later
