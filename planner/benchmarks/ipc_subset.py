@@ -2,9 +2,10 @@
 """Copies a subset of the IPC classical benchmarks out of a checkout (or a bare git
 directory) of github.com/aibasel/downward-benchmarks: one formulation of every IPC
 1998-2014 satisficing-track domain, the N smallest problems of each (by file size),
+with --median also the problem of median size and with --largest K the K largest,
 each problem with its domain file.
 
-    python3 ipc_subset.py SOURCE DEST [--per-domain N]
+    python3 ipc_subset.py SOURCE DEST [--per-domain N] [--median] [--largest K]
 
 SOURCE is a work tree or a bare git directory (read at HEAD). DEST gets one folder per
 domain, holding `domain.pddl` (or one domain file per problem, named as in SOURCE) and
@@ -80,7 +81,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("source")
     ap.add_argument("dest")
-    ap.add_argument("--per-domain", type=int, default=5)
+    ap.add_argument("--per-domain", type=int, default=5, help="the N smallest problems of each domain")
+    ap.add_argument("--median", action="store_true", help="also the problem of median size")
+    ap.add_argument("--largest", type=int, default=0, metavar="K", help="also the K largest problems")
     args = ap.parse_args()
     tree = Tree(args.source)
     total = 0
@@ -88,10 +91,17 @@ def main():
         files = dict(tree.listing(d))
         problems = sorted((size, name) for name, size in files.items()
                           if name.endswith(".pddl") and not is_domain_file(name))
+        chosen = problems[:args.per_domain]
+        if args.median and problems:
+            chosen.append(problems[(len(problems) - 1) // 2])
+        if args.largest > 0:
+            chosen.extend(problems[-args.largest:])
         kept = 0
-        for _, p in problems:
-            if kept == args.per_domain:
-                break
+        seen = set()
+        for _, p in chosen:
+            if p in seen:
+                continue
+            seen.add(p)
             dom = domain_for(p, files)
             text, dtext = tree.read(d, p), tree.read(d, dom) if dom else None
             if text is None or dtext is None:

@@ -110,6 +110,12 @@ pub struct Settings {
     pub close_backchained: bool,
     /// Plan with this [`Options::close_nodes`].
     pub close_nodes: usize,
+    /// Plan with this [`Options::fit`].
+    pub fit: crate::Fit,
+    /// Plan with this [`Options::deferred`].
+    pub deferred: bool,
+    /// Plan with this [`Options::landmarks`].
+    pub landmarks: bool,
 }
 
 impl Settings {
@@ -131,6 +137,9 @@ impl Default for Settings {
             failures: 2,
             close_backchained: false,
             close_nodes: Options::default().close_nodes,
+            fit: crate::Fit::DEFAULT,
+            deferred: true,
+            landmarks: true,
         }
     }
 }
@@ -155,10 +164,17 @@ pub struct Run {
     pub outcome: Outcome,
     /// Seconds from reading the files to the checked tree.
     pub seconds: f64,
+    /// Seconds from reading the files to the first tree that reaches the goal, before
+    /// its closure over disturbances ([`crate::Plan::first`]).
+    pub first: f64,
     /// The method that made the tree.
     pub method: Option<Made>,
     /// Tree nodes.
     pub nodes: usize,
+    /// Bytes of its image as a controller holds it ([`crate::Plan::fit`]).
+    pub bytes: usize,
+    /// How it was made to fit, in a line ([`crate::Fitted`]'s display).
+    pub fit: Option<String>,
     /// The actions the tree executes undisturbed, as a plan file writes them.
     pub plan: Vec<String>,
     /// Their cost (sum of action costs, or their number without costs).
@@ -185,8 +201,11 @@ impl Run {
         Self {
             outcome,
             seconds,
+            first: seconds,
             method: None,
             nodes: 0,
+            bytes: 0,
+            fit: None,
             plan: Vec::new(),
             cost: 0,
             disturbed: Disturbed::default(),
@@ -247,6 +266,9 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         deadline: Some(deadline),
         close_backchained: settings.close_backchained,
         close_nodes: settings.close_nodes,
+        fit: settings.fit,
+        deferred: settings.deferred,
+        landmarks: settings.landmarks,
         ..Options::default()
     };
     let plan = match crate::plan(g.clone(), catalog.clone(), options) {
@@ -260,11 +282,14 @@ pub fn run(instance: &Instance, settings: &Settings) -> Run {
         return Run::new(Outcome::Timeout, seconds);
     }
     let mut out = Run::new(Outcome::Solved, seconds);
+    out.first = plan.first.saturating_duration_since(start).as_secs_f64();
     out.method = Some(plan.method);
     out.closed = plan.closed.map(|c| c.to_string());
     out.covered = plan.covered;
     out.variables.clone_from(&plan.variables);
     out.nodes = plan.nodes.len();
+    out.bytes = plan.fit.size.bytes;
+    out.fit = Some(plan.fit.to_string());
     out.plan = plan.executed.iter().map(|&a| g.action_pddl(a)).collect();
     out.cost = if g.unit_cost() { plan.executed.len() as u64 } else { g.cost_of(&plan.executed) };
     for gu in &plan.gave_up {
@@ -476,8 +501,13 @@ impl Run {
         line("outcome", kind);
         line("message", &text);
         line("seconds", &format!("{:.3}", self.seconds));
+        line("first", &format!("{:.3}", self.first));
         line("method", self.method.map_or("", Made::name));
         line("nodes", &self.nodes.to_string());
+        line("bytes", &self.bytes.to_string());
+        if let Some(f) = &self.fit {
+            line("fit", f);
+        }
         line("cost", &self.cost.to_string());
         let d = &self.disturbed;
         line("disturbed", &format!("{} {} {}", d.reached, d.episodes, d.dead_ends));
@@ -520,11 +550,14 @@ impl Run {
                 "outcome" => kind = Some(v.to_string()),
                 "message" => message = v.to_string(),
                 "seconds" => r.seconds = v.parse().unwrap_or(0.0),
+                "first" => r.first = v.parse().unwrap_or(0.0),
                 "method" => {
                     r.method =
                         [Made::Algorithm1, Made::SearchGuided, Made::Regression].into_iter().find(|m| m.name() == v);
                 }
                 "nodes" => r.nodes = v.parse().unwrap_or(0),
+                "bytes" => r.bytes = v.parse().unwrap_or(0),
+                "fit" => r.fit = Some(v.to_string()),
                 "cost" => r.cost = v.parse().unwrap_or(0),
                 "disturbed" => {
                     let mut it = v.split(' ').map(|x| x.parse().unwrap_or(0));

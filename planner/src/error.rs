@@ -140,6 +140,29 @@ pub enum PlanError {
         /// Depth limit.
         depth: usize,
     },
+    /// A search evaluated as many states as it was allowed
+    /// ([`crate::search::SearchOptions::max_evaluated`]).
+    #[error("the search gave up after evaluating {evaluated} states, its budget")]
+    OutOfStates {
+        /// States evaluated.
+        evaluated: u64,
+    },
+    /// Algorithm 1's tree outgrew the budget it has before the search-guided methods
+    /// take over ([`crate::Options::algorithm1_nodes`]).
+    #[error("its tree grew to {nodes} nodes without reaching the goal (its budget is {budget})")]
+    OverBudget {
+        /// The tree's size.
+        nodes: usize,
+        /// The budget.
+        budget: usize,
+    },
+    /// The tree does not fit the size asked for ([`crate::Fit`]), even without any
+    /// rule of its closure over disturbances.
+    #[error("{what}")]
+    TooBig {
+        /// What does not fit, in a sentence.
+        what: String,
+    },
     /// The tree has more nodes than a bt-core tree holds.
     #[error("the tree has {nodes} nodes; a bt-core tree holds at most {limit}")]
     TooManyNodes {

@@ -61,8 +61,9 @@ mod wording;
 
 pub use catalog::PddlCatalog;
 pub use error::PlanError;
+pub use offline::fit::{Fitted, Size};
 pub use offline::{GaveUp, Made, Plan, covered_line, plan, variables_line};
-pub use planner::{ConflictStep, Expansion, Method, Options, Planner};
+pub use planner::{ConflictStep, Expansion, Fit, Method, Options, Planner};
 pub use refine::Refinement;
 pub use run_time::{AtRunTime, Belief, Blended, Change, ChangeError, Expanding, expand_at, parse_changes, run_blended};
 pub use tree::DEPTH;

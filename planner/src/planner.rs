@@ -81,6 +81,64 @@ pub struct Options {
     /// external agent does one of their actions out of turn and leaves no branch that
     /// applies.
     pub close_backchained: bool,
+    /// Offline, with [`Method::Auto`]: Algorithm 1 gives up once its tree has more
+    /// bt-core nodes than this and does not reach the goal yet, and the search-guided
+    /// methods take over (guided backchaining has a budget of its own, this or four
+    /// times the plan's regression tree). The largest tree Algorithm 1 finished in the
+    /// IPC benchmark of `docs/planning.md` had 1,267 nodes, the shipped ones (the
+    /// paper's figures, the brick tasks, 40 blocks) have at most 664; where it went on
+    /// past a few thousand it did not finish (blocks, pegsol: to the 65,535 nodes a
+    /// bt-core tree holds, for seconds).
+    pub algorithm1_nodes: usize,
+    /// Offline, with [`Method::Auto`]: search for a plan on a second thread while
+    /// Algorithm 1 runs, when the machine has two cores or more. The tree is the same
+    /// either way (Algorithm 1's when it finishes within its budget, else the one the
+    /// search's plan guides); only the time to it changes.
+    pub parallel: bool,
+    /// Offline: the size the tree must fit ([`Fit`]).
+    pub fit: Fit,
+    /// Offline: search for the plan that guides the tree with deferred evaluation
+    /// ([`crate::search::SearchOptions::lazy`]) as well as eager: eager search with h_FF
+    /// gets 20,000 evaluated states, and where it finds no plan within them the
+    /// deferred search's plan is taken (both run at once on a machine with two cores,
+    /// and the plan never depends on which ends first). On by default, with
+    /// [`Options::landmarks`]: in the IPC benchmark of `docs/planning.md` eager search
+    /// alone missed visitall, childsnack and tetris problems, deferred search alone
+    /// parcprinter and maintenance ones.
+    pub deferred: bool,
+    /// Offline, with [`Options::deferred`]: the search alternates h_FF with the
+    /// landmark count ([`crate::search::landmarks`]), as LAMA does (on by default).
+    pub landmarks: bool,
+}
+
+/// The size a tree must fit: the bytes of its image as a controller holds it (nodes
+/// and value table, without the names section that only host tools read) and its
+/// bt-core nodes. The closure over disturbances is cut to fit: its rules come in the
+/// order it adds them, the states one disturbance away from the tree's path first, so
+/// the rules cut are those for the states fewest disturbed episodes reach.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fit {
+    /// Most image bytes.
+    pub bytes: usize,
+    /// Most bt-core nodes.
+    pub nodes: usize,
+    /// A tree that does not fit even without its closure is an error
+    /// ([`PlanError::TooBig`]); otherwise it is kept, and [`crate::Plan::fit`] says it
+    /// does not fit.
+    pub strict: bool,
+}
+
+impl Fit {
+    /// 16 KiB, as many nodes as that holds, not strict: the default.
+    pub const DEFAULT: Self = Self { bytes: 16 * 1024, nodes: u16::MAX as usize, strict: false };
+    /// No bound.
+    pub const NONE: Self = Self { bytes: usize::MAX, nodes: usize::MAX, strict: false };
+}
+
+impl Default for Fit {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 impl Default for Options {
@@ -95,6 +153,11 @@ impl Default for Options {
             goal_sequence: false,
             close_nodes: crate::regress::Budget::default().nodes,
             close_backchained: false,
+            algorithm1_nodes: 4_096,
+            parallel: true,
+            fit: Fit::DEFAULT,
+            deferred: true,
+            landmarks: true,
         }
     }
 }

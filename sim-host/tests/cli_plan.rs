@@ -166,3 +166,40 @@ fn one_tick_is_singular() {
     assert!(text.contains("planned: 0 expansions, 1 node\n"), "{text}");
     assert!(text.contains("symbolic world: the tree reaches the goal in 1 tick from the initial state"), "{text}");
 }
+
+#[test]
+fn max_bytes_cuts_the_closure_to_fit_and_refuses_what_cannot_fit() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/fixtures/ipc/blocks");
+    let (d, p) = (dir.join("domain.pddl"), dir.join("probBLOCKS-4-0.pddl"));
+    let tmp = tempfile::tempdir().unwrap();
+    let image = tmp.path().join("tree.bt");
+    let run = |extra: &[&str]| {
+        let args = ["plan", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap()];
+        let out = sim_host(&[&args[..], &["--format", "image", "--out", image.to_str().unwrap()], extra].concat());
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, text, err) = run(&[]);
+    assert_eq!(code, Some(0), "{err}");
+    let whole = std::fs::metadata(&image).unwrap().len();
+    assert!(text.contains("image ") && text.contains(" bytes, "), "{text}");
+    std::fs::remove_file(&image).unwrap();
+    // Half the bytes: the closure is cut; the image without names fits.
+    let (code, text, err) = run(&["--max-bytes", "500"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(text.contains("the closure over disturbances cut to") || text.contains("left out to fit"), "{text}");
+    let bare = bt_formats::image::strip_names(&std::fs::read(&image).unwrap()).unwrap();
+    assert!(bare.len() <= 500 && (bare.len() as u64) < whole, "{} {whole}", bare.len());
+    std::fs::remove_file(&image).unwrap();
+    // Too few for even the plain tree: an error naming the sizes, and nothing written.
+    let (code, _, err) = run(&["--max-bytes", "60"]);
+    assert_ne!(code, Some(0));
+    assert!(err.contains("does not fit even without its closure") && err.contains("60 bytes"), "{err}");
+    assert!(!image.exists());
+    let (code, _, err) = run(&["--timeout", "0"]);
+    assert_ne!(code, Some(0));
+    assert!(err.contains("--timeout must be a number of seconds above 0"), "{err}");
+}

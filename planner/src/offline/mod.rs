@@ -11,11 +11,13 @@ use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
 use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
-use crate::search::{self, SearchOptions};
+use crate::search::SearchOptions;
 use crate::strips::{self, StripsWorld, Verdict};
 use crate::tree::PlanTree;
 
 mod behind;
+pub(crate) mod fit;
+mod portfolio;
 use behind::Behind;
 
 /// Where offline runs start ([`PlanError::GoalNotReached`]).
@@ -51,15 +53,15 @@ impl Made {
         match self {
             Self::Algorithm1 => "Algorithm 1 of Colledanchise et al. 2019 (backchaining by ticking the tree)",
             Self::SearchGuided => {
-                "Algorithm 1 guided by a plan of greedy best-first search with h_FF (achievers and order from the plan)"
+                "Algorithm 1 guided by a plan of heuristic search (achievers and order from the plan)"
             }
-            Self::Regression => "the regression tree of a plan of greedy best-first search with h_FF",
+            Self::Regression => "the regression tree of a plan of heuristic search",
         }
     }
 }
 
 /// A planned tree with its name table and what planning did.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Plan<C> {
     /// The value table of the tree's leaves with more than `bt_core::MAX_ARGS`
     /// arguments (empty when it has none); images carry it in their values section.
@@ -97,6 +99,36 @@ pub struct Plan<C> {
     /// plan's steps, as `predicate/argument` ([`crate::variables`]; empty where it
     /// pinned them, or another method made the tree).
     pub variables: Vec<String>,
+    /// Its size, and whether the closure over disturbances was cut to fit
+    /// [`Options::fit`].
+    pub fit: fit::Fitted,
+    /// When the first tree that reaches the goal was ready: this tree, or the one it
+    /// was made from before its closure over disturbances (the time a planner that
+    /// only plans would have its plan; the closure's time comes after).
+    pub first: Instant,
+}
+
+impl<C> Clone for Plan<C> {
+    fn clone(&self) -> Self {
+        Self {
+            values: self.values.clone(),
+            nodes: self.nodes.clone(),
+            catalog: self.catalog.clone(),
+            expansions: self.expansions.clone(),
+            steps: self.steps.clone(),
+            planning_ticks: self.planning_ticks,
+            goal_ticks: self.goal_ticks,
+            planner: self.planner.clone(),
+            method: self.method,
+            executed: self.executed.clone(),
+            gave_up: self.gave_up.clone(),
+            closed: self.closed,
+            covered: self.covered,
+            variables: self.variables.clone(),
+            fit: self.fit,
+            first: self.first,
+        }
+    }
 }
 
 /// A method that did not make the tree, and why.
@@ -115,6 +147,14 @@ pub struct GaveUp {
 /// expanding the failed condition each time it fails, until it reaches the goal:
 /// the root returns Success with every goal condition true.
 ///
+/// With [`Method::Auto`], Algorithm 1 gives up past [`Options::algorithm1_nodes`] and
+/// guided backchaining past four times the plan's regression tree, and the search for
+/// the plan runs on threads of its own meanwhile ([`Options::parallel`]); neither
+/// changes the tree, only the time to it. A tree that does not fit [`Options::fit`]
+/// has its closure over disturbances cut until it does ([`Plan::fit`]); one that does
+/// not fit even without it gives way to the next method, and the smallest is returned
+/// where none fits (unless the fit is strict).
+///
 /// Guided backchaining with state variables not pinned ([`crate::variables`]) is tried
 /// only where plain guided backchaining fails. Where its tree's closure over
 /// disturbances does not cover every disturbed state it looked at, the plan's
@@ -130,36 +170,72 @@ pub struct GaveUp {
 /// action, nothing left to expand, an unresolvable conflict) or that runs without
 /// reaching the goal; [`PlanError::Oscillates`] with the tree and the repeating
 /// actions; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
-/// search.
+/// search; [`PlanError::TooBig`] when a strict [`Options::fit`] cannot be met.
 pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
     let mut gave_up = Vec::new();
+    // The smallest tree made so far that does not fit `options.fit`: kept unless a later
+    // method's tree fits.
+    let mut too_big: Option<Plan<C>> = None;
+    let mut searching = None;
     if options.method != Method::Search {
         let mut a1 = options;
-        if options.method == Method::Auto
-            && let Some(d) = options.deadline
-        {
-            // Algorithm 1 gets a quarter of the time left; search and guided
-            // backchaining the rest.
-            let now = Instant::now();
-            a1.deadline = Some(now + d.saturating_duration_since(now) / 4);
+        let mut budget = None;
+        if options.method == Method::Auto {
+            if let Some(d) = options.deadline {
+                // Algorithm 1 gets a quarter of the time left; search and guided
+                // backchaining the rest.
+                let now = Instant::now();
+                a1.deadline = Some(now + d.saturating_duration_since(now) / 4);
+            }
+            budget = Some(options.algorithm1_nodes);
+            if options.parallel {
+                searching = portfolio::Searching::start(&g, search_options(options));
+            }
         }
-        match algorithm1(g.clone(), catalog.clone(), a1, Made::Algorithm1) {
-            Ok(p) => return close_backchained(p, &g, options),
+        let made = algorithm1(g.clone(), catalog.clone(), a1, budget).and_then(|p| {
+            if options.close_backchained {
+                fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))
+            } else {
+                measured(p, options)
+            }
+        });
+        match made {
+            Ok(p) if p.fit.fits => return Ok(p),
+            Ok(p) if options.method == Method::Algorithm1 => return fitted_or_error(p, options),
+            Ok(p) => {
+                gave_up.push(GaveUp { method: Made::Algorithm1, error: fit::too_big(p.fit.size, options.fit) });
+                keep_smaller(&mut too_big, p);
+            }
             Err(e) if options.method == Method::Algorithm1 || !recoverable(&e) => return Err(e),
             Err(error) => gave_up.push(GaveUp { method: Made::Algorithm1, error }),
         }
     }
-    let search_options = SearchOptions { deadline: options.deadline, ..SearchOptions::default() };
-    let found = search::gbfs(&g, &search_options)?;
+    let found = match searching {
+        Some(s) => s.join()?,
+        None => portfolio::search_plan(&g, &search_options(options))?,
+    };
     let trace = Arc::new(
         Trace::new(&g, &found.plan).ok_or_else(|| PlanError::NoPlan("search returned an invalid plan".into()))?,
     );
+    // Guided backchaining gives up where its tree outgrows four times the plan's
+    // regression tree (the last resort, made in no time), and at least Algorithm 1's
+    // budget: a plan that guides it well makes a tree of about that size.
+    let regression_nodes = crate::regress::tree(&g, &trace).flatten(&g).map_or(0, |f| f.nodes.len());
+    let guided_budget = options.algorithm1_nodes.max(4 * regression_nodes);
     let guided = Planner::guided(g.clone(), trace.clone(), options)?;
-    match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
-        Ok(mut p) => {
+    let budget = Some(guided_budget);
+    let made = run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided, budget).and_then(|p| {
+        let p = cover_checks(p, &g, options);
+        fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))
+    });
+    match made {
+        Ok(mut p) if p.fit.fits => {
             p.gave_up = gave_up;
-            let p = cover_checks(p, &g, options);
-            return close_backchained(p, &g, options);
+            return Ok(p);
+        }
+        Ok(p) => {
+            gave_up.push(GaveUp { method: Made::SearchGuided, error: fit::too_big(p.fit.size, options.fit) });
+            keep_smaller(&mut too_big, p);
         }
         Err(e) if !recoverable(&e) => return Err(e),
         Err(error) => gave_up.push(GaveUp { method: Made::SearchGuided, error }),
@@ -167,21 +243,27 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     let mut guided = Planner::guided(g.clone(), trace.clone(), options)?;
     if guided.with_state_variables() {
         let variables = guided.state_variable_names();
-        match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided) {
+        match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided, budget) {
             Ok(mut p) => {
                 p.variables = variables;
                 let p = cover_checks(p, &g, options);
-                let mut p = close_backchained(p, &g, options)?;
-                if p.closed.is_some_and(|c| !c.complete) {
+                let mut p =
+                    fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))?;
+                if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits {
                     // Its closure did not cover every disturbed state it looked at: the
                     // plan's regression tree instead where that copes better.
                     let r = regression(g.clone(), catalog.clone(), options, &trace)?;
-                    if better_under_disturbances(&r, &p, &g)? {
+                    if (r.fit.fits && !p.fit.fits)
+                        || (r.fit.fits == p.fit.fits && better_under_disturbances(&r, &p, &g)?)
+                    {
                         p = r;
                     }
                 }
-                p.gave_up = gave_up;
-                return Ok(p);
+                if p.fit.fits {
+                    p.gave_up = gave_up;
+                    return Ok(p);
+                }
+                keep_smaller(&mut too_big, p);
             }
             Err(e) if !recoverable(&e) => return Err(e),
             // Not reported apart: it is guided backchaining's second try.
@@ -189,8 +271,41 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
         }
     }
     let mut p = regression(g, catalog, options, &trace)?;
+    if !p.fit.fits {
+        keep_smaller(&mut too_big, p);
+        p = too_big.take().ok_or_else(|| PlanError::NoPlan("no tree was kept".into()))?;
+    }
     p.gave_up = gave_up;
+    fitted_or_error(p, options)
+}
+
+/// How the plan that guides the tree is searched for.
+fn search_options(options: Options) -> SearchOptions {
+    SearchOptions {
+        deadline: options.deadline,
+        lazy: options.deferred,
+        landmarks: options.landmarks,
+        ..SearchOptions::default()
+    }
+}
+
+/// `p`, measured against `options.fit` with nothing cut.
+fn measured<C: Catalog>(mut p: Plan<C>, options: Options) -> Result<Plan<C>, PlanError> {
+    let size = fit::Size::of(&p.nodes, &p.values, p.catalog.as_ref())?;
+    p.fit = fit::Fitted { size, fits: size.within(options.fit), cut: None };
     Ok(p)
+}
+
+/// `p` where it fits or the fit is not strict, else [`PlanError::TooBig`].
+fn fitted_or_error<C: Catalog>(p: Plan<C>, options: Options) -> Result<Plan<C>, PlanError> {
+    if p.fit.fits || !options.fit.strict { Ok(p) } else { Err(fit::too_big(p.fit.size, options.fit)) }
+}
+
+/// Keeps the smaller image of `kept` and `p`.
+fn keep_smaller<C: Catalog>(kept: &mut Option<Plan<C>>, p: Plan<C>) {
+    if kept.as_ref().is_none_or(|k| p.fit.size.bytes < k.fit.size.bytes) {
+        *kept = Some(p);
+    }
 }
 
 /// Seed of the disturbed episodes [`better_under_disturbances`] runs (not the
@@ -217,13 +332,16 @@ fn regression<C: Catalog>(
     options: Options,
     trace: &Trace,
 ) -> Result<Plan<C>, PlanError> {
-    let mut policy = crate::regress::Policy::of_trace(&g, trace);
-    let budget = close_budget(options);
-    let closed = if options.close_nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
-    let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
-    let mut p = finish(planner, g, catalog, options, Made::Regression, Vec::new(), Vec::new(), 0)?;
-    p.closed = closed;
-    Ok(p)
+    let plain = crate::regress::Policy::of_trace(&g, trace);
+    fit::within(options, |nodes| {
+        let mut policy = plain.clone();
+        let budget = close_budget(Options { close_nodes: nodes, ..options });
+        let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+        let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
+        let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
+        p.closed = closed;
+        Ok(p)
+    })
 }
 
 /// Conditions of `tree` whose failure fails the whole tree: the root, the children
@@ -287,6 +405,7 @@ fn cover_checks<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) ->
             q.closed = p.closed;
             q.covered = covered;
             q.variables = p.variables;
+            q.first = p.first;
             q
         }
         _ => p,
@@ -384,6 +503,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
             q.closed = Some(closed);
             q.covered = p.covered;
             q.variables = p.variables;
+            q.first = p.first;
             Ok(q)
         }
         // The rules are checked on every state they were made for; should the whole tree
@@ -400,23 +520,26 @@ fn recoverable(e: &PlanError) -> bool {
     )
 }
 
+/// Algorithm 1 from the goal, giving up past `budget` nodes ([`run_algorithm1`]).
 fn algorithm1<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
     options: Options,
-    made: Made,
+    budget: Option<usize>,
 ) -> Result<Plan<C>, PlanError> {
     let planner = Planner::new(g.clone(), options)?;
-    run_algorithm1(planner, g, catalog, options, made)
+    run_algorithm1(planner, g, catalog, options, Made::Algorithm1, budget)
 }
 
-/// The loop of Algorithm 1: run the tree from the initial state; on Failure expand.
+/// The loop of Algorithm 1: run the tree from the initial state; on Failure expand;
+/// give up ([`PlanError::OverBudget`]) when the tree has grown past `budget` nodes.
 fn run_algorithm1<C: Catalog>(
     mut planner: Planner,
     g: Arc<Grounding>,
     catalog: Arc<C>,
     options: Options,
     made: Made,
+    budget: Option<usize>,
 ) -> Result<Plan<C>, PlanError> {
     let mut world = StripsWorld::new(g.clone());
     let mut states = Vec::new();
@@ -453,6 +576,10 @@ fn run_algorithm1<C: Catalog>(
                 match planner.on_failure(&states, &belief) {
                     Ok(e) => expansions.push(e),
                     Err(e) => return Err(crate::run_time::stuck(e, &planner, INITIAL)),
+                }
+                let nodes = planner.nodes().len();
+                if let Some(budget) = budget.filter(|&b| nodes > b) {
+                    return Err(PlanError::OverBudget { nodes, budget });
                 }
                 if options.record_steps {
                     steps.push(planner.nodes().to_vec());
@@ -542,5 +669,7 @@ fn finish<C: Catalog>(
         closed: None,
         covered: 0,
         variables: Vec::new(),
+        fit: fit::Fitted::default(),
+        first: Instant::now(),
     })
 }

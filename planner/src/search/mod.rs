@@ -1,7 +1,9 @@
-//! Heuristic search for a plan: greedy best-first search with h_FF and helpful
-//! actions, over the ground actions of a [`Grounding`].
+//! Heuristic search for a plan: greedy best-first search over the ground actions of
+//! a [`Grounding`], with h_FF and helpful actions, and with LAMA's ideas (deferred
+//! evaluation, the landmark count alternating with h_FF: [`SearchOptions::lazy`],
+//! [`SearchOptions::landmarks`], [`landmarks`]).
 //!
-//! The search is *eager*: every new state is evaluated when generated. Two open lists
+//! The eager search evaluates every new state when it is generated. Two open lists
 //! are kept, one with every state and one with the states reached by a helpful action
 //! of their parent; the search takes from them in turn, and from the helpful one for
 //! a while after each improvement of the best h (the boost of Fast Downward's and
@@ -21,11 +23,15 @@
 //! ```
 
 mod heuristic;
+pub mod landmarks;
+mod lazy;
 mod registry;
 mod successors;
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 pub use heuristic::{INFINITE, Relaxation};
@@ -37,7 +43,7 @@ use registry::Registry;
 use successors::Successors;
 
 /// Bounds of a search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct SearchOptions {
     /// Give up at this instant.
     pub deadline: Option<Instant>,
@@ -45,11 +51,40 @@ pub struct SearchOptions {
     pub memory: usize,
     /// Expansions from the helpful list after each improvement of the best h.
     pub boost: u32,
+    /// Deferred evaluation, as LAMA searches: a state is evaluated when it is taken from an
+    /// open list, not when it is generated.
+    pub lazy: bool,
+    /// Give up ([`PlanError::OutOfStates`]) once this many states were evaluated
+    /// (eager search only).
+    pub max_evaluated: Option<u64>,
+    /// With [`SearchOptions::lazy`]: alternate h_FF with the landmark count
+    /// ([`landmarks`]), as LAMA does.
+    pub landmarks: bool,
+    /// Give up as soon as this is set (another thread found what the search was for:
+    /// [`crate::plan`] runs search beside Algorithm 1 and stops it when Algorithm 1
+    /// finishes first).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for SearchOptions {
     fn default() -> Self {
-        Self { deadline: None, memory: 2 << 30, boost: 1000 }
+        Self {
+            deadline: None,
+            memory: 2 << 30,
+            boost: 1000,
+            lazy: false,
+            landmarks: false,
+            max_evaluated: None,
+            stop: None,
+        }
+    }
+}
+
+impl SearchOptions {
+    /// Whether the search must end now: past its deadline, or told to stop.
+    fn over(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
+            || self.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
     }
 }
 
@@ -101,6 +136,9 @@ pub fn gbfs(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> 
 /// # Errors
 /// As [`gbfs`].
 pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Result<Found, PlanError> {
+    if options.lazy {
+        return lazy::lazy_gbfs_from(g, start, options);
+    }
     let mut h = Relaxation::new(g);
     let succ = Successors::new(g);
     let mut reg = Registry::new(g, start);
@@ -148,10 +186,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
         }
         closed[id as usize] = true;
         expanded += 1;
-        if expanded & 0xFF == 0
-            && let Some(d) = options.deadline
-            && Instant::now() >= d
-        {
+        if expanded & 0xFF == 0 && options.over() {
             return Err(PlanError::Timeout { stage: "searching for a plan" });
         }
         reg.load(id, &mut state);
@@ -168,10 +203,11 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
                 let plan = path(&nodes, sid);
                 return Ok(Found { plan, expanded, stored: reg.len() as u64, initial_h: h0 });
             }
-            if let Some(d) = options.deadline
-                && Instant::now() >= d
-            {
+            if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
+            }
+            if options.max_evaluated.is_some_and(|m| reg.len() as u64 > m) {
+                return Err(PlanError::OutOfStates { evaluated: reg.len() as u64 });
             }
             let hv = h.h_ff(&next, &mut helpful);
             helpful_of.push(if hv == INFINITE { Vec::new() } else { helpful.clone() });

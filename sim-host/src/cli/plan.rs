@@ -44,6 +44,30 @@ pub enum MethodArg {
     Search,
 }
 
+/// How the search that guides the tree evaluates states.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SearchArg {
+    /// Each state when it is generated.
+    Eager,
+    /// Each state when it is taken from an open list, entering under its parent's h
+    /// (as LAMA's first iteration does).
+    Deferred,
+    /// Deferred, alternating h_FF with a landmark count, each with helpful
+    /// successors first after progress (as LAMA's first iteration does).
+    Landmarks,
+}
+
+impl SearchArg {
+    /// (deferred, landmarks) of [`planner::Options`].
+    pub fn options(self) -> (bool, bool) {
+        match self {
+            Self::Eager => (false, false),
+            Self::Deferred => (true, false),
+            Self::Landmarks => (true, true),
+        }
+    }
+}
+
 /// How free action parameters are bound.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RefinementArg {
@@ -141,6 +165,36 @@ pub struct Args {
     /// them (the paper's figures among them).
     #[arg(long, conflicts_with = "task")]
     pub close_backchained: bool,
+    /// The most bytes the tree's image may have as a controller holds it (without the
+    /// names section; `deploy --strip-names` sends exactly that). The closure over
+    /// disturbances is cut to fit, its rules for the states fewest disturbances reach
+    /// first; a tree that does not fit even without its closure is an error. Default:
+    /// 16 KiB where the tree without its closure fits, else the smallest tree made
+    /// (PDDL only).
+    #[arg(long, value_name = "BYTES", conflicts_with = "task")]
+    pub max_bytes: Option<usize>,
+    /// The most bt-core nodes the tree may have, as --max-bytes (PDDL only).
+    #[arg(long, value_name = "NODES", conflicts_with = "task")]
+    pub max_nodes: Option<usize>,
+    /// Seconds to plan for (PDDL only): Algorithm 1 and the search run side by side,
+    /// and the closure over disturbances stops when the time is up, leaving the tree
+    /// it has made so far (less robust, never wrong); a tree not made by then is an
+    /// error. Default: no limit.
+    #[arg(long, value_name = "SECONDS", conflicts_with = "task")]
+    pub timeout: Option<f64>,
+    /// How the greedy best-first search that guides the tree evaluates states (PDDL
+    /// only).
+    #[arg(long, value_enum, default_value_t = SearchArg::Landmarks, conflicts_with = "task")]
+    pub search: SearchArg,
+}
+
+/// The size a tree must fit from --max-bytes and --max-nodes (strict when either is
+/// given).
+pub fn fit(max_bytes: Option<usize>, max_nodes: Option<usize>) -> planner::Fit {
+    match (max_bytes, max_nodes) {
+        (None, None) => planner::Fit::DEFAULT,
+        (b, n) => planner::Fit { bytes: b.unwrap_or(usize::MAX), nodes: n.unwrap_or(usize::MAX), strict: true },
+    }
 }
 
 fn render<C: Catalog + ?Sized>(
@@ -235,7 +289,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         goal_sequence: args.goal_sequence,
         close_nodes: args.close_nodes,
         close_backchained: args.close_backchained,
+        fit: fit(args.max_bytes, args.max_nodes),
+        deferred: args.search.options().0,
+        landmarks: args.search.options().1,
         ..Options::default()
+    };
+    let deadline = match args.timeout {
+        Some(t) if !(t.is_finite() && t > 0.0) => bail!("--timeout must be a number of seconds above 0, not {t}"),
+        Some(t) => Some(std::time::Instant::now() + std::time::Duration::from_secs_f64(t.min(1e9))),
+        None => None,
     };
     let (bytes, text) = if let Some(task) = &args.task {
         let task = Task::from_name(task).with_context(|| format!("unknown task `{task}`"))?;
@@ -261,9 +323,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         for w in dwarn.iter().chain(&pwarn) {
             let _ = output::stderr(format!("{w}\n").as_bytes());
         }
+        let limits = planner::ground::Limits { deadline, ..planner::ground::Limits::default() };
         let g = Arc::new(
-            planner::ground::Grounding::new(&problem).with_context(|| format!("grounding {}", ppath.display()))?,
+            planner::ground::Grounding::with_limits(&problem, &limits)
+                .with_context(|| format!("grounding {}", ppath.display()))?,
         );
+        let options = Options { deadline, ..options };
         let catalog = Arc::new(PddlCatalog::new(&problem));
         // Read before planning: a typo in the state should not wait for the planner.
         let changes = match &args.expand_at {
@@ -295,6 +360,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         if let Some(c) = plan.closed {
             verdict_head.push_str(&format!("{c}\n"));
         }
+        verdict_head.push_str(&format!("{}\n", plan.fit));
         if let (Some(changes), Some(text)) = (changes, &args.expand_at) {
             let at =
                 planner::expand_at(&mut plan.planner, catalog.as_ref(), &changes, options.max_ticks).map_err(|e| {

@@ -41,11 +41,11 @@ pub struct Args {
 }
 
 /// The font every label uses, embedded so the picture needs no system fonts.
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+pub(super) static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 
 /// The paper's colours first (no baseline red, baseline blue, boost crossover green,
 /// boost all black), then more for other series.
-const COLOURS: [RGBColor; 9] = [
+pub(super) const COLOURS: [RGBColor; 9] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
@@ -78,12 +78,12 @@ fn colour(r: &Recorded) -> RGBColor {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Format {
+pub(super) enum Format {
     Png,
     Svg,
 }
 
-fn format_of(out: &Path) -> anyhow::Result<Format> {
+pub(super) fn format_of(out: &Path) -> anyhow::Result<Format> {
     let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("png") => Ok(Format::Png),

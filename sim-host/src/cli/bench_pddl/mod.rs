@@ -1,19 +1,26 @@
 //! `sim-host bench-pddl DIR`: planner coverage on a folder of PDDL benchmark domains,
-//! side by side with pyperplan, every plan checked by an independent validator.
+//! side by side with pyperplan and Fast Downward, every plan checked by an independent
+//! validator.
 //!
 //! Each instance runs in a child process of this binary (the same command with the
 //! hidden `--child`), killed at the timeout; the child reads, grounds and plans with
 //! [`planner::coverage::run`] and prints its result as `key<TAB>value` lines. The
-//! parent then checks the executed plan with the validator, runs pyperplan on a copy
-//! of the files with the same timeout, and sums up per domain.
+//! parent then checks the executed plan with the validator, runs the peers on a copy
+//! of the files with the same timeout ([`peers`]), sums up per domain ([`table`]) and
+//! draws coverage against time ([`plot`]).
+
+mod peers;
+mod plot;
+mod table;
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 use anyhow::{Context as _, bail};
-use planner::coverage::{self, Disturbed, Instance, Outcome, Run, Settings};
+use peers::{Peer, PeerRun, timed};
+use planner::coverage::{self, Instance, Outcome, Run, Settings};
 use sim_host::text::count;
 
 pub const LONG_ABOUT: &str = "Measures the planner on a folder of PDDL benchmarks: one sub-folder per \
@@ -25,15 +32,20 @@ pub const LONG_ABOUT: &str = "Measures the planner on a folder of PDDL benchmark
     seeded external disturbances (an agent undoes the robot's last action, or does one of the tree's \
     actions for it) and count the episodes that reach the goal. With --validate, every executed plan \
     is checked by that program (VAL's `Validate DOMAIN PROBLEM PLAN`, exit status 0 = valid); with \
-    --pyperplan, pyperplan (greedy best-first search with h_FF) runs on the same instance with the \
-    same timeout, and its plan is validated the same way.\n\n\
+    --pyperplan, pyperplan (greedy best-first search with h_FF), and with --fast-downward, Fast \
+    Downward with LAMA's first iteration (`--alias lama-first`), run on the same instance with the \
+    same timeout, one process at a time, and their plans are validated the same way.\n\n\
     Prints a line per instance (with the tree and the repeating actions when Algorithm 1 \
     oscillated), then a table per domain: instances, parsed, solved, median planning time, median \
     tree size and plan cost, plans found valid, disturbed episodes that reached the goal (of all, and \
     of those where a plan remained: a disturbance that search proves leaves no plan to the goal, \
     such as a peg jumped out of turn in peg solitaire, is a dead end no tree recovers from), and \
-    pyperplan's solved count and median time. Times are wall-clock: ours from reading the files to \
-    the checked tree, pyperplan's for its whole process.";
+    each peer's solved count and median time; then, against Fast Downward, the instances both \
+    solve, how many of ours took at most twice its time and half a second, the worst ratio, and \
+    how many of our trees fit --max-bytes. Times are wall-clock: ours from reading the files to \
+    the checked tree (the disturbed episodes come after), each peer's for its whole process \
+    (Fast Downward's translator included). With --plot, a picture of the instances solved \
+    against time, one line per planner, as planning papers draw coverage.";
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -61,6 +73,25 @@ pub struct Args {
     /// pyperplan's command, run as `PROGRAM -H hff -s gbf DOMAIN PROBLEM`.
     #[arg(long, value_name = "PROGRAM")]
     pub pyperplan: Option<PathBuf>,
+    /// Fast Downward's driver, run as `PROGRAM --alias lama-first --plan-file PLAN
+    /// DOMAIN PROBLEM` (`pip install up-fast-downward` ships it as
+    /// `up_fast_downward/downward/fast-downward.py`).
+    #[arg(long, value_name = "PROGRAM")]
+    pub fast_downward: Option<PathBuf>,
+    /// The most image bytes a tree may have, as `plan --max-bytes` (default: 16 KiB
+    /// where the tree without its closure fits; 0: no bound).
+    #[arg(long, value_name = "BYTES")]
+    pub max_bytes: Option<usize>,
+    /// The most bt-core nodes a tree may have, as `plan --max-nodes`.
+    #[arg(long, value_name = "NODES")]
+    pub max_nodes: Option<usize>,
+    /// How the search that guides the tree evaluates states, as `plan --search`.
+    #[arg(long, value_enum, default_value_t = super::plan::SearchArg::Landmarks)]
+    pub search: super::plan::SearchArg,
+    /// Draw the instances solved against time, ours and the peers', to this PNG or SVG
+    /// file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
     /// Only instances whose `domain/problem` path contains this text.
     #[arg(long)]
     pub only: Option<String>,
@@ -80,14 +111,35 @@ pub struct Args {
     pub child: Option<Vec<PathBuf>>,
 }
 
-/// One instance's results on both sides.
+/// One instance's results on every side.
 struct Row {
     instance: Instance,
     ours: Run,
     valid: Option<bool>,
-    pyperplan: Option<PyperplanRun>,
-    /// Why pyperplan ended without a plan before the timeout.
-    pyperplan_why: Option<String>,
+    /// The peers' runs, in the order of [`Args::peers`].
+    peers: Vec<PeerRun>,
+}
+
+impl Args {
+    /// The peers asked for, with their programs.
+    fn peers(&self) -> Vec<(Peer, &Path)> {
+        let mut out = Vec::new();
+        if let Some(p) = &self.fast_downward {
+            out.push((Peer::FastDownward, p.as_path()));
+        }
+        if let Some(p) = &self.pyperplan {
+            out.push((Peer::Pyperplan, p.as_path()));
+        }
+        out
+    }
+
+    /// The size trees must fit (`--max-bytes 0`: no bound).
+    fn fit(&self) -> planner::Fit {
+        match self.max_bytes {
+            Some(0) if self.max_nodes.is_none() => planner::Fit::NONE,
+            b => super::plan::fit(b.filter(|&b| b > 0), self.max_nodes),
+        }
+    }
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -98,6 +150,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         failures: args.failures,
         close_backchained: args.close_backchained,
         close_nodes: args.close_nodes,
+        fit: args.fit(),
+        deferred: args.search.options().0,
+        landmarks: args.search.options().1,
         ..Settings::default()
     };
     if let Some(files) = &args.child {
@@ -110,6 +165,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     if args.timeout == 0 {
         bail!("--timeout must be at least 1 second");
+    }
+    if let Some(path) = &args.plot {
+        plot::check(path)?;
     }
     let mut list = coverage::instances(&args.dir).with_context(|| format!("cannot read {}", args.dir.display()))?;
     if let Some(only) = &args.only {
@@ -135,18 +193,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for instance in list {
         let ours = child(&exe, &instance, args)?;
         let valid = match (&args.validate, ours.solved()) {
-            (Some(v), true) => Some(validate(v, &instance, &ours.plan.join("\n"))?),
+            (Some(v), true) => Some(peers::validate(v, &instance, &ours.plan.join("\n"))?),
             _ => None,
         };
-        let (pyperplan, pyperplan_why) = match &args.pyperplan {
-            Some(p) => {
-                let (r, why) = pyperplan(p, &instance, args)?;
-                (Some(r), why)
-            }
-            None => (None, None),
-        };
-        let row = Row { instance, ours, valid, pyperplan, pyperplan_why };
-        writeln!(out, "{}", line(&row))?;
+        let mut peer_runs = Vec::new();
+        for (peer, program) in args.peers() {
+            let limit = Duration::from_secs(args.timeout);
+            peer_runs.push(peers::run(peer, program, &instance, limit, args.validate.as_deref())?);
+        }
+        let row = Row { instance, ours, valid, peers: peer_runs };
+        writeln!(out, "{}", line(&row, args))?;
         if !row.ours.variables.is_empty() {
             writeln!(out, "  {}", planner::variables_line(&row.ours.variables))?;
         }
@@ -155,6 +211,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         if let Some(c) = &row.ours.closed {
             writeln!(out, "  {c}")?;
+        }
+        if let Some(f) = &row.ours.fit {
+            writeln!(out, "  {f}")?;
         }
         if let Some((tree, actions)) = &row.ours.oscillation {
             writeln!(out, "  Algorithm 1 oscillated, repeating: {}", actions.join(", "))?;
@@ -166,55 +225,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         out.clear();
         rows.push(row);
     }
-    let table = table(&rows, args);
+    let table = table::table(&rows, args);
     writeln!(out, "\n{table}")?;
     super::output::stdout(&out)?;
     if let Some(path) = &args.out {
         super::output::write_whole(path, table.as_bytes())?;
+    }
+    if let Some(path) = &args.plot {
+        plot::write(path, &rows, args)?;
+        super::output::stdout(format!("coverage against time: {}\n", path.display()).as_bytes())?;
     }
     Ok(())
 }
 
 fn name(p: &Path) -> String {
     p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
-}
-
-/// Runs `cmd` with a time limit; returns its output, or `None` when it was killed.
-fn timed(mut cmd: Command, limit: Duration) -> anyhow::Result<(Option<std::process::Output>, f64)> {
-    let start = Instant::now();
-    let mut child = cmd.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn()?;
-    // Read the pipes on threads so a chatty child never blocks on a full pipe.
-    let mut so = child.stdout.take();
-    let mut se = child.stderr.take();
-    let t_out = std::thread::spawn(move || {
-        let mut b = Vec::new();
-        if let Some(s) = so.as_mut() {
-            let _ = std::io::Read::read_to_end(s, &mut b);
-        }
-        b
-    });
-    let t_err = std::thread::spawn(move || {
-        let mut b = Vec::new();
-        if let Some(s) = se.as_mut() {
-            let _ = std::io::Read::read_to_end(s, &mut b);
-        }
-        b
-    });
-    let status = loop {
-        if let Some(s) = child.try_wait()? {
-            break Some(s);
-        }
-        if start.elapsed() >= limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let secs = start.elapsed().as_secs_f64();
-    let stdout = t_out.join().unwrap_or_default();
-    let stderr = t_err.join().unwrap_or_default();
-    Ok((status.map(|status| std::process::Output { status, stdout, stderr }), secs))
 }
 
 fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
@@ -227,6 +252,15 @@ fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
     cmd.args(["--close-nodes", &args.close_nodes.to_string()]);
     cmd.args(["--seed", &args.seed.to_string()]);
     cmd.args(["--failures", &args.failures.to_string()]);
+    if let Some(v) = clap::ValueEnum::to_possible_value(&args.search) {
+        cmd.args(["--search", v.get_name()]);
+    }
+    if let Some(b) = args.max_bytes {
+        cmd.args(["--max-bytes", &b.to_string()]);
+    }
+    if let Some(n) = args.max_nodes {
+        cmd.args(["--max-nodes", &n.to_string()]);
+    }
     // Planning stops itself at the timeout; the disturbed episodes come after it.
     let limit = Duration::from_secs(args.timeout.saturating_mul(2).saturating_add(30));
     let (output, secs) = timed(cmd, limit)?;
@@ -240,52 +274,6 @@ fn child(exe: &Path, instance: &Instance, args: &Args) -> anyhow::Result<Run> {
     })
 }
 
-/// Checks a plan with the validator: true when it exits with status 0.
-fn validate(program: &Path, instance: &Instance, plan: &str) -> anyhow::Result<bool> {
-    let mut file = tempfile::NamedTempFile::new()?;
-    file.write_all(plan.as_bytes())?;
-    file.write_all(b"\n")?;
-    let mut cmd = Command::new(program);
-    cmd.arg(&instance.domain_file).arg(&instance.problem_file).arg(file.path());
-    let (out, _) = timed(cmd, Duration::from_secs(300)).with_context(|| format!("cannot run {}", program.display()))?;
-    Ok(out.is_some_and(|o| o.status.success()))
-}
-
-/// pyperplan's result: solved, seconds, plan valid (`None`: not validated).
-type PyperplanRun = (bool, f64, Option<bool>);
-
-/// pyperplan on a copy of the files: (solved, seconds, plan valid), and when it ended
-/// by itself without a plan, its exit status and last line of output (why).
-fn pyperplan(program: &Path, instance: &Instance, args: &Args) -> anyhow::Result<(PyperplanRun, Option<String>)> {
-    let dir = tempfile::tempdir()?;
-    let d = dir.path().join("domain.pddl");
-    let p = dir.path().join("problem.pddl");
-    std::fs::copy(&instance.domain_file, &d)?;
-    std::fs::copy(&instance.problem_file, &p)?;
-    let mut cmd = Command::new(program);
-    cmd.args(["-H", "hff", "-s", "gbf"]).arg(&d).arg(&p).current_dir(dir.path());
-    let (out, secs) =
-        timed(cmd, Duration::from_secs(args.timeout)).with_context(|| format!("cannot run {}", program.display()))?;
-    let soln = dir.path().join("problem.pddl.soln");
-    let solved = out.is_some() && soln.is_file();
-    let why = out.as_ref().filter(|_| !solved).map(|o| {
-        let last_of = |b: &[u8]| {
-            String::from_utf8_lossy(b).lines().rev().find(|l| !l.trim().is_empty()).map(|l| l.trim().to_string())
-        };
-        let last = last_of(&o.stderr).or_else(|| last_of(&o.stdout)).unwrap_or_default();
-        let last: String = last.chars().filter(|c| !c.is_control()).take(120).collect();
-        format!("{}: {last}", o.status)
-    });
-    let valid = match (&args.validate, solved) {
-        (Some(v), true) => {
-            let plan = std::fs::read_to_string(&soln)?;
-            Some(validate(v, instance, &plan)?)
-        }
-        _ => None,
-    };
-    Ok(((solved, secs, valid), why))
-}
-
 fn yes(b: Option<bool>) -> &'static str {
     match b {
         Some(true) => "valid",
@@ -294,15 +282,18 @@ fn yes(b: Option<bool>) -> &'static str {
     }
 }
 
-fn line(r: &Row) -> String {
+fn line(r: &Row, args: &Args) -> String {
+    use std::fmt::Write as _;
     let id = format!("{}/{}", r.instance.domain, name(&r.instance.problem_file));
     let o = &r.ours;
     let ours = match &o.outcome {
         Outcome::Solved => format!(
-            "solved {:.2}s {} {}, plan {} cost {} {}, disturbed {}",
+            "solved {:.2}s (first tree {:.2}s) {} {} {}, plan {} cost {} {}, disturbed {}",
             o.seconds,
+            o.first,
             o.method.map_or("?", planner::Made::name),
             count(o.nodes, "node"),
+            count(o.bytes, "byte"),
             o.plan.len(),
             o.cost,
             yes(r.valid),
@@ -312,77 +303,14 @@ fn line(r: &Row) -> String {
         Outcome::Failed(e) => format!("failed: {e}"),
         Outcome::Timeout => "timeout".to_string(),
     };
-    let py = match &r.pyperplan {
-        Some((true, s, v)) => format!(" | pyperplan solved {s:.2}s {}", yes(*v)),
-        Some((false, s, _)) => match &r.pyperplan_why {
-            Some(why) => format!(" | pyperplan unsolved ({s:.0}s, {why})"),
-            None => format!(" | pyperplan unsolved ({s:.0}s)"),
-        },
-        None => String::new(),
-    };
-    format!("{id}: {ours}{py}")
-}
-
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    Some(if n % 2 == 1 { v[n / 2] } else { (v[n / 2 - 1] + v[n / 2]) / 2.0 })
-}
-
-fn fmt(v: Option<f64>, digits: usize) -> String {
-    v.map_or_else(|| "–".into(), |x| format!("{x:.digits$}"))
-}
-
-fn table(rows: &[Row], args: &Args) -> String {
-    let mut domains: Vec<&str> = rows.iter().map(|r| r.instance.domain.as_str()).collect();
-    domains.dedup();
-    let mut s = String::from(
-        "| domain | instances | parsed | solved | median s | median nodes | median cost | valid | disturbed reached | reached where a plan remained | methods (A1/guided/regr) | pyperplan solved | pyperplan valid | pyperplan median s |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n",
-    );
-    let mut all: Vec<&Row> = Vec::new();
-    let summary = |name: &str, rs: &[&Row], s: &mut String| {
-        let solved: Vec<&&Row> = rs.iter().filter(|r| r.ours.solved()).collect();
-        let dist = solved.iter().fold(Disturbed::default(), |a, r| a.plus(r.ours.disturbed));
-        let by = |m: planner::Made| solved.iter().filter(|r| r.ours.method == Some(m)).count();
-        let valid = solved.iter().filter(|r| r.valid == Some(true)).count();
-        let py_solved: Vec<&&Row> = rs.iter().filter(|r| r.pyperplan.is_some_and(|p| p.0)).collect();
-        let py_valid = py_solved.iter().filter(|r| r.pyperplan.is_some_and(|p| p.2 == Some(true))).count();
-        let pct = |of: u32| {
-            if of == 0 {
-                "–".to_string()
-            } else {
-                format!("{:.1} %", 100.0 * f64::from(dist.reached) / f64::from(of))
-            }
+    let mut s = format!("{id}: {ours}");
+    for ((peer, _), p) in args.peers().into_iter().zip(&r.peers) {
+        let name = peer.name();
+        let _ = match (p.solved, &p.why) {
+            (true, _) => write!(s, " | {name} solved {:.2}s {}", p.seconds, yes(p.valid)),
+            (false, Some(why)) => write!(s, " | {name} unsolved ({:.0}s, {why})", p.seconds),
+            (false, None) => write!(s, " | {name} unsolved ({:.0}s)", p.seconds),
         };
-        let (pct, kept) = (pct(dist.episodes), pct(dist.recoverable()));
-        let _ = writeln!(
-            s,
-            "| {name} | {} | {} | {} | {} | {} | {} | {} | {pct} | {kept} | {}/{}/{} | {} | {} | {} |",
-            rs.len(),
-            rs.iter().filter(|r| r.ours.parsed()).count(),
-            solved.len(),
-            fmt(median(solved.iter().map(|r| r.ours.seconds).collect()), 2),
-            fmt(median(solved.iter().map(|r| r.ours.nodes as f64).collect()), 0),
-            fmt(median(solved.iter().map(|r| r.ours.cost as f64).collect()), 0),
-            if args.validate.is_some() { valid.to_string() } else { "–".into() },
-            by(planner::Made::Algorithm1),
-            by(planner::Made::SearchGuided),
-            by(planner::Made::Regression),
-            if args.pyperplan.is_some() { py_solved.len().to_string() } else { "–".into() },
-            if args.pyperplan.is_some() && args.validate.is_some() { py_valid.to_string() } else { "–".into() },
-            fmt(median(py_solved.iter().filter_map(|r| r.pyperplan.map(|p| p.1)).collect()), 2),
-        );
-    };
-    use std::fmt::Write as _;
-    for d in domains {
-        let rs: Vec<&Row> = rows.iter().filter(|r| r.instance.domain == d).collect();
-        summary(d, &rs, &mut s);
-        all.extend(rs);
     }
-    summary("**all**", &all, &mut s);
     s
 }
