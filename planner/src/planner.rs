@@ -5,7 +5,7 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use bt_core::{Node, NodeState};
+use bt_core::{Node, NodeState, NodeStatus};
 
 use crate::PlanError;
 use crate::algorithm::{self, Move};
@@ -223,6 +223,31 @@ impl Planner {
         })
     }
 
+    /// A planner that goes on from a bt-core tree of the kinds it grows
+    /// ([`PlanTree::from_nodes`]), such as one it made before: each condition that
+    /// heads a Fallback counts as expanded (it has its achievers), the others will be
+    /// expanded when they fail.
+    ///
+    /// # Errors
+    /// As [`PlanTree::from_nodes`], and [`PlanError::InvalidTree`] when the tree made
+    /// from it does not flatten back to the same nodes.
+    pub fn from_nodes(g: Arc<Grounding>, nodes: &[Node], values: &[u16], options: Options) -> Result<Self, PlanError> {
+        let mut p = Self::from_tree(g.clone(), PlanTree::from_nodes(&g, nodes, values)?, options)?;
+        if p.flat.nodes != nodes {
+            return Err(PlanError::InvalidTree("it does not read back as the same tree under this problem".into()));
+        }
+        for n in p.tree.preorder(p.tree.root()) {
+            let heads = p
+                .tree
+                .parent(n)
+                .is_some_and(|f| p.tree.kind(f) == Kind::Fallback && p.tree.children(f).first() == Some(&n));
+            if heads && matches!(p.tree.kind(n), Kind::Condition(_)) {
+                p.mark(n);
+            }
+        }
+        Ok(p)
+    }
+
     /// The planner's tree.
     #[must_use]
     pub fn tree(&self) -> &PlanTree {
@@ -290,6 +315,17 @@ impl Planner {
     /// expanded, [`PlanError::Unresolvable`], [`PlanError::TooManyExpansions`],
     /// [`PlanError::TreeTooLarge`].
     pub fn on_failure(&mut self, states: &[NodeState], belief: &State) -> Result<Expansion, PlanError> {
+        let statuses: Vec<NodeStatus> = states.iter().map(NodeState::status).collect();
+        self.on_reported_failure(&statuses, belief)
+    }
+
+    /// [`Planner::on_failure`] from each node's status after the failed tick, as a
+    /// controller ticking the tree elsewhere reports them (bt-link's status stream): all
+    /// Algorithm 1 reads of a tick.
+    ///
+    /// # Errors
+    /// As [`Planner::on_failure`].
+    pub fn on_reported_failure(&mut self, states: &[NodeStatus], belief: &State) -> Result<Expansion, PlanError> {
         if self.expansions >= self.options.max_expansions {
             return Err(PlanError::TooManyExpansions(self.expansions));
         }
@@ -345,7 +381,7 @@ impl Planner {
                 return Err(PlanError::NoAchiever { condition: first });
             }
             let failed: Vec<String> = (0..self.flat.nodes.len())
-                .filter(|&i| states.get(i).map(NodeState::status) == Some(bt_core::NodeStatus::Failure))
+                .filter(|&i| states.get(i) == Some(&NodeStatus::Failure))
                 .filter_map(|i| self.condition_at(i))
                 .map(|l| self.g.lit_name(l))
                 .collect();
@@ -373,10 +409,10 @@ impl Planner {
     /// the situation the tree meets now), at most [`MAX_ALTERNATIVES`] per Fallback; a
     /// condition standing alone (the guard IncreasePriority leaves behind) is expanded
     /// in place.
-    fn backtrack(&mut self, states: &[NodeState], belief: &State) -> Option<Backtrack> {
+    fn backtrack(&mut self, states: &[NodeStatus], belief: &State) -> Option<Backtrack> {
         let mut failed: Vec<(u16, usize, PlanNode)> = Vec::new();
         for (i, &n) in self.flat.of.iter().enumerate() {
-            let failed_here = states.get(i).map(NodeState::status) == Some(bt_core::NodeStatus::Failure);
+            let failed_here = states.get(i) == Some(&NodeStatus::Failure);
             if !failed_here || self.flat.top.get(n as usize) != Some(&(i as u32)) {
                 continue;
             }
