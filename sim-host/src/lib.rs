@@ -12,6 +12,7 @@ pub mod learn;
 pub mod physics;
 pub mod picture;
 pub mod scenario;
+pub mod session;
 pub mod symbolic;
 pub mod text;
 pub mod world;

@@ -7,6 +7,7 @@ use std::time::Duration;
 use anyhow::{Context as _, bail};
 use bt_link::Fault;
 use bt_link::host::{Client, ControllerInfo};
+use sim_host::session::Session;
 
 use super::catalogs;
 use sim_host::text::count;
@@ -38,12 +39,13 @@ impl<T: Read + Write + Send> Io for T {}
 /// How long one read of the link waits before the client checks its deadlines.
 const POLL: Duration = Duration::from_millis(50);
 
-/// Opens the link named by `target`.
+/// Opens the link named by `target`: a session with the controller, and the link's
+/// name for messages.
 ///
 /// # Errors
 /// One line naming the port or address and why it cannot be opened (busy, missing,
 /// refused).
-pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Client<Box<dyn Io>>, String)> {
+pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Session<Box<dyn Io>>, String)> {
     if let Some(path) = &target.port {
         let port = serialport::new(path, line.baud).timeout(POLL).open().map_err(|e| match e.kind() {
             serialport::ErrorKind::NoDevice => anyhow::anyhow!("serial port {path}: no such device, or it is busy"),
@@ -53,21 +55,21 @@ pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Client<Box<dyn Io>>
             _ => anyhow::anyhow!("serial port {path}: {e}"),
         })?;
         let io: Box<dyn Io> = Box::new(port);
-        return Ok((Client::new(io), path.clone()));
+        return Ok((Session::new(Client::new(io)), path.clone()));
     }
     let Some(addr) = &target.tcp else { bail!("give --port PATH or --tcp HOST:PORT") };
     let stream = std::net::TcpStream::connect(addr).with_context(|| format!("cannot connect to {addr}"))?;
     stream.set_read_timeout(Some(POLL)).with_context(|| addr.clone())?;
     let _ = stream.set_nodelay(true);
     let io: Box<dyn Io> = Box::new(stream);
-    Ok((Client::new(io), addr.clone()))
+    Ok((Session::new(Client::new(io)), addr.clone()))
 }
 
 /// `Hello`, with the controller's behavior set named when this binary knows it.
 ///
 /// # Errors
 /// No answer, another protocol version, or a link error, naming the link.
-pub fn hello(link: &mut Client<Box<dyn Io>>, name: &str) -> anyhow::Result<(ControllerInfo, String)> {
+pub fn hello(link: &mut Session<Box<dyn Io>>, name: &str) -> anyhow::Result<(ControllerInfo, String)> {
     let info = link.hello().map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let set = catalogs::by_fingerprint(info.fingerprint)
         .map_or_else(|| format!("{:#018x}", info.fingerprint), |k| format!("{:#018x}, {}", info.fingerprint, k.name));

@@ -28,6 +28,7 @@ mod plot;
 mod run;
 mod run_strips;
 mod scenario;
+mod watch;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
 #[derive(Parser, Debug)]
