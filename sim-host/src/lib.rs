@@ -6,6 +6,7 @@
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 #![warn(missing_docs)]
 
+pub mod blend;
 pub mod episode;
 pub mod input;
 pub mod learn;

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod bench_pddl;
+mod blend;
 mod btlog;
 mod catalog;
 mod catalogs;
@@ -79,6 +80,9 @@ enum Command {
     Deploy(deploy::Args),
     /// Watch a running controller's tree live, status by status.
     Monitor(monitor::Args),
+    /// Blended planning and acting on a controller: the tree grows from the goal while it acts.
+    #[command(long_about = blend::LONG_ABOUT)]
+    Blend(blend::Args),
     /// Measure the planner on a folder of PDDL benchmarks, side by side with pyperplan.
     #[command(long_about = bench_pddl::LONG_ABOUT)]
     BenchPddl(bench_pddl::Args),
@@ -115,6 +119,7 @@ pub fn main() -> ExitCode {
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Deploy(args)) => deploy::run(&args),
         Some(Command::Monitor(args)) => monitor::run(&args),
+        Some(Command::Blend(args)) => blend::run(&args),
         Some(Command::BenchPddl(args)) => bench_pddl::run(&args),
     };
     match result {

@@ -210,6 +210,12 @@ impl Recording {
         self.trace.push('\n');
     }
 
+    /// A line of the caller's own in the trace (`blend`'s expansions).
+    pub fn note(&mut self, line: &str) {
+        self.trace.push_str(line);
+        self.trace.push('\n');
+    }
+
     /// Writes the trace to `trace` (if given) and the last tree's replay log.
     pub fn finish(mut self, out: &mut impl Write, trace: Option<&Path>) -> anyhow::Result<()> {
         if let Some(path) = trace {

@@ -86,7 +86,7 @@ impl Narrate for planner::Expansion {
 #[derive(Debug)]
 pub struct Teller<'a, C: ?Sized> {
     catalog: &'a C,
-    out: &'a mut String,
+    out: String,
     /// What was told.
     pub record: Record,
     /// An action running on quietly since a tick.
@@ -94,9 +94,14 @@ pub struct Teller<'a, C: ?Sized> {
 }
 
 impl<'a, C: Catalog + ?Sized> Teller<'a, C> {
-    /// Tells into `out`, naming leaves with `catalog`.
-    pub fn new(catalog: &'a C, out: &'a mut String) -> Self {
-        Self { catalog, out, record: Record::default(), quiet: None }
+    /// Tells a run, naming leaves with `catalog`.
+    pub fn new(catalog: &'a C) -> Self {
+        Self { catalog, out: String::new(), record: Record::default(), quiet: None }
+    }
+
+    /// The text told since the last call.
+    pub fn take_text(&mut self) -> String {
+        std::mem::take(&mut self.out)
     }
 
     /// What was told.
@@ -126,6 +131,11 @@ impl<'a, C: Catalog + ?Sized> Teller<'a, C> {
     /// A line under the tick's: `          text`.
     pub fn add(&mut self, text: &str) {
         let _ = writeln!(self.out, "          {text}");
+    }
+
+    /// A line as it is (it names its own ticks).
+    pub fn add_raw(&mut self, line: &str) {
+        let _ = writeln!(self.out, "{line}");
     }
 
     /// One line per action start, success, failure and halt; an action running on
@@ -195,9 +205,30 @@ impl<'a, C: Catalog + ?Sized> Teller<'a, C> {
 
     /// Growth number `n` (from 1) made at `tick`, and the tree it made.
     pub fn grown<G: Narrate + ?Sized>(&mut self, tick: u32, growth: &G, nodes: &[Node], values: &[u16]) {
+        self.grown_with(tick, growth, "", nodes, values);
+    }
+
+    /// [`Teller::grown`] with a line of the caller's before the tree (none if empty).
+    pub fn grown_with<G: Narrate + ?Sized>(
+        &mut self,
+        tick: u32,
+        growth: &G,
+        note: &str,
+        nodes: &[Node],
+        values: &[u16],
+    ) {
         let n = self.record.expansions.len() + 1;
-        growth.narrate(n, tick, self.out, &mut self.record);
+        growth.narrate(n, tick, &mut self.out, &mut self.record);
+        if !note.is_empty() {
+            self.add(note);
+        }
         self.show_tree("the tree now", nodes, values);
+    }
+
+    /// The behavior set leaves are named with.
+    #[must_use]
+    pub fn catalog(&self) -> &'a C {
+        self.catalog
     }
 }
 
@@ -209,8 +240,13 @@ pub(super) struct Narration<'a, C: ?Sized> {
 }
 
 impl<'a, C: Catalog + ?Sized> Narration<'a, C> {
-    pub(super) fn new(catalog: &'a C, out: &'a mut String) -> Self {
-        Self { teller: Teller::new(catalog, out), told: 0 }
+    pub(super) fn new(catalog: &'a C) -> Self {
+        Self { teller: Teller::new(catalog), told: 0 }
+    }
+
+    /// The text told since the last call.
+    pub(super) fn take_text(&mut self) -> String {
+        self.teller.take_text()
     }
 
     pub(super) fn into_record(self) -> Record {
