@@ -210,6 +210,13 @@ impl<T: Read + Write> Session<T> {
     pub fn pending(&mut self) -> Option<Event> {
         self.stream.pop()
     }
+
+    /// Whether events are waiting (read while a request waited for its answer): the
+    /// reader is behind the controller.
+    #[must_use]
+    pub fn behind(&self) -> bool {
+        !self.stream.events.is_empty()
+    }
 }
 
 /// Applies `changes` to a tree's statuses (a change for a node the tree does not have

@@ -2,58 +2,17 @@
 //! `bt_link::serve` in this test over a TCP socket on the loopback interface.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
-use std::io::{ErrorKind, Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Instant;
 
 use bt_core::{BehaviorSet, Catalog as _, Context, Leaf, NodeId, Status};
-use bt_link::{App, Board, Storage};
+use bt_link::App;
 
 mod cli_common;
+mod link_common;
 use cli_common::sim_host;
-
-struct Tcp {
-    stream: TcpStream,
-    closed: bool,
-    started: Instant,
-}
-
-impl Board for Tcp {
-    fn read(&mut self) -> Option<u8> {
-        let mut b = [0u8; 1];
-        match self.stream.read(&mut b) {
-            Ok(1) => Some(b[0]),
-            Ok(_) => {
-                self.closed = true;
-                None
-            }
-            Err(e) if e.kind() == ErrorKind::WouldBlock => None,
-            Err(_) => {
-                self.closed = true;
-                None
-            }
-        }
-    }
-    fn write(&mut self, mut bytes: &[u8]) {
-        while !bytes.is_empty() && !self.closed {
-            match self.stream.write(bytes) {
-                Ok(n) => bytes = &bytes[n..],
-                Err(e) if e.kind() == ErrorKind::WouldBlock => std::thread::yield_now(),
-                Err(_) => self.closed = true,
-            }
-        }
-    }
-    fn micros(&mut self) -> u32 {
-        self.started.elapsed().as_micros() as u32
-    }
-    fn closed(&mut self) -> bool {
-        std::thread::sleep(std::time::Duration::from_micros(100));
-        self.closed
-    }
-}
 
 /// The robot is far from everything with a free path and an empty hand, and every
 /// action runs on: the planner's tree keeps `move-to(cube)` running.
@@ -90,23 +49,8 @@ fn cube_image(dir: &Path) -> (PathBuf, Vec<u8>) {
 
 /// A controller holding at most `NODES` nodes, booted with `boot`, serving one
 /// connection on a free port.
-fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<()>) {
-    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
-    let addr = listener.local_addr().unwrap().to_string();
-    let handle = std::thread::spawn(move || {
-        let (stream, _) = listener.accept().unwrap();
-        stream.set_nonblocking(true).unwrap();
-        let mut board = Tcp { stream, closed: false, started: Instant::now() };
-        let mut storage = Box::new(Storage::<NODES, 640, 32>::new());
-        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(
-            &mut storage,
-            &catalog(),
-            boot.as_deref(),
-            &mut board,
-            &mut World,
-        );
-    });
-    (addr, handle)
+fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<World>) {
+    link_common::controller::<NODES, _, _>(catalog(), boot, World)
 }
 
 #[test]

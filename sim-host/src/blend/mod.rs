@@ -275,7 +275,7 @@ pub fn run<T: Read + Write, L: Listener + ?Sized>(
         belief,
         running,
         pending: None,
-        granted: first_tick,
+        granted: 0,
         last,
         read: None,
         grown: Vec::new(),
@@ -285,7 +285,8 @@ pub fn run<T: Read + Write, L: Listener + ?Sized>(
         ending: false,
     };
     d.first_swap(first_tick, image_crc(&image))?;
-    d.extend(first_tick, false)?;
+    let lead = d.blend.lead;
+    d.grant(first_tick.saturating_add(1).saturating_add(lead), false)?;
     let end = d.act()?;
     let stopped_at = d.finish(&end)?;
     let bytes = d.link.bytes();
@@ -355,14 +356,17 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
         }
     }
 
-    /// Lets the controller run up to tick `read + lead` (within `--ticks`); `count`:
-    /// count it as a wait if the controller had reached its horizon already.
-    fn extend(&mut self, read: u32, count: bool) -> anyhow::Result<()> {
-        let mut until = read.saturating_add(1).saturating_add(self.blend.lead);
-        if let Some(last) = self.last {
-            until = until.min(last);
-        }
-        if until <= self.granted && self.read.is_some() {
+    /// Lets the controller run up to, not including, tick `until` (within `--ticks`);
+    /// `count`: count it as a wait if the controller had reached its horizon already.
+    ///
+    /// The horizon keeps the swap ticks the host names ahead of the controller: before
+    /// the host reads tick `t`, the controller may not pass tick `t + 1 + lead`, where a
+    /// tree grown on `t`'s failure swaps in. So after reading tick `t`, it may run to
+    /// `t + 2 + lead` (or to the swap tick, when `t` failed); after a swap before tick
+    /// `s`, to `s + 1 + lead`.
+    fn grant(&mut self, until: u32, count: bool) -> anyhow::Result<()> {
+        let until = self.last.map_or(until, |last| until.min(last));
+        if until <= self.granted {
             return Ok(());
         }
         let next = self.link.start(Some(until), self.blend.period_ms).context("start")?;
@@ -438,16 +442,17 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
             }
             _ => {}
         }
-        if self.pending.is_none() {
-            self.extend(tick, true)?;
-        }
         let swap_at = tick.saturating_add(1).saturating_add(self.blend.lead);
-        if root == WireStatus::Failure
-            && self.pending.is_none()
-            && self.last.is_none_or(|l| swap_at < l)
-            && let Err(error) = self.expand(tick, swap_at)?
-        {
-            return Ok(Some(End::Unexpandable { tick, error }));
+        let expanding = root == WireStatus::Failure && self.pending.is_none() && self.last.is_none_or(|l| swap_at < l);
+        // Ticks are granted as they are read; a reader behind the stream grants once it
+        // has caught up (one request for many ticks), and always up to a swap tick.
+        if expanding {
+            self.grant(swap_at, true)?;
+            if let Err(error) = self.expand(tick, swap_at)? {
+                return Ok(Some(End::Unexpandable { tick, error }));
+            }
+        } else if self.pending.is_none() && !self.link.behind() {
+            self.grant(swap_at.saturating_add(1), true)?;
         }
         Ok(self.last.is_some_and(|l| tick + 1 >= l).then_some(End::Ticks))
     }
@@ -501,10 +506,10 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
         self.running = Running::new(&p.nodes, &p.values);
         let r = &self.running;
         self.listener.step(Step::Tree { tick, nodes: &r.nodes, values: &r.values, image, grown: Some(p.n) })?;
-        match self.read {
-            Some(read) if !self.ending => self.extend(read, false),
-            _ => Ok(()),
+        if self.ending {
+            return Ok(());
         }
+        self.grant(tick.saturating_add(1).saturating_add(self.blend.lead), false)
     }
 
     /// Lets the controller run to its horizon (and a grown tree on its way swap in),
