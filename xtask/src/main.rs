@@ -8,7 +8,9 @@
 //! - `cargo xtask cross`: bt-core and bt-link built with `core` only for Cortex-M4F and
 //!   Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
-//!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`).
+//!   the corrupted-image run, the panic gate and the footprint (see `qemu.rs`), the
+//!   link scenario (`link.rs`) and blended planning and acting on the controller
+//!   (`blend.rs`).
 //! - `cargo xtask fuzz --seconds N [--target load|serve]`: the `load` fuzz target of
 //!   bt-core, or the `serve` target of bt-link (nightly + cargo-fuzz).
 //!
@@ -23,6 +25,7 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod blend;
 mod link;
 mod qemu;
 mod setup;

@@ -112,7 +112,8 @@ pub fn qemu(opts: Options) -> Result {
         target_run.wall.as_secs_f64(),
         refused.wall.as_secs_f64()
     );
-    link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)
+    link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)?;
+    crate::blend::scenario(&elf_dir.join(LINK), &host_bin(LINK), opts.timeout)
 }
 
 /// The link controller: the scenario on the host and under QEMU, the traces compared,
@@ -254,7 +255,7 @@ fn field<'a>(out: &'a str, prefix: &str) -> Option<&'a str> {
 
 /// Compares the target's trace (without its `fw ` lines) with the host's, byte for
 /// byte; returns the number of ticks.
-fn compare(target: &str, host: &str) -> Result<usize> {
+pub(crate) fn compare(target: &str, host: &str) -> Result<usize> {
     let target: Vec<&str> = target.lines().filter(|l| !l.starts_with("fw ")).collect();
     let host: Vec<&str> = host.lines().collect();
     for (i, pair) in target.iter().zip(&host).enumerate() {

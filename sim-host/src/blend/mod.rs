@@ -512,10 +512,18 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
         self.grant(tick.saturating_add(1).saturating_add(self.blend.lead), false)
     }
 
-    /// Lets the controller run to its horizon (and a grown tree on its way swap in),
-    /// then stops it; returns the tick it stopped before.
+    /// Lets the controller run to the horizon the ending tick allows (a grown tree on
+    /// its way swapping in), then stops it; returns the tick it stopped before. The
+    /// horizon is that of the rule in [`Driver::grant`], so that where the controller
+    /// stops does not depend on how far the host had granted when the session ended.
     fn finish(&mut self, end: &End) -> anyhow::Result<u32> {
-        let stop_at = self.granted;
+        let horizon = |t: u32| t.saturating_add(1).saturating_add(self.blend.lead);
+        let stop_at = match *end {
+            End::Goal(t) | End::Unexpandable { tick: t, .. } => horizon(t),
+            End::Ticks => self.granted,
+        };
+        let stop_at = self.last.map_or(stop_at, |l| stop_at.min(l));
+        self.grant(stop_at, false)?;
         self.listener.step(Step::Ending { end, stop_at })?;
         while self.read.is_none_or(|r| r + 1 < stop_at) || self.pending.is_some() {
             let event = self.next()?;
