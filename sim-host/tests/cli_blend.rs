@@ -87,6 +87,15 @@ fn swaps(trace: &str) -> (Vec<u32>, Vec<u32>) {
     (named, done)
 }
 
+/// The conditions a narration expanded, in order.
+fn expanded(narration: &str) -> Vec<&str> {
+    narration
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("expansion "))
+        .map(|l| l.split('`').nth(1).unwrap())
+        .collect()
+}
+
 #[test]
 fn the_tree_grows_from_the_goal_on_the_controller_into_example_2() {
     let dir = tempfile::tempdir().unwrap();
@@ -97,13 +106,8 @@ fn the_tree_grows_from_the_goal_on_the_controller_into_example_2() {
     assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
     handle.join().unwrap();
     assert!(text.contains("the tree at the start (1 node):"), "{text}");
-    let expanded: Vec<&str> = text
-        .lines()
-        .filter_map(|l| l.trim_start().strip_prefix("expansion "))
-        .map(|l| l.split('`').nth(1).unwrap())
-        .collect();
     assert_eq!(
-        expanded,
+        expanded(&text),
         [
             "at(cube, goal)",
             "holding(cube)",
@@ -195,12 +199,7 @@ fn a_given_tree_grows_from_where_it_is() {
     assert!(text.contains("the tree at the start (19 nodes):"), "Fig. 3(e): {text}");
     // Fig. 3(e) already achieves the cube's conditions: only the blocked path and what
     // clearing it needs are expanded.
-    let expanded: Vec<&str> = text
-        .lines()
-        .filter_map(|l| l.trim_start().strip_prefix("expansion "))
-        .map(|l| l.split('`').nth(1).unwrap())
-        .collect();
-    assert_eq!(expanded, ["path-free(goal)", "near(sphere)", "hand-empty"], "{text}");
+    assert_eq!(expanded(&text), ["path-free(goal)", "near(sphere)", "hand-empty"], "{text}");
 }
 
 /// A world where nothing holds and nothing can be done.
@@ -283,4 +282,25 @@ fn the_ticks_given_end_the_session_at_that_tick() {
     let ticks: Vec<&str> = recorded.lines().filter(|l| l.starts_with("tick ")).collect();
     assert_eq!(ticks.len(), 7, "{recorded}");
     assert!(recorded.lines().last().unwrap().starts_with("stop 7 "), "{recorded}");
+}
+
+#[test]
+fn a_grown_tree_larger_than_the_controller_holds_ends_with_exit_2_and_the_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = dir.path().join("t.txt");
+    // Images of at most 100 bytes: Fig. 4's tree (116 bytes) does not fit.
+    let (addr, handle) = link_common::controller_of::<64, 100, _, _>(catalog(), None, Plant::new());
+    let out = blend(&addr, &["--period", "0", "--lead", "1", "--trace", trace.to_str().unwrap()]);
+    handle.join().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(
+            "the grown tree: the tree has 25 nodes, an image of 116 bytes; the controller holds images of at most 100"
+        ),
+        "{err}"
+    );
+    let recorded = std::fs::read_to_string(&trace).unwrap();
+    assert!(recorded.lines().last().unwrap().starts_with("stop "), "the controller was stopped: {recorded}");
 }

@@ -166,6 +166,14 @@ pub enum End {
         /// Why.
         error: PlanError,
     },
+    /// The root failed at `tick`; the grown tree does not fit the controller, or the
+    /// controller refused it.
+    Refused {
+        /// The tick.
+        tick: u32,
+        /// Why, in words.
+        reason: String,
+    },
 }
 
 /// What a session did.
@@ -222,6 +230,8 @@ fn silence(period_ms: u16) -> Duration {
 /// The session's state between events.
 struct Driver<'a, T, L: ?Sized> {
     link: &'a mut Session<T>,
+    /// Most bytes an image may have on the controller.
+    capacity: u32,
     listener: &'a mut L,
     blend: Blend,
     belief: Belief,
@@ -263,13 +273,14 @@ pub fn run<T: Read + Write, L: Listener + ?Sized>(
     while link.pending().is_some() {}
     listener.step(Step::Connected { tick: state.tick, was_ticking })?;
     let first_tick = state.tick;
-    let image = encode(&blend, blend.planner.nodes(), blend.planner.values(), capacity)?;
-    accept(link.deploy(&image, Some(first_tick)).context("deploying the first tree")?, "the first tree")?;
+    let image = encode(&blend, blend.planner.nodes(), blend.planner.values(), capacity)?.map_err(anyhow::Error::msg)?;
+    accept(link.deploy(&image, Some(first_tick)).context("deploying the first tree")?).map_err(anyhow::Error::msg)?;
     let belief = Belief::new(blend.planner.grounding());
     let running = Running::new(blend.planner.nodes(), blend.planner.values());
     let last = blend.ticks.map(|n| first_tick.saturating_add(n));
     let mut d = Driver {
         link,
+        capacity,
         listener,
         blend,
         belief,
@@ -304,25 +315,26 @@ pub fn run<T: Read + Write, L: Listener + ?Sized>(
 }
 
 /// The image of a tree for the controller, checked against the behavior set and the
-/// controller's buffer.
-fn encode(blend: &Blend, nodes: &[Node], values: &[u16], capacity: u32) -> anyhow::Result<Vec<u8>> {
+/// controller's buffer; the inner error says why the controller cannot take it.
+fn encode(blend: &Blend, nodes: &[Node], values: &[u16], capacity: u32) -> anyhow::Result<Result<Vec<u8>, String>> {
     Tree::<'_, { planner::DEPTH }>::validate_with(nodes, values, &blend.catalog)
         .map_err(|e| anyhow::anyhow!("the planner's tree does not validate: {e}"))?;
     let image = bt_formats::Image::new(nodes).values(values).encode(blend.catalog.fingerprint())?;
     if image.len() > capacity as usize {
-        bail!(
-            "the tree has grown to {} nodes, an image of {} bytes; the controller holds at most {capacity}",
+        return Ok(Err(format!(
+            "the tree has {} nodes, an image of {} bytes; the controller holds images of at most {capacity}",
             nodes.len(),
             image.len()
-        );
+        )));
     }
-    Ok(image)
+    Ok(Ok(image))
 }
 
-fn accept(verdict: Verdict, what: &str) -> anyhow::Result<ImageInfo> {
+/// The controller's verdict: the image it accepted, or why it refused.
+fn accept(verdict: Verdict) -> Result<ImageInfo, String> {
     match verdict {
         Verdict::Accepted { crc, nodes, .. } => Ok(ImageInfo { crc, len: 0, nodes }),
-        Verdict::Rejected(fault) => bail!("the controller refused {what}: {}", refusal(&fault)),
+        Verdict::Rejected(fault) => Err(format!("the controller refused the tree: {}", refusal(&fault))),
     }
 }
 
@@ -448,8 +460,8 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
         // has caught up (one request for many ticks), and always up to a swap tick.
         if expanding {
             self.grant(swap_at, true)?;
-            if let Err(error) = self.expand(tick, swap_at)? {
-                return Ok(Some(End::Unexpandable { tick, error }));
+            if let Some(end) = self.expand(tick, swap_at)? {
+                return Ok(Some(end));
             }
         } else if self.pending.is_none() && !self.link.behind() {
             self.grant(swap_at.saturating_add(1), true)?;
@@ -458,34 +470,48 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
     }
 
     /// Lines 9-12 of Algorithm 1 on the statuses of the failed tick, then the grown tree
-    /// sent to swap in before `swap_at`. The inner error: the planner could not expand.
-    fn expand(&mut self, tick: u32, swap_at: u32) -> anyhow::Result<Result<(), PlanError>> {
+    /// sent to swap in before `swap_at`; how the session ends if it cannot be.
+    fn expand(&mut self, tick: u32, swap_at: u32) -> anyhow::Result<Option<End>> {
         let started = Instant::now();
         let expansion = match self.blend.planner.on_reported_failure(&self.running.statuses, self.belief.state()) {
             Ok(e) => e,
-            Err(e) => return Ok(Err(e)),
+            Err(error) => return Ok(Some(End::Unexpandable { tick, error })),
         };
         let planning = started.elapsed();
         let (nodes, values) = (self.blend.planner.nodes().to_vec(), self.blend.planner.values().to_vec());
         let n = self.grown.len() + 1;
-        let (image, sending, wire) = self.send(&nodes, &values, swap_at)?;
+        let (image, sending, wire) = match self.send(&nodes, &values, swap_at)? {
+            Ok(sent) => sent,
+            Err(reason) => return Ok(Some(End::Refused { tick, reason })),
+        };
         let grown = Grown { n, failed_at: tick, swap_at, expansion, planning, image, sending, wire };
         self.listener.step(Step::Expanded { grown: &grown, nodes: &nodes, values: &values })?;
         self.pending = Some(Pending { swap_at, crc: image.crc, nodes, values, n });
         self.grown.push(grown);
-        Ok(Ok(()))
+        Ok(None)
     }
 
-    fn send(&mut self, nodes: &[Node], values: &[u16], swap_at: u32) -> anyhow::Result<(ImageInfo, Duration, u64)> {
-        let image = encode(&self.blend, nodes, values, u32::MAX)?;
+    /// Sends a grown tree; its image, how long sending took and the bytes on the wire,
+    /// or why the controller cannot take it.
+    fn send(
+        &mut self,
+        nodes: &[Node],
+        values: &[u16],
+        swap_at: u32,
+    ) -> anyhow::Result<Result<(ImageInfo, Duration, u64), String>> {
+        let image = match encode(&self.blend, nodes, values, self.capacity)? {
+            Ok(image) => image,
+            Err(reason) => return Ok(Err(reason)),
+        };
         let before = self.link.bytes();
         let started = Instant::now();
         let verdict = self.link.deploy(&image, Some(swap_at)).context("sending the grown tree")?;
         let sending = started.elapsed();
-        let mut info = accept(verdict, "the grown tree")?;
-        info.len = image.len() as u32;
         let after = self.link.bytes();
-        Ok((info, sending, after.0 - before.0 + after.1 - before.1))
+        Ok(accept(verdict).map(|mut info| {
+            info.len = image.len() as u32;
+            (info, sending, after.0 - before.0 + after.1 - before.1)
+        }))
     }
 
     fn swapped(&mut self, tick: u32, image: ImageInfo) -> anyhow::Result<()> {
@@ -519,7 +545,7 @@ impl<T: Read + Write, L: Listener + ?Sized> Driver<'_, T, L> {
     fn finish(&mut self, end: &End) -> anyhow::Result<u32> {
         let horizon = |t: u32| t.saturating_add(1).saturating_add(self.blend.lead);
         let stop_at = match *end {
-            End::Goal(t) | End::Unexpandable { tick: t, .. } => horizon(t),
+            End::Goal(t) | End::Unexpandable { tick: t, .. } | End::Refused { tick: t, .. } => horizon(t),
             End::Ticks => self.granted,
         };
         let stop_at = self.last.map_or(stop_at, |l| stop_at.min(l));

@@ -137,6 +137,7 @@ impl Listener for Narrator<'_> {
                     End::Unexpandable { tick, error } => {
                         self.teller.say(*tick, &format!("the planner cannot expand the tree: {error}"));
                     }
+                    End::Refused { tick, reason } => self.teller.say(*tick, &format!("the grown tree: {reason}")),
                 }
                 self.teller.add(&format!("the controller ticks on to its horizon and stops before tick {stop_at}"));
             }

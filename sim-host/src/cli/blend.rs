@@ -75,7 +75,7 @@ pub struct Args {
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub lead: u32,
     /// End after this many ticks.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub ticks: Option<u32>,
     /// How the planner binds free action parameters.
     #[arg(long, value_enum, default_value_t = RefinementArg::Cheapest)]
@@ -186,11 +186,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     output::stdout(
         format!(
             "controller {name}: link protocol {}, behavior set {set}; images of at most {}\n\
-             goal: {}. Ticks every {} ms; a grown tree swaps in {} after the tick that failed.\n\n",
+             goal: {}. Ticks {}; a grown tree swaps in {} after the tick that failed.\n\n",
             info.version,
             count(info.image_capacity, "byte"),
             g.goal().iter().map(|&l| g.lit_name(l)).collect::<Vec<_>>().join(", "),
-            args.period,
+            if args.period == 0 { "back to back".to_string() } else { format!("every {} ms", args.period) },
             count(args.lead + 1, "tick")
         )
         .as_bytes(),
@@ -209,8 +209,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     output::stdout(&out)?;
     let summary = result.map_err(|e| e.context(name.clone()))?;
     output::stdout(summarize(&summary, args).as_bytes())?;
-    if let End::Unexpandable { tick, error } = summary.end {
-        bail!("tick {tick}: the planner cannot expand the tree: {error}");
+    match summary.end {
+        End::Unexpandable { tick, error } => bail!("tick {tick}: the planner cannot expand the tree: {error}"),
+        End::Refused { tick, reason } => bail!("tick {tick}: the grown tree: {reason}"),
+        End::Goal(_) | End::Ticks => {}
     }
     Ok(())
 }
@@ -221,6 +223,7 @@ fn summarize(s: &Summary, args: &Args) -> String {
         End::Goal(t) => format!("goal reached at tick {t}, {} after the first", count(t - s.first_tick, "tick")),
         End::Ticks => format!("stopped after {} without reaching the goal", count(args.ticks.unwrap_or(0), "tick")),
         End::Unexpandable { tick, .. } => format!("stuck at tick {tick}: a condition cannot be expanded"),
+        End::Refused { tick, .. } => format!("stuck at tick {tick}: the grown tree cannot go to the controller"),
     };
     let mut text = format!(
         "\nsummary: {verdict}; {}, each swapped in at the tick named; {} halted by the tree, {} by swaps; \
@@ -240,15 +243,15 @@ fn summarize(s: &Summary, args: &Args) -> String {
         let bytes: u64 = s.grown.iter().map(|g| u64::from(g.image.len)).sum();
         text.push_str(&format!(
             "         planning per expansion {lo:.2}-{hi:.2} ms (mean {mean:.2} ms); the grown trees sent \
-             ({} of images) in {slo:.1}-{shi:.1} ms each; {} of lead ({} ms) before each swap\n",
+             ({} of images) in {slo:.1}-{shi:.1} ms each; each swap {} after the failed tick ({} ms)\n",
             count(bytes, "byte"),
-            count(args.lead, "tick"),
-            u64::from(args.lead) * u64::from(args.period)
+            count(args.lead + 1, "tick"),
+            u64::from(args.lead + 1) * u64::from(args.period)
         ));
     }
     text.push_str(&format!(
-        "         the link: {} sent, {} received; the controller reached its horizon before the host \
-         granted more {}\n",
+        "         the link: {} sent, {} received; the controller waited for the host (at the last tick \
+         granted) {}\n",
         count(s.bytes.0, "byte"),
         count(s.bytes.1, "byte"),
         count(s.waits, "time")

@@ -55,7 +55,20 @@ impl Board for Tcp {
 /// A controller holding at most `NODES` nodes of `catalog`'s behaviors, booted with
 /// `boot`, acting on `app`, serving one connection on a free port: its address, and the
 /// thread, which hands the world back when the connection closes.
-pub fn controller<const NODES: usize, C, A>(catalog: C, boot: Option<Vec<u8>>, mut app: A) -> (String, JoinHandle<A>)
+pub fn controller<const NODES: usize, C, A>(catalog: C, boot: Option<Vec<u8>>, app: A) -> (String, JoinHandle<A>)
+where
+    C: Catalog + Send + 'static,
+    A: App + Send + 'static,
+{
+    controller_of::<NODES, 640, C, A>(catalog, boot, app)
+}
+
+/// [`controller`] with images of at most `BYTES` bytes.
+pub fn controller_of<const NODES: usize, const BYTES: usize, C, A>(
+    catalog: C,
+    boot: Option<Vec<u8>>,
+    mut app: A,
+) -> (String, JoinHandle<A>)
 where
     C: Catalog + Send + 'static,
     A: App + Send + 'static,
@@ -77,8 +90,8 @@ where
         };
         stream.set_nonblocking(true).unwrap();
         let mut board = Tcp { stream, closed: false, started: Instant::now() };
-        let mut storage = Box::new(Storage::<NODES, 640, 32>::new());
-        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(&mut storage, &catalog, boot.as_deref(), &mut board, &mut app);
+        let mut storage = Box::new(Storage::<NODES, BYTES, 32>::new());
+        bt_link::serve::<_, _, _, NODES, BYTES, 32, 16>(&mut storage, &catalog, boot.as_deref(), &mut board, &mut app);
         app
     });
     (addr, handle)
