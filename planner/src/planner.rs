@@ -223,31 +223,6 @@ impl Planner {
         })
     }
 
-    /// A planner that goes on from a bt-core tree of the kinds it grows
-    /// ([`PlanTree::from_nodes`]), such as one it made before: each condition that
-    /// heads a Fallback counts as expanded (it has its achievers), the others will be
-    /// expanded when they fail.
-    ///
-    /// # Errors
-    /// As [`PlanTree::from_nodes`], and [`PlanError::InvalidTree`] when the tree made
-    /// from it does not flatten back to the same nodes.
-    pub fn from_nodes(g: Arc<Grounding>, nodes: &[Node], values: &[u16], options: Options) -> Result<Self, PlanError> {
-        let mut p = Self::from_tree(g.clone(), PlanTree::from_nodes(&g, nodes, values)?, options)?;
-        if p.flat.nodes != nodes {
-            return Err(PlanError::InvalidTree("it does not read back as the same tree under this problem".into()));
-        }
-        for n in p.tree.preorder(p.tree.root()) {
-            let heads = p
-                .tree
-                .parent(n)
-                .is_some_and(|f| p.tree.kind(f) == Kind::Fallback && p.tree.children(f).first() == Some(&n));
-            if heads && matches!(p.tree.kind(n), Kind::Condition(_)) {
-                p.mark(n);
-            }
-        }
-        Ok(p)
-    }
-
     /// The planner's tree.
     #[must_use]
     pub fn tree(&self) -> &PlanTree {
@@ -295,7 +270,8 @@ impl Planner {
         }
     }
 
-    fn mark(&mut self, n: PlanNode) {
+    /// Marks condition node `n` as expanded.
+    pub(crate) fn mark(&mut self, n: PlanNode) {
         if self.expanded.len() <= n as usize {
             self.expanded.resize(n as usize + 1, false);
         }

@@ -251,14 +251,15 @@ struct Driver<'a, T, L: ?Sized> {
     ending: bool,
 }
 
-/// Runs a blended session over `link` to a controller whose `Hello` was `fingerprint`:
-/// deploys the planner's tree, starts the controller, and grows the tree whenever its
-/// root fails, until the root succeeds, the ticks run out or a condition cannot be
-/// expanded; then stops the controller.
+/// Runs a blended session over `link` to a controller of the problem's behavior set
+/// (the caller checked its `Hello`) holding images of at most `capacity` bytes: deploys
+/// the planner's tree, starts the controller, and grows the tree whenever its root
+/// fails, until the root succeeds, the ticks run out, or a grown tree cannot be made or
+/// sent ([`End`]); then lets the controller run to its horizon and stops it.
 ///
 /// # Errors
-/// The link failing or closing, the controller refusing a tree, a tree larger than the
-/// controller holds, a swap at another tick than named, a listener's error.
+/// The link failing or closing, the controller refusing the first tree, a swap at
+/// another tick or of another image than named, a listener's error.
 pub fn run<T: Read + Write, L: Listener + ?Sized>(
     link: &mut Session<T>,
     capacity: u32,
