@@ -242,6 +242,7 @@ fn check(s: &Session, on: &str) -> Result<Vec<(u32, String, u32)>> {
 
 /// Runs the scenario (see the module's documentation).
 pub fn scenario(elf: &Path, host_bin: &Path, timeout: Duration) -> Result {
+    let begun = Instant::now();
     step("blend: sim-host (debug build)");
     crate::run(cargo().args(["build", "--quiet", "-p", "sim-host"]))?;
     let bin = target_dir().join("debug").join("sim-host");
@@ -306,7 +307,9 @@ pub fn scenario(elf: &Path, host_bin: &Path, timeout: Duration) -> Result {
          the firmware's, the end of Example 2 (image {crc})",
         grown.lines().filter(|l| l.trim_start().starts_with("expansion ")).count()
     );
-    learned(&bin, elf, &dir, &host, timeout)
+    learned(&bin, elf, &dir, &host, timeout)?;
+    eprintln!("blend scenario: {:.0} s", begun.elapsed().as_secs_f64());
+    Ok(())
 }
 
 /// What a fixed tree did on the controller: ticks to the goal, nodes, halts.

@@ -241,12 +241,20 @@ fn summarize(s: &Summary, args: &Args) -> String {
         let (lo, hi, mean) = spread(&planning);
         let (slo, shi, _) = spread(&sending);
         let bytes: u64 = s.grown.iter().map(|g| u64::from(g.image.len)).sum();
+        // On the host's clock, from reading the failed tick (the report's way to the
+        // host not counted): the swap tick is due (lead + 1) periods after the failed one.
+        let allowed = u64::from(args.lead + 1) * u64::from(args.period);
+        let late = s.grown.iter().filter(|g| ms(g.planning) + ms(g.sending) > allowed as f64).count();
+        let timing = if args.period == 0 {
+            String::new()
+        } else {
+            format!(" ({allowed} ms): {late} of them took longer to plan and send")
+        };
         text.push_str(&format!(
             "         planning per expansion {lo:.2}-{hi:.2} ms (mean {mean:.2} ms); the grown trees sent \
-             ({} of images) in {slo:.1}-{shi:.1} ms each; each swap {} after the failed tick ({} ms)\n",
+             ({} of images) in {slo:.1}-{shi:.1} ms each; each swap {} after the failed tick{timing}\n",
             count(bytes, "byte"),
             count(args.lead + 1, "tick"),
-            u64::from(args.lead + 1) * u64::from(args.period)
         ));
     }
     text.push_str(&format!(
