@@ -41,6 +41,7 @@ use planner::{Expansion, PddlCatalog, PlanError, Planner};
 pub use belief::Belief;
 
 use crate::session::{self, Event, Session};
+use crate::text::count;
 
 /// A blended session's settings.
 #[derive(Debug)]
@@ -323,9 +324,9 @@ fn encode(blend: &Blend, nodes: &[Node], values: &[u16], capacity: u32) -> anyho
     let image = bt_formats::Image::new(nodes).values(values).encode(blend.catalog.fingerprint())?;
     if image.len() > capacity as usize {
         return Ok(Err(format!(
-            "the tree has {} nodes, an image of {} bytes; the controller holds images of at most {capacity}",
-            nodes.len(),
-            image.len()
+            "the tree has {}, an image of {}; the controller holds images of at most {capacity}",
+            count(nodes.len(), "node"),
+            count(image.len(), "byte")
         )));
     }
     Ok(Ok(image))
