@@ -81,7 +81,7 @@ impl Narrate for planner::Expansion {
 }
 
 /// Tells a run in plain words, whatever drives it: the scenario's runner
-/// ([`Narration`]) or a controller's status stream (`sim_host::blend`). Keeps what it
+/// (`sim-host scenario`) or a controller's status stream ([`crate::blend`]). Keeps what it
 /// told in a [`Record`].
 #[derive(Debug)]
 pub struct Teller<'a, C: ?Sized> {
