@@ -100,8 +100,10 @@ fn expanded(narration: &str) -> Vec<&str> {
 fn the_tree_grows_from_the_goal_on_the_controller_into_example_2() {
     let dir = tempfile::tempdir().unwrap();
     let trace = dir.path().join("blend.txt");
+    let btlog = dir.path().join("blend.btlog");
     let (addr, handle) = link_common::controller::<64, _, _>(catalog(), None, Plant::new());
-    let out = blend(&addr, &["--period", "1", "--lead", "2", "--trace", trace.to_str().unwrap()]);
+    let (t, b) = (trace.to_str().unwrap(), btlog.to_str().unwrap());
+    let out = blend(&addr, &["--period", "1", "--lead", "2", "--trace", t, "--btlog", b]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
     handle.join().unwrap();
@@ -142,6 +144,13 @@ fn the_tree_grows_from_the_goal_on_the_controller_into_example_2() {
     let changes = planner::parse_changes(&g, "holding(cube), not hand-empty, not path-free(goal)").unwrap();
     planner::expand_at(&mut p.planner, c.as_ref(), &changes, 1000).unwrap();
     let image = bt_formats::Image::new(p.planner.nodes()).encode(bt_core::Catalog::fingerprint(c.as_ref())).unwrap();
+    // One Groot2 replay log per tree the controller ran, each with the tree's changes.
+    for n in 1..=8 {
+        let file = if n == 1 { btlog.clone() } else { dir.path().join(format!("blend-{n}.btlog")) };
+        let log = btcpp::btlog::Log::parse(&std::fs::read(&file).unwrap()).unwrap();
+        assert!(!log.transitions.is_empty(), "{}", file.display());
+    }
+    assert!(!dir.path().join("blend-9.btlog").exists());
     let last = recorded.lines().rfind(|l| l.starts_with("swap ")).unwrap();
     assert!(last.contains(&format!("image={:08x} nodes=37", bt_link::image_crc(&image))), "{last}");
 }

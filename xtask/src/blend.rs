@@ -55,7 +55,7 @@ impl Controller {
         let mut child = cmd
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stderr(Stdio::piped())
             .spawn()
             .map_err(|e| format!("cannot start {shown}: {e}"))?;
         let mut stdout = child.stdout.take().ok_or("no stdout")?;
@@ -64,19 +64,25 @@ impl Controller {
             let _ = stdout.read_to_string(&mut s);
             s
         });
-        let addr = format!("127.0.0.1:{port}");
-        // Wait until it listens, without connecting: the host build serves one
-        // connection, and QEMU boots the firmware on the first.
-        let started = Instant::now();
-        while std::net::TcpListener::bind(&addr).is_ok() {
-            if started.elapsed() > Duration::from_secs(20) {
-                let _ = child.kill();
-                let _ = child.wait();
-                return Err(format!("{shown} does not listen on {addr}"));
+        // Wait until it says it listens, without connecting (the host build serves one
+        // connection, QEMU boots the firmware on the first) or binding the port (which
+        // could take it from the controller): the host build says `listening on`, QEMU
+        // `waiting for connection`.
+        let stderr = child.stderr.take().ok_or("no stderr")?;
+        let (ready, listening) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufRead::lines(std::io::BufReader::new(stderr)).map_while(std::result::Result::ok) {
+                if line.contains("listening on") || line.contains("waiting for connection") {
+                    let _ = ready.send(());
+                }
             }
-            std::thread::sleep(Duration::from_millis(20));
+        });
+        if listening.recv_timeout(Duration::from_secs(20)).is_err() {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("{shown} did not say it listens on port {port}"));
         }
-        Ok(Self { child, trace, addr })
+        Ok(Self { child, trace, addr: format!("127.0.0.1:{port}") })
     }
 
     /// Ends the controller (the host build has ended when its connection closed) and
