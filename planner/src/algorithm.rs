@@ -34,7 +34,7 @@ use crate::refine::{Refinement, achieving_actions};
 use crate::state::State;
 use crate::tree::{Flat, Kind, PlanNode, PlanTree};
 use crate::variables::{Choice, StateVariables};
-use bt_core::{NodeState, NodeStatus};
+use bt_core::NodeStatus;
 
 /// The atomic BT of `lit`'s achievers as a new detached subtree; `condition` becomes
 /// its first child. Returns the Fallback.
@@ -386,9 +386,10 @@ pub fn increase_priority(tree: &mut PlanTree, n: PlanNode) -> Option<Move> {
 }
 
 /// GetConditionToExpand: the conditions that returned Failure on the last tick and were
-/// not expanded before, breadth-first (by depth, then left to right).
+/// not expanded before, breadth-first (by depth, then left to right). `statuses` are the
+/// bt-core nodes' statuses after that tick.
 #[must_use]
-pub fn conditions_to_expand(tree: &PlanTree, flat: &Flat, states: &[NodeState], expanded: &[bool]) -> Vec<PlanNode> {
+pub fn conditions_to_expand(tree: &PlanTree, flat: &Flat, statuses: &[NodeStatus], expanded: &[bool]) -> Vec<PlanNode> {
     let mut found: Vec<(u16, u32, PlanNode)> = Vec::new();
     for (i, &n) in flat.of.iter().enumerate() {
         if flat.top.get(n as usize) != Some(&(i as u32)) || expanded.get(n as usize).copied().unwrap_or(false) {
@@ -397,7 +398,7 @@ pub fn conditions_to_expand(tree: &PlanTree, flat: &Flat, states: &[NodeState], 
         if !matches!(tree.kind(n), Kind::Condition(_)) {
             continue;
         }
-        if states.get(i).map(NodeState::status) == Some(NodeStatus::Failure) {
+        if statuses.get(i) == Some(&NodeStatus::Failure) {
             found.push((flat.depth[i], i as u32, n));
         }
     }

@@ -5,7 +5,7 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use bt_core::{Node, NodeState};
+use bt_core::{Node, NodeState, NodeStatus};
 
 use crate::PlanError;
 use crate::algorithm::{self, Move};
@@ -333,7 +333,8 @@ impl Planner {
         }
     }
 
-    fn mark(&mut self, n: PlanNode) {
+    /// Marks condition node `n` as expanded.
+    pub(crate) fn mark(&mut self, n: PlanNode) {
         if self.expanded.len() <= n as usize {
             self.expanded.resize(n as usize + 1, false);
         }
@@ -353,6 +354,17 @@ impl Planner {
     /// expanded, [`PlanError::Unresolvable`], [`PlanError::TooManyExpansions`],
     /// [`PlanError::TreeTooLarge`].
     pub fn on_failure(&mut self, states: &[NodeState], belief: &State) -> Result<Expansion, PlanError> {
+        let statuses: Vec<NodeStatus> = states.iter().map(NodeState::status).collect();
+        self.on_reported_failure(&statuses, belief)
+    }
+
+    /// [`Planner::on_failure`] from each node's status after the failed tick, as a
+    /// controller ticking the tree elsewhere reports them (bt-link's status stream): all
+    /// Algorithm 1 reads of a tick.
+    ///
+    /// # Errors
+    /// As [`Planner::on_failure`].
+    pub fn on_reported_failure(&mut self, states: &[NodeStatus], belief: &State) -> Result<Expansion, PlanError> {
         if self.expansions >= self.options.max_expansions {
             return Err(PlanError::TooManyExpansions(self.expansions));
         }
@@ -408,7 +420,7 @@ impl Planner {
                 return Err(PlanError::NoAchiever { condition: first });
             }
             let failed: Vec<String> = (0..self.flat.nodes.len())
-                .filter(|&i| states.get(i).map(NodeState::status) == Some(bt_core::NodeStatus::Failure))
+                .filter(|&i| states.get(i) == Some(&NodeStatus::Failure))
                 .filter_map(|i| self.condition_at(i))
                 .map(|l| self.g.lit_name(l))
                 .collect();
@@ -436,10 +448,10 @@ impl Planner {
     /// the situation the tree meets now), at most [`MAX_ALTERNATIVES`] per Fallback; a
     /// condition standing alone (the guard IncreasePriority leaves behind) is expanded
     /// in place.
-    fn backtrack(&mut self, states: &[NodeState], belief: &State) -> Option<Backtrack> {
+    fn backtrack(&mut self, states: &[NodeStatus], belief: &State) -> Option<Backtrack> {
         let mut failed: Vec<(u16, usize, PlanNode)> = Vec::new();
         for (i, &n) in self.flat.of.iter().enumerate() {
-            let failed_here = states.get(i).map(NodeState::status) == Some(bt_core::NodeStatus::Failure);
+            let failed_here = states.get(i) == Some(&NodeStatus::Failure);
             if !failed_here || self.flat.top.get(n as usize) != Some(&(i as u32)) {
                 continue;
             }

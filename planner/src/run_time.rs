@@ -26,15 +26,19 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use std::sync::Arc;
+
 use bt_core::{Catalog, LoadError, NodeState, Status, Tree};
 use worlds::end::{Failures, Finished, GoalReached, Loops};
 use worlds::{Agent, Clock, RunError, RunErrorKind, Runner, Settings, Stop, Trees};
 
+use crate::Options;
 use crate::PlanError;
 use crate::ground::{ActionId, AtomId, Grounding};
 use crate::planner::{Expansion, Planner};
 use crate::state::State;
 use crate::strips::{self, StripsWorld, Verdict};
+use crate::tree::{Kind, PlanNode, PlanTree};
 
 /// Where [`expand_at`]'s runs start ([`PlanError::GoalNotReached`]).
 const GIVEN: &str = "the state given";
@@ -249,6 +253,41 @@ impl<W: Belief + ?Sized, C: Catalog + ?Sized> Trees<W> for Expanding<'_, C> {
             self.steps.push(self.planner.nodes().to_vec());
         }
         Ok(Some(e))
+    }
+}
+
+impl Planner {
+    /// A planner that goes on from a bt-core tree of the kinds it grows
+    /// ([`PlanTree::from_nodes`]), such as one it made before or one a controller runs:
+    /// each condition that heads a Fallback counts as expanded (it has its achievers),
+    /// the others will be expanded when they fail.
+    ///
+    /// # Errors
+    /// As [`PlanTree::from_nodes`], and [`PlanError::InvalidTree`] when the tree made
+    /// from it does not flatten back to the same nodes.
+    pub fn from_nodes(
+        g: Arc<Grounding>,
+        nodes: &[bt_core::Node],
+        values: &[u16],
+        options: Options,
+    ) -> Result<Self, PlanError> {
+        let tree = PlanTree::from_nodes(&g, nodes, values)?;
+        let heads: Vec<PlanNode> = tree
+            .preorder(tree.root())
+            .into_iter()
+            .filter(|&n| matches!(tree.kind(n), Kind::Condition(_)))
+            .filter(|&n| {
+                tree.parent(n).is_some_and(|f| tree.kind(f) == Kind::Fallback && tree.children(f).first() == Some(&n))
+            })
+            .collect();
+        let mut p = Self::from_tree(g, tree, options)?;
+        if p.nodes() != nodes {
+            return Err(PlanError::InvalidTree("it does not read back as the same tree under this problem".into()));
+        }
+        for n in heads {
+            p.mark(n);
+        }
+        Ok(p)
     }
 }
 

@@ -276,6 +276,79 @@ impl PlanTree {
         out
     }
 
+    /// The planner's tree of a bt-core tree made of the kinds it grows (Sequence,
+    /// Fallback, conditions, `Inverter(Condition)` for a negative one, actions), its
+    /// leaves read under `grounding`'s PDDL contract; `values` is the tree's value table.
+    /// The inverse of [`PlanTree::flatten`].
+    ///
+    /// # Errors
+    /// [`PlanError::InvalidTree`] naming the node: another kind, a leaf that is no
+    /// condition or action of the problem, sizes that do not nest.
+    pub fn from_nodes(g: &Grounding, nodes: &[Node], values: &[u16]) -> Result<Self, PlanError> {
+        let bad = |i: usize, why: String| PlanError::InvalidTree(format!("node {i}: {why}"));
+        let mut t = Self { slots: Vec::new(), root: 0 };
+        // Open control nodes: (planner node, index past its subtree).
+        let mut open: Vec<(PlanNode, usize)> = Vec::new();
+        let mut alternatives = Vec::new();
+        let mut i = 0;
+        while let Some(node) = nodes.get(i) {
+            while open.last().is_some_and(|&(_, end)| end <= i) {
+                open.pop();
+            }
+            let end = i + usize::from(node.size());
+            if node.size() == 0 || end > nodes.len() || open.last().is_some_and(|&(_, e)| end > e) {
+                return Err(bad(i, "subtree sizes do not nest".into()));
+            }
+            let (kind, step) = match node.kind() {
+                NodeKind::Sequence => (Kind::Sequence, 1),
+                NodeKind::Fallback => (Kind::Fallback, 1),
+                NodeKind::Inverter => match nodes.get(i + 1).map(Node::kind) {
+                    Some(NodeKind::Condition(leaf)) if node.size() == 2 => {
+                        let atom = g.leaf_atom_of(leaf, leaf.args_in(values));
+                        let atom = atom.ok_or_else(|| bad(i + 1, "not a condition of this problem".into()))?;
+                        (Kind::Condition(Lit { atom, positive: false }), 2)
+                    }
+                    _ => return Err(bad(i, "an Inverter over something other than a condition".into())),
+                },
+                NodeKind::Condition(leaf) => {
+                    let atom = g.leaf_atom_of(leaf, leaf.args_in(values));
+                    (
+                        Kind::Condition(Lit {
+                            atom: atom.ok_or_else(|| bad(i, "not a condition of this problem".into()))?,
+                            positive: true,
+                        }),
+                        1,
+                    )
+                }
+                NodeKind::Action(leaf) => {
+                    g.leaf_actions_of(leaf, leaf.args_in(values), &mut alternatives);
+                    let a = alternatives.first().copied();
+                    (Kind::Action(a.ok_or_else(|| bad(i, "not an action of this problem".into()))?), 1)
+                }
+                other => {
+                    return Err(bad(
+                        i,
+                        format!("a {}: the planner grows only Sequence, Fallback and leaves", other.name()),
+                    ));
+                }
+            };
+            let n = t.add(kind);
+            match open.last() {
+                Some(&(parent, _)) => t.push_child(parent, n),
+                None if i == 0 => t.root = n,
+                None => return Err(bad(i, "a second root".into())),
+            }
+            if matches!(kind, Kind::Sequence | Kind::Fallback) {
+                open.push((n, end));
+            }
+            i += step;
+        }
+        if t.slots.is_empty() {
+            return Err(PlanError::InvalidTree("the tree has no node".into()));
+        }
+        Ok(t)
+    }
+
     /// Flattens the tree into bt-core nodes with `grounding`'s leaves.
     ///
     /// # Errors

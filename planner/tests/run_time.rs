@@ -96,3 +96,37 @@ fn algorithm_1_stuck_on_a_failing_tree_carries_it() {
     assert_eq!(p.method, planner::Made::SearchGuided);
     assert!(matches!(p.gave_up[0].error, PlanError::GoalNotReached { .. }));
 }
+
+#[test]
+fn a_planner_goes_on_from_a_tree_read_back_as_from_its_own() {
+    // Fig. 4 planned offline, read back from its bt-core nodes: the run-time expansion
+    // for the cube in the hand grows it exactly as the planner that made it would.
+    let g = Arc::new(domains::cube_sphere_blocked().unwrap());
+    let c = Arc::new(PddlCatalog::new(g.problem()));
+    let made = plan(g.clone(), c.clone(), Options::default()).unwrap();
+    let mut read = planner::Planner::from_nodes(g.clone(), &made.nodes, &[], Options::default()).unwrap();
+    assert_eq!(read.nodes(), &made.nodes[..]);
+    let mut own = made.planner;
+    let changes = parse_changes(&g, "holding(cube), not hand-empty").unwrap();
+    let ours = expand_at(&mut own, c.as_ref(), &changes, 1000).unwrap();
+    let theirs = expand_at(&mut read, c.as_ref(), &changes, 1000).unwrap();
+    assert_eq!(theirs.expansions, ours.expansions);
+    assert_eq!(read.nodes(), own.nodes());
+    assert_eq!(read.nodes().len(), 37);
+}
+
+#[test]
+fn a_tree_of_other_kinds_is_refused_at_its_node() {
+    let g = Arc::new(domains::cube_sphere().unwrap());
+    let leaf = |name: &str| {
+        let atom = g.atom_by_name(name, &["cube"]).unwrap();
+        bt_core::Node::new(bt_core::NodeKind::Condition(g.condition_leaf(atom).unwrap()), 1)
+    };
+    let nodes = [bt_core::Node::new(bt_core::NodeKind::SequenceWithMemory, 3), leaf("holding"), leaf("near")];
+    let e = planner::Planner::from_nodes(g.clone(), &nodes, &[], Options::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "the tree does not fit the behavior set: node 0: a SequenceWithMemory: the planner grows only Sequence, \
+         Fallback and leaves"
+    );
+}

@@ -6,6 +6,7 @@
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 #![warn(missing_docs)]
 
+pub mod blend;
 pub mod episode;
 pub mod groot2;
 pub mod input;
@@ -13,6 +14,7 @@ pub mod learn;
 pub mod physics;
 pub mod picture;
 pub mod scenario;
+pub mod session;
 pub mod symbolic;
 pub mod text;
 pub mod world;

@@ -189,7 +189,7 @@ fn groot2_sees_a_then_b_with_the_controller_s_statuses_through_a_swap() {
 
     let pause = Arc::new(Pause { at: vec![10, 40], ..Pause::default() });
     let tap: Tap = Arc::default();
-    let (addr, controller) = link_common::controller::<64, _>(Some(a), Moving(pause.clone()), Some(tap.clone()));
+    let (addr, controller) = link_common::tapped::<64, _, _>(catalog(), Some(a), Moving(pause.clone()), tap.clone());
     let port = free_ports();
     let trace = dir.path().join("trace.txt");
     let mut bridge = Command::new(env!("CARGO_BIN_EXE_sim-host"))
@@ -326,8 +326,7 @@ fn a_tree_without_names_is_served_with_ids_and_the_bridge_says_so_once() {
     let imported = btcpp::xml::import_text(&path, &text, &btcpp::xml::ImportOptions::default()).unwrap();
     let image = bt_formats::Image::new(&imported.nodes).encode(imported.fingerprint()).unwrap();
     assert!(bt_core::image::section(&image, bt_core::image::SECTION_NAMES).unwrap().is_none());
-    let (addr, controller) =
-        link_common::controller_for::<64, _, _>(imported, Some(image), Moving(Arc::default()), None);
+    let (addr, controller) = link_common::controller::<64, _, _>(imported, Some(image), Moving(Arc::default()));
     let port = free_ports();
     let out = Command::new(env!("CARGO_BIN_EXE_sim-host"))
         .args(["groot2", "--tcp", &addr, "--listen", &format!("127.0.0.1:{port}"), "--start"])

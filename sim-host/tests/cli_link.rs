@@ -14,8 +14,8 @@ use link_common::{World, catalog, cube_image};
 
 /// A controller holding at most `NODES` nodes, booted with `boot`, serving one
 /// connection on a free port.
-fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<()>) {
-    link_common::controller::<NODES, _>(boot, World, None)
+fn controller<const NODES: usize>(boot: Option<Vec<u8>>) -> (String, JoinHandle<World>) {
+    link_common::controller::<NODES, _, _>(catalog(), boot, World)
 }
 
 #[test]

@@ -352,7 +352,7 @@ trait ReadWrite: Read + std::io::Write {}
 impl<T: Read + std::io::Write> ReadWrite for T {}
 
 /// A free TCP port on the loopback interface.
-fn free_port() -> Result<u16> {
+pub(crate) fn free_port() -> Result<u16> {
     let l = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     Ok(l.local_addr().map_err(|e| e.to_string())?.port())
 }
@@ -403,7 +403,7 @@ fn run(mut cmd: Command, port: u16, img: &Images, timeout: Duration, exits: bool
     Ok(Outcome { trace, faults, stack_used, deploy })
 }
 
-fn tail(out: &str) -> String {
+pub(crate) fn tail(out: &str) -> String {
     let lines: Vec<&str> = out.lines().collect();
     lines[lines.len().saturating_sub(6)..].join("\n")
 }

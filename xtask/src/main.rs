@@ -9,7 +9,8 @@
 //!   Cortex-M0+.
 //! - `cargo xtask qemu`: the firmware under QEMU, its trace compared with the host's,
 //!   the corrupted-image run, the panic gate and the footprint; the link controller on
-//!   mps2-an386 and the RTIC program on lm3s6965evb (see `qemu.rs`).
+//!   mps2-an386 and the RTIC program on lm3s6965evb (see `qemu.rs`); blended planning
+//!   and acting on the controller (`blend.rs`).
 //! - `cargo xtask fuzz --seconds N [--target load|serve|controller]`: the `load` fuzz
 //!   target of bt-core, or the `serve` and `controller` targets of bt-link (nightly +
 //!   cargo-fuzz).
@@ -25,6 +26,7 @@ use std::process::{Command, ExitCode};
 
 use clap::{Parser, Subcommand};
 
+mod blend;
 mod boards;
 mod link;
 mod qemu;

@@ -107,7 +107,8 @@ pub fn qemu(opts: Options) -> Result {
         target_run.wall.as_secs_f64(),
         refused.wall.as_secs_f64()
     );
-    crate::boards::link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)
+    crate::boards::link_scenario(&elf_dir.join(LINK), &host_bin(LINK), toolchain, opts)?;
+    crate::blend::scenario(&elf_dir.join(LINK), &host_bin(LINK), opts.timeout)
 }
 
 /// The ARM binutils and QEMU, with the package that has them.

@@ -410,10 +410,16 @@ impl Session {
                 if run.image.is_none() {
                     Reply::Rejected { fault: Fault::NoTree }
                 } else {
+                    let period_us = u32::from(period_ms).saturating_mul(1000);
+                    // Ticking on at the same period, the schedule goes on: only the
+                    // horizon moves (a host that grants ticks as it goes does not
+                    // hurry the next one).
+                    if !self.ticking || period_us != self.period_us {
+                        self.last_tick = None;
+                    }
                     self.ticking = true;
                     self.until = until;
-                    self.period_us = u32::from(period_ms).saturating_mul(1000);
-                    self.last_tick = None;
+                    self.period_us = period_us;
                     self.state(0, run.image, 0, clock.stack_used())
                 }
             }

@@ -115,6 +115,8 @@ struct Host {
     /// Microseconds the clock advances per `micros` call.
     clock_step: u32,
     last_tick: Option<u32>,
+    /// The board's clock when each `Tick` reply was sent.
+    tick_times: Vec<u32>,
 }
 
 impl Host {
@@ -127,6 +129,7 @@ impl Host {
             clock: 0,
             clock_step: 1,
             last_tick: None,
+            tick_times: Vec::new(),
         }
     }
 
@@ -185,6 +188,7 @@ impl Board for Host {
                     Reply::Status { tick, node, status } => Reply::Status { tick, node, status },
                     Reply::Tick { tick, status, changes, micros } => {
                         self.last_tick = Some(tick);
+                        self.tick_times.push(self.clock);
                         Reply::Tick { tick, status, changes, micros }
                     }
                     Reply::State { token, tick, ticking, until, running, halted, stack_used } => {
@@ -487,6 +491,30 @@ fn the_tree_clock_is_milliseconds_on_the_tick_schedule() {
     serve::<_, _, _, 16, 256, 8, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
     // After the stop, the new period counts from the last tick.
     assert_eq!(log.nows, vec![0, 100, 200, 450, 700]);
+}
+
+#[test]
+fn a_start_while_ticking_moves_the_horizon_and_keeps_the_schedule() {
+    // The host grants one tick at a time, as `sim-host blend` does: every tick still
+    // comes a whole period after the one before. A new period starts at once.
+    let mut steps = vec![Step::Bytes(frame(&Request::Start { until: Some(1), period_ms: 100 }))];
+    for until in 2..=4 {
+        steps.push(Step::UntilTick(until - 1));
+        steps.push(Step::Bytes(frame(&Request::Start { until: Some(until), period_ms: 100 })));
+    }
+    steps.push(Step::UntilTick(4));
+    steps.push(Step::Bytes(frame(&Request::Start { until: Some(5), period_ms: 50 })));
+    steps.push(Step::UntilTick(5));
+    let mut storage = Store::new();
+    let mut host = Host::new(steps);
+    host.clock_step = 7_000;
+    let mut log = Log::default();
+    serve::<_, _, _, 16, 256, 8, DEPTH>(&mut storage, &SET, Some(&tree_a()), &mut host, &mut log);
+    let gaps: Vec<u32> = host.tick_times.windows(2).map(|w| w[1] - w[0]).collect();
+    assert_eq!(gaps.len(), 4);
+    assert!(gaps[..3].iter().all(|&g| g >= 100_000), "a tick came early: {gaps:?} µs apart");
+    assert!(gaps[3] < 50_000, "the new period ticks at once: {gaps:?}");
+    assert_eq!(log.nows, vec![0, 100, 200, 300, 350]);
 }
 
 #[test]

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
-use bt_link::Reply;
 use bt_link::host::{ControllerInfo, Verdict};
+use sim_host::session::Event;
 
 use bt_formats::DEPTH;
 use sim_host::input::{self, Limit};
@@ -125,7 +125,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let Checked { image, header } = Checked::check(path, file, args.strip_names, &info, &set, &name)?;
     out!("controller {name}: link protocol {}, behavior set {set}\n", info.version)?;
     let started = Instant::now();
-    let verdict = link.deploy(&image, args.at_tick, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let verdict = link.deploy(&image, args.at_tick).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let took = started.elapsed();
     match verdict {
         Verdict::Accepted { crc, nodes, swap_at } => {
@@ -154,8 +154,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if args.at_tick.is_none() {
         // Swapped comes at the next boundary; wait a moment for it.
         let deadline = Instant::now() + Duration::from_secs(2);
-        while let Ok(reply) = link.next(deadline, "Swapped") {
-            if let Reply::Swapped { tick, halted, .. } = reply {
+        while let Ok(event) = link.next(deadline) {
+            if let Event::Swapped { tick, halted, .. } = event {
                 out!(
                     "swapped in before tick {tick}; {} of the old tree halted first\n",
                     count(halted, "running action")
@@ -165,7 +165,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
     }
     if args.start {
-        let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let tick = link.start(None, args.period).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         out!("ticking from tick {tick} every {} ms\n", args.period)?;
     }
     Ok(())

@@ -1,22 +1,20 @@
 //! `sim-host groot2 --port PATH|--tcp HOST:PORT [--listen PORT]`: a running controller
 //! in Groot2, live, across hot swaps.
 
-use std::collections::VecDeque;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
-use bt_core::NodeStatus;
 use bt_link::host::{LinkError, Verdict};
-use bt_link::{Reply, WireStatus};
 use btcpp::groot2::uuid_text;
 use sim_host::groot2::{DEFAULT_PORT, Event, Listen, Server, Watch};
+use sim_host::session;
 use sim_host::text::count;
 
 use super::deploy::Checked;
-use super::link::{self, Line, Running, Target};
+use super::link::{self, Line, Target};
 use super::output::{self, out};
+use super::watch::{Live, Recording};
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -70,30 +68,8 @@ pub struct Args {
     pub trace: Option<PathBuf>,
 }
 
-/// A reply of the controller's stream, kept for later.
-enum Seen {
-    Status { tick: u32, node: u16, status: NodeStatus },
-    Tick { tick: u32, status: WireStatus, changes: u16, micros: u32 },
-    Swapped { tick: u32, crc: u32, nodes: u16, halted: u16 },
-    Garbled(&'static str),
-}
-
-impl Seen {
-    fn of(reply: &Reply<'_>) -> Option<Self> {
-        Some(match *reply {
-            Reply::Status { tick, node, status } => Self::Status { tick, node, status: NodeStatus::from(status) },
-            Reply::Tick { tick, status, changes, micros } => Self::Tick { tick, status, changes, micros },
-            Reply::Swapped { tick, image, halted } => {
-                Self::Swapped { tick, crc: image.crc, nodes: image.nodes, halted }
-            }
-            Reply::Garbled { fault } => Self::Garbled(fault.code()),
-            _ => return None,
-        })
-    }
-}
-
 /// The note about a tree's names, on stderr, once a session.
-fn note(running: &Running, noted: &mut bool) -> anyhow::Result<()> {
+fn note(running: &Live, noted: &mut bool) -> anyhow::Result<()> {
     if let Some(n) = &running.note
         && !*noted
     {
@@ -126,16 +102,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         (Some(path), Some(file)) => Some((path, Checked::check(path, file, false, &info, &set, &name)?)),
         _ => None,
     };
-    // What the controller reports while the bridge asks it something is kept, in order.
-    let mut queue: VecDeque<Seen> = VecDeque::new();
-    let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
-    let mut running = Running::read(&mut link, &name, info.fingerprint, &mut keep)?;
+    // What the controller reports while the bridge asks it something waits in the
+    // session, in order.
+    let mut running = Live::read(&mut link, &name, info.fingerprint)?;
     // Said once: the names Groot2 gets are ids.
     let mut noted = false;
     note(&running, &mut noted)?;
     let server = Server::start(&listen, &running.log_tree("Groot2")?)?;
-    let mut trace = String::new();
-    let _ = writeln!(trace, "image {:08x} nodes={}", running.crc, running.nodes.len());
+    let mut record = Recording::new(None, args.period);
+    let mut lines = Vec::new();
+    record.tree(&mut lines, 0, &running)?;
     out!(
         "controller {name}: behavior set {set}, image {:08x}, {}\n\
          Groot2: connect to port {} of this machine ({}); tree UUID {}\n",
@@ -145,9 +121,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         server.listen(),
         uuid_text(&server.uuid())
     )?;
-    let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
     if let Some((path, Checked { image, .. })) = &next {
-        match link.deploy(image, args.at_tick, &mut keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))? {
+        match link.deploy(image, args.at_tick).map_err(|e| anyhow::anyhow!("{name}: {e}"))? {
             Verdict::Accepted { swap_at, .. } => {
                 let when = swap_at.map_or_else(|| "at the next tick".to_string(), |t| format!("before tick {t}"));
                 out!("deployed {}: swaps in {when}\n", path.display())?;
@@ -158,56 +133,58 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
     }
     if args.start {
-        let tick = link.start(None, args.period, &mut keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let tick = link.start(None, args.period).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         out!("ticking from tick {tick} every {} ms\n", args.period)?;
     }
     let mut ticks = 0u32;
-    'session: loop {
-        while let Some(seen) = queue.pop_front() {
-            match seen {
-                Seen::Status { tick, node, status } => {
-                    server.change(usize::from(node), status);
-                    let _ = writeln!(trace, "status {tick} {node} {}", status.name());
-                }
-                Seen::Tick { tick, status, changes, micros } => {
-                    let _ = writeln!(trace, "tick {tick} {} changes={changes} us={micros}", status.name());
-                    ticks += 1;
-                    if args.ticks.is_some_and(|t| ticks >= t) {
-                        break 'session;
-                    }
-                }
-                Seen::Swapped { tick, crc, nodes, halted } => {
-                    let _ = writeln!(trace, "swap {tick} image={crc:08x} nodes={nodes} halted={halted}");
-                    // The new tree's changes come after Swapped: they wait in the queue.
-                    let mut keep = |r: &Reply<'_>| queue.extend(Seen::of(r));
-                    running = Running::read(&mut link, &name, info.fingerprint, &mut keep)?;
-                    note(&running, &mut noted)?;
-                    let uuid = server.swap(&running.log_tree("Groot2")?);
-                    out!(
-                        "swap before tick {tick}: image {crc:08x}, {} ({} of the old tree halted); \
-                         Groot2 gets it as tree UUID {}\n",
-                        count(nodes, "node"),
-                        count(halted, "action"),
-                        uuid_text(&uuid)
-                    )?;
-                }
-                Seen::Garbled(code) => {
-                    let _ = writeln!(trace, "garbled {code}");
-                }
-            }
-        }
+    loop {
         say_events(&server)?;
-        match link.next(Instant::now() + Duration::from_millis(200), "status") {
-            Ok(reply) => queue.extend(Seen::of(&reply)),
-            Err(LinkError::Timeout { .. }) => {}
+        let event = match link.next(Instant::now() + Duration::from_millis(200)) {
+            Ok(event) => event,
+            Err(LinkError::Timeout { .. }) => continue,
             Err(LinkError::Closed) => break,
             Err(e) => bail!("{name}: {e}"),
+        };
+        record.event(&event);
+        match event {
+            session::Event::Tick { changes, .. } => {
+                for (node, status) in changes {
+                    server.change(usize::from(node), status);
+                }
+                ticks += 1;
+                if args.ticks.is_some_and(|t| ticks >= t) {
+                    break;
+                }
+            }
+            session::Event::Stopped { changes, .. } => {
+                for (node, status) in changes {
+                    server.change(usize::from(node), status);
+                }
+            }
+            session::Event::Swapped { tick, image, halted, changes } => {
+                // The old tree's halts, then the new tree under a new UUID; the new
+                // tree's changes wait in the session meanwhile.
+                for (node, status) in changes {
+                    server.change(usize::from(node), status);
+                }
+                running = Live::read(&mut link, &name, info.fingerprint)?;
+                note(&running, &mut noted)?;
+                record.tree(&mut lines, tick, &running)?;
+                let uuid = server.swap(&running.log_tree("Groot2")?);
+                out!(
+                    "swap before tick {tick}: image {:08x}, {} ({} of the old tree halted); \
+                     Groot2 gets it as tree UUID {}\n",
+                    image.crc,
+                    count(image.nodes, "node"),
+                    count(halted, "action"),
+                    uuid_text(&uuid)
+                )?;
+            }
+            session::Event::Garbled(_) | session::Event::Lost { .. } => {}
         }
     }
     say_events(&server)?;
-    if let Some(path) = &args.trace {
-        output::write_whole(path, trace.as_bytes())?;
-    }
+    record.finish(&mut lines, args.trace.as_deref())?;
     out!("{} watched\n", count(ticks, "tick"))?;
     Ok(())
 }

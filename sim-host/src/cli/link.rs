@@ -4,14 +4,10 @@
 use std::io::{Read, Write};
 use std::time::Duration;
 
-use std::path::Path;
-
 use anyhow::{Context as _, bail};
-use bt_core::{Catalog, Node, Tree};
+use bt_link::Fault;
 use bt_link::host::{Client, ControllerInfo};
-use bt_link::{Fault, Reply};
-use btcpp::btlog::LogTree;
-use planner::DEPTH;
+use sim_host::session::Session;
 
 use super::catalogs;
 use sim_host::text::count;
@@ -43,12 +39,13 @@ impl<T: Read + Write + Send> Io for T {}
 /// How long one read of the link waits before the client checks its deadlines.
 const POLL: Duration = Duration::from_millis(50);
 
-/// Opens the link named by `target`.
+/// Opens the link named by `target`: a session with the controller, and the link's
+/// name for messages.
 ///
 /// # Errors
 /// One line naming the port or address and why it cannot be opened (busy, missing,
 /// refused).
-pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Client<Box<dyn Io>>, String)> {
+pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Session<Box<dyn Io>>, String)> {
     if let Some(path) = &target.port {
         let port = serialport::new(path, line.baud).timeout(POLL).open().map_err(|e| match e.kind() {
             serialport::ErrorKind::NoDevice => anyhow::anyhow!("serial port {path}: no such device, or it is busy"),
@@ -58,21 +55,21 @@ pub fn open(target: &Target, line: &Line) -> anyhow::Result<(Client<Box<dyn Io>>
             _ => anyhow::anyhow!("serial port {path}: {e}"),
         })?;
         let io: Box<dyn Io> = Box::new(port);
-        return Ok((Client::new(io), path.clone()));
+        return Ok((Session::new(Client::new(io)), path.clone()));
     }
     let Some(addr) = &target.tcp else { bail!("give --port PATH or --tcp HOST:PORT") };
     let stream = std::net::TcpStream::connect(addr).with_context(|| format!("cannot connect to {addr}"))?;
     stream.set_read_timeout(Some(POLL)).with_context(|| addr.clone())?;
     let _ = stream.set_nodelay(true);
     let io: Box<dyn Io> = Box::new(stream);
-    Ok((Client::new(io), addr.clone()))
+    Ok((Session::new(Client::new(io)), addr.clone()))
 }
 
 /// `Hello`, with the controller's behavior set named when this binary knows it.
 ///
 /// # Errors
 /// No answer, another protocol version, or a link error, naming the link.
-pub fn hello(link: &mut Client<Box<dyn Io>>, name: &str) -> anyhow::Result<(ControllerInfo, String)> {
+pub fn hello(link: &mut Session<Box<dyn Io>>, name: &str) -> anyhow::Result<(ControllerInfo, String)> {
     let info = link.hello().map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let set = catalogs::by_fingerprint(info.fingerprint)
         .map_or_else(|| format!("{:#018x}", info.fingerprint), |k| format!("{:#018x}, {}", info.fingerprint, k.name));
@@ -98,58 +95,5 @@ pub fn describe(fault: &Fault) -> String {
         Fault::NoTransfer => format!("{code}: chunk or commit without a deployment"),
         Fault::Superseded { crc } => format!("{code}: the transfer of image {crc:08x} was replaced by a newer one"),
         Fault::NoTree => format!("{code}: the controller has no tree"),
-    }
-}
-
-/// The tree a controller runs, read back over the link.
-pub struct Running {
-    /// Its nodes.
-    pub nodes: Vec<Node>,
-    /// Its value table.
-    pub values: Vec<u16>,
-    /// Names: from the image's names section, else the known behavior set's.
-    pub catalog: Box<dyn Catalog>,
-    /// The CRC-32 naming the image on the link.
-    pub crc: u32,
-    /// What to say about the names (none in the image, and the set unknown: ids).
-    pub note: Option<String>,
-}
-
-impl Running {
-    /// Reads the running image back (every other reply meanwhile goes to `watch`) and
-    /// loads it.
-    ///
-    /// # Errors
-    /// No tree, a link error, an image for another behavior set or one that does not
-    /// load, naming the link.
-    pub fn read(
-        link: &mut Client<Box<dyn Io>>,
-        name: &str,
-        fingerprint: u64,
-        watch: &mut dyn FnMut(&Reply<'_>),
-    ) -> anyhow::Result<Self> {
-        let image = link.read_image(watch).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        // Names from the image's names section when it has one, else from the known
-        // behavior set with this fingerprint.
-        let (known, header) = catalogs::for_image(Path::new(name), &image)?;
-        if header.fingerprint != fingerprint {
-            bail!("{name}: the image read back is for behavior set {:#018x}", header.fingerprint);
-        }
-        let mut nodes = vec![Node::EMPTY; usize::from(header.node_count)];
-        let mut values = vec![0u16; image.len()];
-        let tree: Tree<'_, DEPTH> = bt_core::load_with(&image, known.catalog.as_ref(), &mut nodes, &mut values)
-            .map_err(|e| anyhow::anyhow!("{name}: the running image read back does not load: {e}"))?;
-        let (nodes, values) = (tree.nodes().to_vec(), tree.values().to_vec());
-        Ok(Self { nodes, values, catalog: known.catalog, crc: bt_link::image_crc(&image), note: known.note })
-    }
-
-    /// The tree as BehaviorTree.CPP instantiates it (for Groot2), `what` naming the
-    /// option that needs it.
-    ///
-    /// # Errors
-    /// A kind BehaviorTree.CPP has no equivalent for.
-    pub fn log_tree(&self, what: &str) -> anyhow::Result<LogTree> {
-        LogTree::with_values(&self.nodes, &self.values, self.catalog.as_ref())
-            .map_err(|e| anyhow::anyhow!("{what}: image {:08x}: {e}", self.crc))
     }
 }

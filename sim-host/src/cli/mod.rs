@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod bench_pddl;
+mod blend;
 mod btlog;
 mod catalog;
 mod catalogs;
@@ -29,6 +30,7 @@ mod plot;
 mod run;
 mod run_strips;
 mod scenario;
+mod watch;
 
 /// Reactive behavior trees, planned and learned on the host, shipped to a controller.
 #[derive(Parser, Debug)]
@@ -81,6 +83,9 @@ enum Command {
     Monitor(monitor::Args),
     /// Serve a running controller's tree to Groot2, live, across hot swaps.
     Groot2(groot2::Args),
+    /// Blended planning and acting on a controller: the tree grows from the goal while it acts.
+    #[command(long_about = blend::LONG_ABOUT)]
+    Blend(blend::Args),
     /// Measure the planner on a folder of PDDL benchmarks, side by side with pyperplan.
     #[command(long_about = bench_pddl::LONG_ABOUT)]
     BenchPddl(bench_pddl::Args),
@@ -118,6 +123,7 @@ pub fn main() -> ExitCode {
         Some(Command::Deploy(args)) => deploy::run(&args),
         Some(Command::Monitor(args)) => monitor::run(&args),
         Some(Command::Groot2(args)) => groot2::run(&args),
+        Some(Command::Blend(args)) => blend::run(&args),
         Some(Command::BenchPddl(args)) => bench_pddl::run(&args),
     };
     match result {

@@ -1,21 +1,18 @@
 //! `sim-host monitor --port PATH|--tcp HOST:PORT`: the running tree, live.
 
-use std::fmt;
 use std::io::{IsTerminal as _, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::bail;
-use bt_core::{Catalog, NodeKind, NodeStatus};
-use bt_link::Reply;
-use bt_link::host::Client;
-use btcpp::btlog::LogWriter;
-use btcpp::btlog::replay::status as btlog_status;
+use bt_core::NodeStatus;
 use crossterm::{cursor, terminal};
-
-use super::link::{self, Io, Line, Running, Target};
-use super::output;
+use sim_host::session::Event;
 use sim_host::text::count;
+
+use super::link::{self, Line, Target};
+use super::output;
+use super::watch::{self, Live, Recording};
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -56,107 +53,6 @@ pub struct Args {
     pub btlog: Option<PathBuf>,
 }
 
-/// The tree the controller runs, with live statuses.
-struct Live {
-    running: Running,
-    status: Vec<NodeStatus>,
-}
-
-impl Live {
-    fn read(link: &mut Client<Box<dyn Io>>, name: &str, fingerprint: u64) -> anyhow::Result<Self> {
-        let running = Running::read(link, name, fingerprint, &mut |_| {})?;
-        let status = vec![NodeStatus::Idle; running.nodes.len()];
-        Ok(Self { running, status })
-    }
-
-    /// A Groot2 replay log of this tree, its clock starting at `usec`.
-    fn log(&self, usec: i64) -> anyhow::Result<Groot> {
-        let tree =
-            self.running.log_tree("--btlog").map_err(|e| anyhow::anyhow!("{e}; record it with --trace instead"))?;
-        let mut uid = vec![None; self.running.nodes.len()];
-        for n in &tree.nodes {
-            if let Some(slot) = n.core.and_then(|c| uid.get_mut(c)) {
-                *slot = Some(n.uid);
-            }
-        }
-        Ok(Groot { writer: LogWriter::new(&tree, usec), uid })
-    }
-
-    /// Lines of the py_trees-style view with status marks.
-    fn lines(&self) -> Vec<String> {
-        let mut ends: Vec<usize> = Vec::new();
-        let mut out = Vec::with_capacity(self.running.nodes.len());
-        let (nodes, values, catalog) = (&self.running.nodes, &self.running.values, self.running.catalog.as_ref());
-        for (i, node) in nodes.iter().enumerate() {
-            while ends.last().is_some_and(|&e| e <= i) {
-                ends.pop();
-            }
-            let mark = match self.status.get(i) {
-                Some(NodeStatus::Success) => " [✓]",
-                Some(NodeStatus::Failure) => " [✕]",
-                Some(NodeStatus::Running) => " [*]",
-                _ => "",
-            };
-            out.push(format!("{}{}{mark}", "    ".repeat(ends.len()), Label(catalog, node.kind(), values)));
-            if !matches!(node.kind(), NodeKind::Condition(_) | NodeKind::Action(_)) {
-                ends.push(i + usize::from(node.size()));
-            }
-        }
-        out
-    }
-}
-
-/// A Groot2 replay log being recorded.
-struct Groot {
-    writer: LogWriter,
-    /// BehaviorTree.CPP's uid of each bt-core node.
-    uid: Vec<Option<u16>>,
-}
-
-impl Groot {
-    fn change(&mut self, usec: i64, node: u16, status: NodeStatus) {
-        if let Some(&Some(uid)) = self.uid.get(usize::from(node)) {
-            let s = match status {
-                NodeStatus::Idle => btlog_status::IDLE,
-                NodeStatus::Running => btlog_status::RUNNING,
-                NodeStatus::Success => btlog_status::SUCCESS,
-                NodeStatus::Failure => btlog_status::FAILURE,
-            };
-            self.writer.transition(usec, uid, s);
-        }
-    }
-}
-
-/// The file of the `n`th tree's log (from 1): `run.btlog`, `run-2.btlog`, ...
-fn numbered(path: &Path, n: u32) -> PathBuf {
-    if n <= 1 {
-        return path.to_path_buf();
-    }
-    let stem = path.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-    let name = match path.extension() {
-        Some(ext) => format!("{stem}-{n}.{}", ext.to_string_lossy()),
-        None => format!("{stem}-{n}"),
-    };
-    path.with_file_name(name)
-}
-
-struct Label<'a>(&'a dyn Catalog, &'a NodeKind, &'a [u16]);
-
-impl fmt::Display for Label<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        bt_core::render::write_label(f, self.0, self.1, self.2)
-    }
-}
-
-fn letter(s: NodeStatus) -> char {
-    match s {
-        NodeStatus::Idle => 'I',
-        NodeStatus::Success => 'S',
-        NodeStatus::Failure => 'F',
-        NodeStatus::Running => 'R',
-    }
-}
-
 /// Writes what `out` gathered to stdout and empties it.
 fn flush(out: &mut Vec<u8>) -> Result<(), output::WriteError> {
     if !out.is_empty() {
@@ -173,85 +69,61 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bail!("{name}: the controller runs no tree; deploy one first");
     }
     let mut live = Live::read(&mut link, &name, info.fingerprint)?;
-    // Microseconds on the log's clock at tick `t`.
-    let usec = |t: u32| i64::from(t) * i64::from(args.period) * 1000;
-    let mut groot = match &args.btlog {
-        Some(_) => Some(live.log(0)?),
-        None => None,
-    };
-    let mut logs_written: u32 = 0;
-    // Lines are gathered here and written through `output` after each message, so a
+    let mut record = Recording::new(args.btlog.as_deref(), args.period);
+    // Lines are gathered here and written through `output` after each event, so a
     // closed or full stdout is an error like anywhere else (a broken pipe ends quietly).
     let mut out: Vec<u8> = Vec::new();
     let tty = std::io::stdout().is_terminal();
-    let mut trace = String::new();
     writeln!(
         out,
         "controller {name}: behavior set {set}, image {:08x}, {}",
-        live.running.crc,
-        count(live.running.nodes.len(), "node")
+        live.crc,
+        count(live.nodes.len(), "node")
     )?;
-    trace.push_str(&format!("image {:08x} nodes={}\n", live.running.crc, live.running.nodes.len()));
+    record.tree(&mut out, 0, &live)?;
     if args.start {
-        let tick = link.start(None, args.period, &mut |_| {}).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let tick = link.start(None, args.period).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         writeln!(out, "ticking from tick {tick} every {} ms", args.period)?;
     }
     flush(&mut out)?;
     let mut drawn = 0usize;
-    let mut changes: Vec<(u16, NodeStatus)> = Vec::new();
     let mut ticks = 0u32;
     loop {
-        let reply = match link.next(Instant::now() + Duration::from_secs(3600), "status") {
-            Ok(r) => r,
+        let event = match link.next(Instant::now() + Duration::from_secs(3600)) {
+            Ok(e) => e,
             Err(bt_link::host::LinkError::Closed) => break,
             Err(e) => bail!("{name}: {e}"),
         };
-        match reply {
-            Reply::Status { tick, node, status } => {
-                let status = NodeStatus::from(status);
-                if let Some(s) = live.status.get_mut(usize::from(node)) {
-                    *s = status;
-                }
-                changes.push((node, status));
-                if let Some(g) = &mut groot {
-                    g.change(usec(tick), node, status);
-                }
-                trace.push_str(&format!("status {tick} {node} {}\n", status.name()));
-            }
-            Reply::Tick { tick, status, changes: n, micros } => {
-                let root = status;
-                trace.push_str(&format!("tick {tick} {} changes={n} us={micros}\n", root.name()));
+        record.event(&event);
+        watch::apply(&mut live, &event);
+        match event {
+            Event::Tick { tick, root, changes, micros } => {
+                let root = NodeStatus::from(root);
                 if tty {
                     if drawn > 0 {
                         // (`MoveUp(0)` would move one line: terminals read 0 as 1.)
                         crossterm::queue!(out, cursor::MoveUp(drawn as u16))?;
                     }
                     crossterm::queue!(out, terminal::Clear(terminal::ClearType::FromCursorDown))?;
-                    writeln!(out, "tick {tick}: {} ({}, {micros} µs)", root.name(), count(n, "change"))?;
+                    writeln!(out, "tick {tick}: {} ({}, {micros} µs)", root.name(), count(changes.len(), "change"))?;
                     let lines = live.lines();
                     for l in &lines {
                         writeln!(out, "{l}")?;
                     }
                     drawn = lines.len() + 1;
                 } else {
-                    let list: Vec<String> = changes.iter().map(|(n, s)| format!("{n}:{}", letter(*s))).collect();
+                    let list: Vec<String> = changes.iter().map(|(n, s)| format!("{n}:{}", watch::letter(*s))).collect();
                     let list = if list.is_empty() { "-".to_string() } else { list.join(" ") };
                     writeln!(out, "tick {tick} {} {list}", root.name())?;
                 }
-                changes.clear();
                 ticks += 1;
                 if args.ticks.is_some_and(|t| ticks >= t) {
                     break;
                 }
             }
-            Reply::Swapped { tick, image, halted } => {
-                trace.push_str(&format!("swap {tick} image={:08x} nodes={} halted={halted}\n", image.crc, image.nodes));
+            Event::Swapped { tick, image, halted, .. } => {
                 live = Live::read(&mut link, &name, info.fingerprint)?;
-                if let (Some(path), Some(g)) = (&args.btlog, groot.take()) {
-                    logs_written += 1;
-                    write_log(&mut out, path, logs_written, g)?;
-                    groot = Some(live.log(usec(tick))?);
-                }
+                record.tree(&mut out, tick, &live)?;
                 writeln!(
                     out,
                     "swap before tick {tick}: image {:08x}, {} ({} of the old tree halted)",
@@ -261,40 +133,20 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 )?;
                 drawn = 0;
             }
-            Reply::Garbled { fault } => {
-                trace.push_str(&format!("garbled {}\n", fault.code()));
+            Event::Lost { tick, frames } => {
+                writeln!(
+                    out,
+                    "tick {tick}: the controller dropped {} its link could not carry; statuses may be stale \
+                     until their nodes change",
+                    count(frames, "status frame")
+                )?;
+                drawn = 0;
             }
-            _ => {}
+            Event::Stopped { .. } | Event::Garbled(_) => {}
         }
         flush(&mut out)?;
     }
-    if let Some(path) = &args.trace {
-        output::write_whole(path, trace.as_bytes())?;
-    }
-    if let (Some(path), Some(g)) = (&args.btlog, groot) {
-        write_log(&mut out, path, logs_written + 1, g)?;
-    }
+    record.finish(&mut out, args.trace.as_deref())?;
     flush(&mut out)?;
     Ok(())
-}
-
-fn write_log(out: &mut impl Write, path: &Path, n: u32, g: Groot) -> anyhow::Result<()> {
-    let file = numbered(path, n);
-    let bytes = g.writer.into_bytes();
-    output::write_file(&file, &bytes, output::Content::Binary("a replay log"))?;
-    writeln!(out, "btlog {} ({}; open it in Groot2)", file.display(), count(bytes.len(), "byte"))?;
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn each_tree_after_the_first_gets_a_numbered_log() {
-        let p = Path::new("/tmp/logs/run.btlog");
-        assert_eq!(numbered(p, 1), Path::new("/tmp/logs/run.btlog"));
-        assert_eq!(numbered(p, 2), Path::new("/tmp/logs/run-2.btlog"));
-        assert_eq!(numbered(Path::new("session"), 3), Path::new("session-3"));
-    }
 }

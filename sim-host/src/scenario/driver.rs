@@ -77,15 +77,21 @@ where
         moves_on_at_stop: false,
         ..Settings::new(max_ticks, Clock { ms_per_tick: crate::episode::TICK_MS, first: 1 })
     };
-    let mut narration = Narration::new(catalog, out);
+    let mut narration = Narration::new(catalog);
     let mut ends = (Failures::first(), FirstSuccess);
-    Runner::new(settings)
-        .run_growing::<DEPTH, _, _, _, _, _>(trees, world, &mut ends, agents, &mut (&mut narration, watch))
-        .map_err(|e| match e.kind {
-            RunErrorKind::Grow(g) => anyhow::anyhow!("tick {}: the planner cannot expand the tree: {g}", e.tick),
-            RunErrorKind::Invalid(v) => anyhow::anyhow!("tick {}: the tree is not valid: {v}", e.tick),
-            RunErrorKind::Tick(t) => anyhow::anyhow!("tick {}: {t}", e.tick),
-        })?;
+    let result = Runner::new(settings).run_growing::<DEPTH, _, _, _, _, _>(
+        trees,
+        world,
+        &mut ends,
+        agents,
+        &mut (&mut narration, watch),
+    );
+    out.push_str(&narration.take_text());
+    result.map_err(|e| match e.kind {
+        RunErrorKind::Grow(g) => anyhow::anyhow!("tick {}: the planner cannot expand the tree: {g}", e.tick),
+        RunErrorKind::Invalid(v) => anyhow::anyhow!("tick {}: the tree is not valid: {v}", e.tick),
+        RunErrorKind::Tick(t) => anyhow::anyhow!("tick {}: {t}", e.tick),
+    })?;
     Ok(narration.into_record())
 }
 

@@ -80,28 +80,38 @@ impl Narrate for planner::Expansion {
     }
 }
 
-/// Narrates a run into `out` and keeps its [`Record`].
-pub(super) struct Narration<'a, C: ?Sized> {
+/// Tells a run in plain words, whatever drives it: the scenario's runner
+/// (`sim-host scenario`) or a controller's status stream ([`crate::blend`]). Keeps what it
+/// told in a [`Record`].
+#[derive(Debug)]
+pub struct Teller<'a, C: ?Sized> {
     catalog: &'a C,
-    out: &'a mut String,
-    record: Record,
+    out: String,
+    /// What was told.
+    pub record: Record,
     /// An action running on quietly since a tick.
     quiet: Option<(u32, String)>,
-    /// World events told so far.
-    told: usize,
 }
 
-impl<'a, C: Catalog + ?Sized> Narration<'a, C> {
-    pub(super) fn new(catalog: &'a C, out: &'a mut String) -> Self {
-        Self { catalog, out, record: Record::default(), quiet: None, told: 0 }
+impl<'a, C: Catalog + ?Sized> Teller<'a, C> {
+    /// Tells a run, naming leaves with `catalog`.
+    pub fn new(catalog: &'a C) -> Self {
+        Self { catalog, out: String::new(), record: Record::default(), quiet: None }
     }
 
-    pub(super) fn into_record(self) -> Record {
+    /// The text told since the last call.
+    pub fn take_text(&mut self) -> String {
+        std::mem::take(&mut self.out)
+    }
+
+    /// What was told.
+    #[must_use]
+    pub fn into_record(self) -> Record {
         self.record
     }
 
-    /// Closes a quiet stretch: "ticks 5-14  move-to(cube) running".
-    fn flush_quiet(&mut self, now: u32) {
+    /// Closes a quiet stretch before tick `now`: "ticks 5-14  move-to(cube) running".
+    pub fn flush_quiet(&mut self, now: u32) {
         if let Some((from, name)) = self.quiet.take() {
             let to = now.saturating_sub(1).max(from);
             if to > from {
@@ -112,66 +122,76 @@ impl<'a, C: Catalog + ?Sized> Narration<'a, C> {
         }
     }
 
+    /// One line of the tick's own: `tick  12  text` (after a quiet stretch is closed).
+    pub fn say(&mut self, tick: u32, text: &str) {
+        self.flush_quiet(tick);
+        let _ = writeln!(self.out, "tick {tick:>3}  {text}");
+    }
+
+    /// A line under the tick's: `          text`.
+    pub fn add(&mut self, text: &str) {
+        let _ = writeln!(self.out, "          {text}");
+    }
+
+    /// A line as it is (it names its own ticks).
+    pub fn add_raw(&mut self, line: &str) {
+        let _ = writeln!(self.out, "{line}");
+    }
+
     /// One line per action start, success, failure and halt; an action running on
     /// quietly is summed up when something else happens.
-    fn narrate_actions(&mut self, tick: u32, nodes: &[Node], changes: &[(NodeId, NodeStatus, NodeStatus)]) {
+    pub fn actions(&mut self, tick: u32, nodes: &[Node], changes: &[(NodeId, NodeStatus, NodeStatus)]) {
         for &(node, old, new) in changes {
             let Some(n) = nodes.get(usize::from(node)) else { continue };
             let bt_core::NodeKind::Action(leaf) = n.kind() else { continue };
             let name = leaf_name(self.catalog, leaf);
             match (old, new) {
                 (NodeStatus::Running, NodeStatus::Idle) => {
-                    self.flush_quiet(tick);
-                    let _ = writeln!(self.out, "tick {tick:>3}  halts {name} (the tree moved to another branch)");
+                    self.say(tick, &format!("halts {name} (the tree moved to another branch)"));
                     self.record.halts.push((tick, name));
                 }
-                (NodeStatus::Running, NodeStatus::Success) => {
-                    self.flush_quiet(tick);
-                    let _ = writeln!(self.out, "tick {tick:>3}  {name} succeeds");
-                }
-                (NodeStatus::Running, NodeStatus::Failure) => {
-                    self.flush_quiet(tick);
-                    let _ = writeln!(self.out, "tick {tick:>3}  {name} fails");
-                }
+                (NodeStatus::Running, NodeStatus::Success) => self.say(tick, &format!("{name} succeeds")),
+                (NodeStatus::Running, NodeStatus::Failure) => self.say(tick, &format!("{name} fails")),
                 (_, NodeStatus::Running) => {
                     self.flush_quiet(tick);
                     self.quiet = Some((tick, name));
                 }
-                (_, NodeStatus::Success) => {
-                    self.flush_quiet(tick);
-                    let _ = writeln!(self.out, "tick {tick:>3}  {name} succeeds at once");
-                }
-                (_, NodeStatus::Failure) => {
-                    self.flush_quiet(tick);
-                    let _ = writeln!(self.out, "tick {tick:>3}  {name} fails at once");
-                }
+                (_, NodeStatus::Success) => self.say(tick, &format!("{name} succeeds at once")),
+                (_, NodeStatus::Failure) => self.say(tick, &format!("{name} fails at once")),
                 _ => {}
             }
         }
     }
 
-    fn show_tree(&mut self, title: &str, nodes: &[Node]) {
-        let Ok(tree) = Tree::<'_, DEPTH>::validate(nodes, self.catalog) else { return };
+    /// The tree, indented, under a title: `the tree now (6 nodes):`.
+    pub fn show_tree(&mut self, title: &str, nodes: &[Node], values: &[u16]) {
+        let Ok(tree) = Tree::<'_, DEPTH>::validate_with(nodes, values, self.catalog) else { return };
         let _ = writeln!(self.out, "          {title} ({}):", crate::text::count(nodes.len(), "node"));
         for line in tree.display(self.catalog).to_string().lines() {
             let _ = writeln!(self.out, "            {line}");
         }
     }
 
+    /// The root failed: says which conditions failed it.
+    pub fn root_fails(&mut self, tick: u32, nodes: &[Node], statuses: &[NodeStatus]) {
+        let failed = self.failed_conditions(nodes, statuses);
+        self.say(tick, &format!("the root fails: {}", failed.join(", ")));
+    }
+
     /// The conditions whose Failure failed a Sequence (or the root) on the last tick:
     /// why the tree failed. A condition failing as a Fallback's first child is the
     /// Fallback doing its job, not a reason.
-    fn failed_conditions(&self, nodes: &[Node], states: &[NodeState]) -> Vec<String> {
+    fn failed_conditions(&self, nodes: &[Node], statuses: &[NodeStatus]) -> Vec<String> {
         let mut parents: Vec<usize> = Vec::new();
         let mut failed = Vec::new();
-        for (i, (n, s)) in nodes.iter().zip(states).enumerate() {
+        for (i, (n, s)) in nodes.iter().zip(statuses).enumerate() {
             while parents.last().is_some_and(|&p| p + nodes.get(p).map_or(0, |q| usize::from(q.size())) <= i) {
                 parents.pop();
             }
             let parent_is_sequence =
                 parents.last().is_none_or(|&p| nodes.get(p).is_some_and(|q| *q.kind() == bt_core::NodeKind::Sequence));
             if let bt_core::NodeKind::Condition(leaf) = n.kind()
-                && s.status() == NodeStatus::Failure
+                && *s == NodeStatus::Failure
                 && parent_is_sequence
             {
                 failed.push(format!("{} is false", leaf_name(self.catalog, leaf)));
@@ -183,9 +203,59 @@ impl<'a, C: Catalog + ?Sized> Narration<'a, C> {
         if failed.is_empty() { vec!["an action failed".into()] } else { failed }
     }
 
+    /// Growth number `n` (from 1) made at `tick`, and the tree it made.
+    pub fn grown<G: Narrate + ?Sized>(&mut self, tick: u32, growth: &G, nodes: &[Node], values: &[u16]) {
+        self.grown_with(tick, growth, "", nodes, values);
+    }
+
+    /// [`Teller::grown`] with a line of the caller's before the tree (none if empty).
+    pub fn grown_with<G: Narrate + ?Sized>(
+        &mut self,
+        tick: u32,
+        growth: &G,
+        note: &str,
+        nodes: &[Node],
+        values: &[u16],
+    ) {
+        let n = self.record.expansions.len() + 1;
+        growth.narrate(n, tick, &mut self.out, &mut self.record);
+        if !note.is_empty() {
+            self.add(note);
+        }
+        self.show_tree("the tree now", nodes, values);
+    }
+
+    /// The behavior set leaves are named with.
+    #[must_use]
+    pub fn catalog(&self) -> &'a C {
+        self.catalog
+    }
+}
+
+/// Narrates a scenario run into `out` and keeps its [`Record`].
+pub(super) struct Narration<'a, C: ?Sized> {
+    teller: Teller<'a, C>,
+    /// World events told so far.
+    told: usize,
+}
+
+impl<'a, C: Catalog + ?Sized> Narration<'a, C> {
+    pub(super) fn new(catalog: &'a C) -> Self {
+        Self { teller: Teller::new(catalog), told: 0 }
+    }
+
+    /// The text told since the last call.
+    pub(super) fn take_text(&mut self) -> String {
+        self.teller.take_text()
+    }
+
+    pub(super) fn into_record(self) -> Record {
+        self.teller.into_record()
+    }
+
     fn snapshot(&mut self, tick: u32, label: String, tree: &TreeState<'_>) {
         let (nodes, states) = (tree.nodes.to_vec(), tree.states.to_vec());
-        self.record.snapshots.push(Snapshot { tick, label, nodes, states });
+        self.teller.record.snapshots.push(Snapshot { tick, label, nodes, states });
     }
 }
 
@@ -194,62 +264,61 @@ impl<W: Scene, G: Narrate, C: Catalog + ?Sized> Recorder<W, G> for Narration<'_,
     const CHANGES: bool = true;
 
     fn start(&mut self, world: &W, tree: &TreeState<'_>) {
-        self.show_tree("the tree at the start", tree.nodes);
+        self.teller.show_tree("the tree at the start", tree.nodes, &[]);
         self.snapshot(0, "start".into(), tree);
-        self.record.frames.push((0, world.points()));
+        self.teller.record.frames.push((0, world.points()));
     }
 
     fn ticked(&mut self, t: &Ticked<'_>, _: &W) {
         let tick = t.tick;
-        self.record.leaf_calls.push((tick, t.calls.to_vec()));
-        self.narrate_actions(tick, t.tree.nodes, t.changes);
+        self.teller.record.leaf_calls.push((tick, t.calls.to_vec()));
+        self.teller.actions(tick, t.tree.nodes, t.changes);
         if t.root == Status::Failure {
-            self.flush_quiet(tick);
-            let failed = self.failed_conditions(t.tree.nodes, t.tree.states);
-            let _ = writeln!(self.out, "tick {tick:>3}  the root fails: {}", failed.join(", "));
+            let statuses: Vec<NodeStatus> = t.tree.states.iter().map(NodeState::status).collect();
+            self.teller.root_fails(tick, t.tree.nodes, &statuses);
         }
     }
 
     fn grown(&mut self, tick: u32, growth: &G, nodes: &[Node]) {
-        let n = self.record.expansions.len() + 1;
-        growth.narrate(n, tick, self.out, &mut self.record);
-        self.show_tree("the tree now", nodes);
-        let label = format!("expansion {}", self.record.expansions.len());
+        self.teller.grown(tick, growth, nodes, &[]);
+        let label = format!("expansion {}", self.teller.record.expansions.len());
         self.snapshot(tick, label, &TreeState { nodes, states: &[] });
     }
 
     fn stepped(&mut self, tick: u32, _: Status, _: &[NodeState], world: &W) {
         if world.event(self.told).is_some() {
-            self.flush_quiet(tick + 1);
+            self.teller.flush_quiet(tick + 1);
         }
         while let Some(e) = world.event(self.told) {
-            let _ = writeln!(self.out, "tick {tick:>3}  world: {e}");
-            self.record.events.push((tick, e.to_string()));
+            let _ = writeln!(self.teller.out, "tick {tick:>3}  world: {e}");
+            self.teller.record.events.push((tick, e.to_string()));
             self.told += 1;
         }
-        self.record.frames.push((tick, world.points()));
+        self.teller.record.frames.push((tick, world.points()));
     }
 
     fn end(&mut self, outcome: &Outcome, tree: &TreeState<'_>, _: &W) {
         let tick = outcome.ticks;
         match outcome.stop {
             Stop::Success => {
-                self.flush_quiet(tick);
-                let _ = writeln!(self.out, "tick {tick:>3}  the root succeeds: the goal holds");
-                self.record.status = Some(Status::Success);
+                self.teller.say(tick, "the root succeeds: the goal holds");
+                self.teller.record.status = Some(Status::Success);
                 self.snapshot(tick, "end".into(), tree);
             }
             Stop::Failure => {
-                self.record.status = Some(Status::Failure);
+                self.teller.record.status = Some(Status::Failure);
                 self.snapshot(tick, "end".into(), tree);
             }
             _ => {}
         }
-        self.flush_quiet(tick + 1);
-        self.record.ticks = tick;
-        if self.record.status.is_none() {
-            let _ = writeln!(self.out, "tick {tick:>3}  stopped: the tick budget ran out with the tree still running");
-            self.record.status = Some(Status::Running);
+        self.teller.flush_quiet(tick + 1);
+        self.teller.record.ticks = tick;
+        if self.teller.record.status.is_none() {
+            let _ = writeln!(
+                self.teller.out,
+                "tick {tick:>3}  stopped: the tick budget ran out with the tree still running"
+            );
+            self.teller.record.status = Some(Status::Running);
         }
     }
 }

@@ -1,5 +1,6 @@
-//! A controller running `bt_link::serve` in the test process, over a TCP socket on the
-//! loopback interface: the host build of the link controller, for the CLI tests.
+//! A controller for the CLI's link tests: `bt_link::serve` in a thread of the test,
+//! serving one TCP connection on the loopback interface, with the behavior set and the
+//! world the test gives (the host build of the link controller).
 #![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::io::{ErrorKind, Read, Write};
@@ -100,32 +101,70 @@ pub fn cube_image(dir: &Path) -> (PathBuf, Vec<u8>) {
     (path, image)
 }
 
-/// A controller holding at most `NODES` nodes, booted with `boot`, running `app`,
-/// serving one connection on a free port; with `tap`, every reply it sends is kept
-/// there, in order (the controller's own record of its status stream).
-pub fn controller<const NODES: usize, A: App + Send + 'static>(
-    boot: Option<Vec<u8>>,
-    app: A,
-    tap: Option<Tap>,
-) -> (String, JoinHandle<()>) {
-    controller_for::<NODES, _, _>(catalog(), boot, app, tap)
+/// A controller holding at most `NODES` nodes of `catalog`'s behaviors, booted with
+/// `boot`, acting on `app`, serving one connection on a free port: its address, and the
+/// thread, which hands the world back when the connection closes.
+pub fn controller<const NODES: usize, C, A>(catalog: C, boot: Option<Vec<u8>>, app: A) -> (String, JoinHandle<A>)
+where
+    C: bt_core::Catalog + Send + 'static,
+    A: App + Send + 'static,
+{
+    spawn::<NODES, 640, C, A>(catalog, boot, app, None)
 }
 
-/// [`controller`] for the behavior set of `set`.
-pub fn controller_for<const NODES: usize, A: App + Send + 'static, C: bt_core::Catalog + Send + 'static>(
-    set: C,
+/// [`controller`] with images of at most `BYTES` bytes.
+pub fn controller_of<const NODES: usize, const BYTES: usize, C, A>(
+    catalog: C,
+    boot: Option<Vec<u8>>,
+    app: A,
+) -> (String, JoinHandle<A>)
+where
+    C: bt_core::Catalog + Send + 'static,
+    A: App + Send + 'static,
+{
+    spawn::<NODES, BYTES, C, A>(catalog, boot, app, None)
+}
+
+/// [`controller`] keeping every reply it sends in `tap`, in order (the controller's own
+/// record of its status stream).
+pub fn tapped<const NODES: usize, C, A>(catalog: C, boot: Option<Vec<u8>>, app: A, tap: Tap) -> (String, JoinHandle<A>)
+where
+    C: bt_core::Catalog + Send + 'static,
+    A: App + Send + 'static,
+{
+    spawn::<NODES, 640, C, A>(catalog, boot, app, Some(tap))
+}
+
+fn spawn<const NODES: usize, const BYTES: usize, C, A>(
+    catalog: C,
     boot: Option<Vec<u8>>,
     mut app: A,
     tap: Option<Tap>,
-) -> (String, JoinHandle<()>) {
+) -> (String, JoinHandle<A>)
+where
+    C: bt_core::Catalog + Send + 'static,
+    A: App + Send + 'static,
+{
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = listener.local_addr().unwrap().to_string();
+    listener.set_nonblocking(true).unwrap();
     let handle = std::thread::spawn(move || {
-        let (stream, _) = listener.accept().unwrap();
+        // A command that fails before it connects must not hang the test.
+        let started = Instant::now();
+        let stream = loop {
+            match listener.accept() {
+                Ok((stream, _)) => break stream,
+                Err(e) if e.kind() == ErrorKind::WouldBlock && started.elapsed().as_secs() < 60 => {
+                    std::thread::sleep(std::time::Duration::from_millis(5));
+                }
+                Err(_) => return app,
+            }
+        };
         stream.set_nonblocking(true).unwrap();
         let mut board = Tcp { stream, closed: false, started: Instant::now(), tap: tap.map(|t| (Decoder::new(), t)) };
-        let mut storage = Box::new(Storage::<NODES, 640, 32>::new());
-        bt_link::serve::<_, _, _, NODES, 640, 32, 16>(&mut storage, &set, boot.as_deref(), &mut board, &mut app);
+        let mut storage = Box::new(Storage::<NODES, BYTES, 32>::new());
+        bt_link::serve::<_, _, _, NODES, BYTES, 32, 16>(&mut storage, &catalog, boot.as_deref(), &mut board, &mut app);
+        app
     });
     (addr, handle)
 }
