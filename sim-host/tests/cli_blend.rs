@@ -13,8 +13,10 @@ use sim_host::scenario::agents::Acts as _;
 use sim_host::scenario::cube::SymbolicCube;
 
 mod cli_common;
+mod groot2_common;
 mod link_common;
 use cli_common::sim_host;
+use groot2_common::{ask, client, free_ports, header};
 
 fn domain_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/domains/cube-sphere")
@@ -312,4 +314,57 @@ fn a_grown_tree_larger_than_the_controller_holds_ends_with_exit_2_and_the_sizes(
     );
     let recorded = std::fs::read_to_string(&trace).unwrap();
     assert!(recorded.lines().last().unwrap().starts_with("stop "), "the controller was stopped: {recorded}");
+}
+
+#[test]
+fn groot2_is_served_each_grown_tree_under_a_new_uuid() {
+    let (addr, handle) = link_common::controller::<64, _, _>(catalog(), None, Plant::new());
+    let port = free_ports();
+    let dir = domain_dir();
+    let (d, p) = (dir.join("domain.pddl"), dir.join("problem.pddl"));
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_sim-host"))
+        .args(["blend", "--domain", d.to_str().unwrap(), "--problem", p.to_str().unwrap(), "--tcp", &addr])
+        .args(["--period", "5", "--lead", "2", "--groot2", &format!("127.0.0.1:{port}"), "--groot2-linger", "2"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Groot2's place: FULLTREE again and again while the tree grows, then while the
+    // bridge holds the last state.
+    let ctx = zmq::Context::new();
+    let groot = client(&ctx, port);
+    let mut uuids: Vec<Vec<u8>> = Vec::new();
+    let mut last: Vec<Vec<u8>> = Vec::new();
+    let started = std::time::Instant::now();
+    // Until the tree of Example 2's end (37 nodes) is served; the bridge holds it 2 s
+    // after the session ends.
+    while String::from_utf8_lossy(last.get(1).map_or(&[][..], Vec::as_slice)).matches(" _uid=").count() < 37 {
+        assert!(started.elapsed().as_secs() < 30, "{} trees seen", uuids.len());
+        let tree = ask(&groot, &[header(b'T', uuids.len() as u32)]);
+        if uuids.last() != Some(&tree[0][6..].to_vec()) {
+            uuids.push(tree[0][6..].to_vec());
+        }
+        last = tree;
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let status = ask(&groot, &[header(b'S', 1000)]);
+    let out = child.wait_with_output().unwrap();
+    handle.join().unwrap();
+    let (text, err) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{text}{err}");
+    assert!(err.contains("Groot2: the run is over (8 trees served)"), "the goal and 7 grown trees: {err}");
+    assert!(uuids.len() >= 2, "the tree was seen to grow: {} UUIDs", uuids.len());
+    let mut distinct = uuids.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert_eq!(distinct.len(), uuids.len(), "each tree its own UUID");
+    // The last tree served is the grown one: a node a `_uid`, 3 status bytes a node.
+    let nodes: usize = text.split(" the tree has ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&last[1]).matches(" _uid=").count(),
+        nodes,
+        "{}",
+        String::from_utf8_lossy(&last[1])
+    );
+    assert_eq!(status[1].len(), 3 * nodes);
 }

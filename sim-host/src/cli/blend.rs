@@ -13,6 +13,11 @@ use sim_host::blend::{self, Blend, End, Listener, Step, Summary};
 use sim_host::input::{self, Limit};
 use sim_host::text::count;
 
+use btcpp::btlog::LogTree;
+use btcpp::groot2::uuid_text;
+use sim_host::groot2::{Listen, Server};
+
+use super::groot2::{hold, tell_events};
 use super::link::{self, Line, Target};
 use super::output;
 use super::plan::RefinementArg;
@@ -87,14 +92,75 @@ pub struct Args {
     /// Record the session as Groot2 replay logs, one per tree (FILE, FILE-2, ...).
     #[arg(long, value_name = "FILE.btlog")]
     pub btlog: Option<PathBuf>,
+    /// Serve the session to Groot2 live, on PORT or HOST:PORT (1667 when none is given;
+    /// the publish socket takes the next port): each grown tree under a new tree UUID,
+    /// with the statuses the controller reports.
+    #[arg(long, value_name = "[HOST:]PORT", num_args = 0..=1, default_missing_value = "1667")]
+    pub groot2: Option<String>,
+    /// With --groot2: how long to go on serving the last tree after the session ends, in
+    /// seconds (default: until Ctrl-C).
+    #[arg(long, value_name = "SECONDS", requires = "groot2")]
+    pub groot2_linger: Option<u64>,
 }
 
-/// Narration to stdout as it happens, and the session's record.
+/// Narration to stdout as it happens, the session's record, and Groot2.
 struct Shown<'a> {
     narrator: Narrator<'a>,
     record: Recording,
     catalog: &'a PddlCatalog,
     out: Vec<u8>,
+    /// With --groot2: where to listen until the first tree, then the server.
+    groot2: Groot2,
+}
+
+/// `--groot2`: off, waiting for the first tree, or serving the trees so far.
+enum Groot2 {
+    Off,
+    Listen(Listen),
+    Serving { server: Server, trees: usize },
+}
+
+impl Groot2 {
+    /// Serves the tree that runs from now on: the first one, or a grown one under a new UUID.
+    fn tree(&mut self, tree: &LogTree, out: &mut Vec<u8>) -> anyhow::Result<()> {
+        match self {
+            Self::Off => {}
+            Self::Listen(listen) => {
+                let server = Server::start(listen, tree)?;
+                out.extend(
+                    format!(
+                        "Groot2: connect to port {} of this machine ({}); tree UUID {}\n",
+                        listen.port,
+                        server.listen(),
+                        uuid_text(&server.uuid())
+                    )
+                    .bytes(),
+                );
+                *self = Self::Serving { server, trees: 1 };
+            }
+            Self::Serving { server, trees } => {
+                let uuid = server.swap(tree);
+                *trees += 1;
+                out.extend(format!("Groot2: the grown tree is served as tree UUID {}\n", uuid_text(&uuid)).bytes());
+            }
+        }
+        Ok(())
+    }
+
+    /// Passes an event's status changes on.
+    fn event(&self, event: &sim_host::session::Event) -> anyhow::Result<()> {
+        use sim_host::session::Event;
+        if let Self::Serving { server, .. } = self {
+            if let Event::Tick { changes, .. } | Event::Swapped { changes, .. } | Event::Stopped { changes, .. } = event
+            {
+                for &(node, status) in changes {
+                    server.change(usize::from(node), status);
+                }
+            }
+            tell_events(server)?;
+        }
+        Ok(())
+    }
 }
 
 impl Listener for Shown<'_> {
@@ -104,8 +170,14 @@ impl Listener for Shown<'_> {
             Step::Tree { tick, nodes, values, image, .. } => {
                 let live = Live::new(nodes.to_vec(), values.to_vec(), Box::new(self.catalog.clone()), image.crc);
                 self.record.tree(&mut self.out, tick, &live)?;
+                if !matches!(self.groot2, Groot2::Off) {
+                    self.groot2.tree(&live.log_tree("--groot2")?, &mut self.out)?;
+                }
             }
-            Step::Event { event, .. } => self.record.event(event),
+            Step::Event { event, .. } => {
+                self.record.event(event);
+                self.groot2.event(event)?;
+            }
             Step::Expanded { grown, .. } => self.record.note(&format!(
                 "expand {} `{}` nodes={} image={:08x} bytes={} swap_at={}",
                 grown.failed_at,
@@ -195,20 +267,28 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         )
         .as_bytes(),
     )?;
+    let groot2 = match &args.groot2 {
+        None => Groot2::Off,
+        Some(listen) => Groot2::Listen(Listen::parse(listen).map_err(|e| anyhow::anyhow!("--groot2: {e}"))?),
+    };
     let mut shown = Shown {
         narrator: Narrator::new(&catalog, g.clone()),
         record: Recording::new(args.btlog.as_deref(), args.period),
         catalog: &catalog,
         out: Vec::new(),
+        groot2,
     };
     let setup = Blend { planner, catalog: catalog.clone(), period_ms: args.period, lead: args.lead, ticks: args.ticks };
     let result = blend::run(&mut link, info.image_capacity, setup, &mut shown);
     // The record is written whatever happened: it is what shows why.
-    let Shown { record, mut out, .. } = shown;
+    let Shown { record, mut out, groot2, .. } = shown;
     record.finish(&mut out, args.trace.as_deref())?;
     output::stdout(&out)?;
     let summary = result.map_err(|e| e.context(name.clone()))?;
     output::stdout(summarize(&summary, args).as_bytes())?;
+    if let Groot2::Serving { server, trees } = &groot2 {
+        hold(server, args.groot2_linger, *trees)?;
+    }
     match summary.end {
         End::Unexpandable { tick, error } => bail!("tick {tick}: the planner cannot expand the tree: {error}"),
         End::Refused { tick, reason } => bail!("tick {tick}: the grown tree: {reason}"),

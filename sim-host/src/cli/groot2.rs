@@ -79,13 +79,48 @@ fn note(running: &Live, noted: &mut bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// What happened on the Groot2 socket, as a line.
+fn event_line(e: &Event) -> String {
+    match e {
+        Event::Connected => "Groot2 connected\n".to_string(),
+        Event::Gone => "Groot2 gone (no request for 5 s)\n".to_string(),
+        Event::Fault(f) => format!("Groot2 socket: {f}\n"),
+    }
+}
+
 fn say_events(server: &Server) -> anyhow::Result<()> {
     for e in server.events() {
-        match e {
-            Event::Connected => out!("Groot2 connected\n")?,
-            Event::Gone => out!("Groot2 gone (no request for 5 s)\n")?,
-            Event::Fault(f) => out!("Groot2 socket: {f}\n")?,
-        }
+        out!("{}", event_line(&e))?;
+    }
+    Ok(())
+}
+
+/// Tells Groot2's comings and goings on stderr (for commands whose stdout is their own).
+///
+/// # Errors
+/// stderr failing.
+pub fn tell_events(server: &Server) -> anyhow::Result<()> {
+    for e in server.events() {
+        output::stderr(event_line(&e).as_bytes())?;
+    }
+    Ok(())
+}
+
+/// After a run: serves its last state on for `linger` seconds, or until Ctrl-C, having
+/// said so.
+///
+/// # Errors
+/// stderr failing.
+pub fn hold(server: &Server, linger: Option<u64>, trees: usize) -> anyhow::Result<()> {
+    let how = linger.map_or_else(|| "until Ctrl-C".to_string(), |s| format!("for {}", count(s, "second")));
+    output::stderr(
+        format!("Groot2: the run is over ({} served); its last state stays up {how}\n", count(trees, "tree"))
+            .as_bytes(),
+    )?;
+    let until = linger.map(|s| Instant::now() + Duration::from_secs(s));
+    while until.is_none_or(|t| Instant::now() < t) {
+        std::thread::sleep(Duration::from_millis(100));
+        tell_events(server)?;
     }
     Ok(())
 }
@@ -236,25 +271,6 @@ impl Serve {
         if let Some(e) = watch.error() {
             bail!("{e}");
         }
-        let trees = watch.served().len();
-        let linger =
-            self.groot2_linger.map_or_else(|| "until Ctrl-C".to_string(), |s| format!("for {}", count(s, "second")));
-        output::stderr(
-            format!("Groot2: the run is over ({} served); its last state stays up {linger}\n", count(trees, "tree"))
-                .as_bytes(),
-        )?;
-        let until = self.groot2_linger.map(|s| Instant::now() + Duration::from_secs(s));
-        while until.is_none_or(|t| Instant::now() < t) {
-            std::thread::sleep(Duration::from_millis(100));
-            for e in server.events() {
-                let line = match e {
-                    Event::Connected => "Groot2 connected\n".to_string(),
-                    Event::Gone => "Groot2 gone (no request for 5 s)\n".to_string(),
-                    Event::Fault(f) => format!("Groot2 socket: {f}\n"),
-                };
-                output::stderr(line.as_bytes())?;
-            }
-        }
-        Ok(())
+        hold(server, self.groot2_linger, watch.served().len())
     }
 }
