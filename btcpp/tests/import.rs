@@ -285,7 +285,12 @@ fn what_cannot_run_is_refused_with_its_place() {
             r#"<LoopPose queue="{q}" value="{v}"><BatteryOk/></LoopPose>"#,
             "t.xml:2:27: `LoopPose` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>; if the program registers it as a LoopNode<T> (registerNodeType<LoopNode<T>>(\"LoopPose\")), give --loop LoopPose",
         ),
-        (r#"<SetBlackboard value="1" output_key="k"/>"#, "t.xml:2:27: <SetBlackboard> is not supported"),
+        (r#"<UnsetBlackboard key="k"/>"#, "t.xml:2:27: <UnsetBlackboard> is not supported"),
+        (
+            r#"<SetBlackboard value="1" output_key="{k}"/>"#,
+            "t.xml:2:52: <SetBlackboard output_key=\"{k}\"> is not supported: a {key} here names the entry whose name",
+        ),
+        (r#"<SetBlackboard value="1"/>"#, "t.xml:2:27: <SetBlackboard> needs the attribute `output_key`"),
         (
             r#"<Teleport/>"#,
             "t.xml:2:27: `Teleport` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>",
@@ -306,8 +311,8 @@ fn what_cannot_run_is_refused_with_its_place() {
             "t.xml:2:62: blackboard key `v` is used as bool here and as double at t.xml:2:43",
         ),
         (
-            r#"<Repeat num_cycles="{n}"><BatteryOk/></Repeat>"#,
-            "t.xml:2:35: <Repeat> `num_cycles` must be a literal number here, not the blackboard key {n}",
+            r#"<Sequence><Read value="{n}"/><Repeat num_cycles="{n}"><BatteryOk/></Repeat></Sequence>"#,
+            "t.xml:2:64: blackboard key `n` is used as int here and as double at t.xml:2:43",
         ),
         (r#"<Inverter><BatteryOk/><BatteryOk/></Inverter>"#, "t.xml:2:27: <Inverter> takes exactly one child, found 2"),
         (r#"<BatteryOk><BatteryOk/></BatteryOk>"#, "t.xml:2:27: <BatteryOk> takes no children, found 1"),

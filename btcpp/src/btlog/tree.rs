@@ -99,6 +99,28 @@ pub enum Kind {
         /// The status when the queue is empty.
         if_empty: u8,
     },
+    /// BehaviorTree.CPP 3's `SequenceStar`.
+    SequenceStarV3,
+    /// BehaviorTree.CPP 3's `Parallel`: `success_threshold`, `failure_threshold`.
+    ParallelV3 {
+        /// `success_threshold`.
+        success: i32,
+        /// `failure_threshold`.
+        failure: i32,
+    },
+    /// `Repeat` or `RetryUntilSuccessful` with a count read from the blackboard, or
+    /// BehaviorTree.CPP 3's (whose cycles run within the tick).
+    Cycles {
+        /// The count (-1: no limit); `None` when read from the blackboard.
+        count: Option<i32>,
+        /// `RetryUntilSuccessful`.
+        retry: bool,
+        /// BehaviorTree.CPP 3's.
+        v3: bool,
+    },
+    /// BehaviorTree.CPP 3's `BlackboardCheck*`: its `return_on_mismatch` status; its
+    /// comparison's result is asked as a leaf's.
+    Check(u8),
 }
 
 impl Kind {
@@ -120,6 +142,8 @@ impl Kind {
                 | Self::SubTree
                 | Self::Precondition(_)
                 | Self::Loop { .. }
+                | Self::Cycles { .. }
+                | Self::Check(_)
         )
     }
 }

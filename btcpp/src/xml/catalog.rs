@@ -43,8 +43,7 @@ impl Models {
     pub fn new(models: &[NodeModel]) -> Result<Self> {
         let mut by_id: BTreeMap<String, NodeModel> = BTreeMap::new();
         for m in models {
-            if m.kind != ModelKind::SubTree && kinds::by_id(&m.id).is_some_and(|e| e.origin == Origin::BehaviorTreeCpp)
-            {
+            if m.kind != ModelKind::SubTree && kinds::is_builtin(&m.id) {
                 continue;
             }
             if let Some(first) = by_id.get(&m.id) {

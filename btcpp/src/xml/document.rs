@@ -7,6 +7,12 @@
 //! `main_tree_to_execute` is taken from the first file, a `<BehaviorTree>` without `ID`
 //! is allowed when it is its file's only one, and `<TreeNodesModel>` entries are
 //! collected from every file.
+//!
+//! The first file's `BTCPP_format` says which BehaviorTree.CPP reads the document, and
+//! so by which version's rules ([`Version`]): `4` by BehaviorTree.CPP 4's, `3` or none
+//! by BehaviorTree.CPP 3's (as Nav2 humble and older ship their trees). A library reads
+//! the files it is given by its own rules; a tree defined in a file that declares the
+//! other version is refused when the main tree uses it (see `flatten`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -52,6 +58,32 @@ impl Element {
     }
 }
 
+/// The BehaviorTree.CPP version whose rules a document is read by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Version {
+    /// BehaviorTree.CPP 3 (3.8): `<root>` without `BTCPP_format`, or with `BTCPP_format="3"`.
+    V3,
+    /// BehaviorTree.CPP 4: `<root BTCPP_format="4">`.
+    V4,
+}
+
+impl Version {
+    /// The version a `BTCPP_format` attribute (or its absence) names.
+    #[must_use]
+    pub fn of(format: Option<&str>) -> Self {
+        if format == Some("4") { Self::V4 } else { Self::V3 }
+    }
+
+    /// As people name it: `BehaviorTree.CPP 3` or `BehaviorTree.CPP 4`.
+    #[must_use]
+    pub const fn library(self) -> &'static str {
+        match self {
+            Self::V3 => "BehaviorTree.CPP 3",
+            Self::V4 => "BehaviorTree.CPP 4",
+        }
+    }
+}
+
 /// One `<BehaviorTree>`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TreeDef {
@@ -61,6 +93,8 @@ pub struct TreeDef {
     pub root: Element,
     /// Where the `<BehaviorTree>` element is.
     pub at: Location,
+    /// The `BTCPP_format` its file declares (`None` when the file has none), with where.
+    pub format: Option<(String, Location)>,
 }
 
 /// Everything read from a tree file, its includes and the model files.
@@ -78,6 +112,14 @@ pub struct Document {
     pub format: Option<String>,
     /// Files read so far (canonical paths): a file included twice is read once.
     seen: Vec<PathBuf>,
+}
+
+impl Document {
+    /// The version the document is read by: its first file's ([`Version::of`]).
+    #[must_use]
+    pub fn version(&self) -> Version {
+        Version::of(self.format.as_deref())
+    }
 }
 
 /// Reads a tree file, the files it includes, and model files.
@@ -199,6 +241,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         return Err(ImportError::new(&root.at, Fault::NotRoot(root.tag.clone())));
     }
     let format = root.attr("BTCPP_format").map(str::to_string);
+    let declared = root.attr_at("BTCPP_format").map(|a| (a.value.clone(), a.at.clone()));
     if let Some(f) = &format
         && f != "3"
         && f != "4"
@@ -261,7 +304,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         if first {
             doc.own.push(id.clone());
         }
-        doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone() });
+        doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone(), format: declared.clone() });
     }
     for models in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
         doc.models.extend(model::read_models(models)?);

@@ -91,7 +91,7 @@ pub fn import_text(path: &Path, text: &str, options: &ImportOptions<'_>) -> Resu
 pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) -> Result<Imported> {
     let models = Models::new(&doc.models)?;
     let main = flatten::main_tree(doc, options.main.as_deref())?;
-    let flat = flatten::flatten(doc, main, &models.subtree_models())?;
+    let flat = flatten::flatten(doc, main, &models)?;
     let target = options.known.map_or(Target::Models, Target::Known);
     lower::lower(&flat, &models, target, &options.enums, &options.casts, &options.loops)
 }

@@ -58,7 +58,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             ),
             Format::Tokens => {
                 let mut t = tokens::to_string(tree.nodes(), known.catalog.as_ref()).map_err(|e| {
-                    anyhow::anyhow!("{}: --format tokens: {e}; write it with --format ascii, dot or xml", path.display())
+                    anyhow::anyhow!(
+                        "{}: --format tokens: {e}; write it with --format ascii, dot or xml",
+                        path.display()
+                    )
                 })?;
                 t.push('\n');
                 t

@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-
 use super::catalogs;
 use super::output::out;
 

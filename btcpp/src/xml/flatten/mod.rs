@@ -2,8 +2,10 @@
 //! them, and BehaviorTree.CPP's node ids (`_uid`) and paths (`_fullpath`) assigned as
 //! its factory assigns them.
 //!
-//! Each `<SubTree>` instance gets its own blackboard scope, as BehaviorTree.CPP gives it
-//! its own blackboard: a port `{key}` inside it names
+//! The document is read by the rules of its version ([`Version`]; how each writes a
+//! key is in [`scope`]). Each `<SubTree>` instance gets its own blackboard scope, as
+//! BehaviorTree.CPP gives it its own blackboard. In a BehaviorTree.CPP 4 document a
+//! port `{key}` inside it names
 //! - the parent's key that the instance remaps `key` to (`key="{parent_key}"`, or
 //!   `key="{=}"` for the same name), resolved in the parent at once;
 //! - a local entry that starts with the literal the instance gives (`key="3"`);
@@ -12,13 +14,27 @@
 //! - otherwise a key local to the instance.
 //!
 //! `{@key}` names `key` of the root scope from anywhere.
-
-use std::collections::BTreeMap;
+//!
+//! In a BehaviorTree.CPP 3 document (3.8's `XMLParser`) a `<SubTree>` remaps by name:
+//! `key="parent_key"` remaps `key` to the parent's entry named `parent_key`, whatever
+//! its text (a literal cannot be passed); `__shared_blackboard="true"` gives the
+//! subtree its parent's blackboard instead, every key shared and every other attribute
+//! ignored. `<SubTreePlus>` remaps `{parent_key}` and `${parent_key}`, starts a local
+//! entry at any other text, and with `__autoremap="true"` shares every other key
+//! (`_private` ones too). A literal on an output port names the key it writes.
+//! Attributes other than `ID`, `name` and `_description` are ports: version 4's
+//! scripted attributes are not scripts there.
 
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::SCRIPT_ATTRIBUTES;
-use crate::xml::document::{Document, Element, TreeDef};
-use crate::xml::model::{ModelKind, NodeModel, convert};
+use crate::xml::catalog::Models;
+use crate::xml::document::{Document, Element, TreeDef, Version};
+use crate::xml::model::ModelKind;
+
+mod scope;
+mod subtree;
+
+pub use scope::{Autoremap, Key, Scope, blackboard_key, key_in, port_key, resolve};
 
 /// Deepest nesting of elements (and SubTrees) read, as BehaviorTree.CPP limits it.
 pub const MAX_NESTING: usize = 256;
@@ -83,27 +99,6 @@ pub enum Value {
     Key(Key),
 }
 
-/// A blackboard entry: a key in a scope.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Key {
-    /// The scope (0 is the root).
-    pub scope: usize,
-    /// The key's name in it.
-    pub name: String,
-}
-
-/// A blackboard scope: the root, or one SubTree instance.
-#[derive(Clone, Debug, Default)]
-pub struct Scope {
-    /// The instance's path (`""` for the root).
-    pub path: String,
-    /// Local entries that start with a literal, with where the literal is written.
-    pub initial: BTreeMap<String, (String, Location)>,
-    parent: Option<usize>,
-    remap: BTreeMap<String, Key>,
-    autoremap: bool,
-}
-
 /// The tree to import, flattened.
 #[derive(Clone, Debug)]
 pub struct Flat {
@@ -113,38 +108,22 @@ pub struct Flat {
     pub root: Inst,
     /// Blackboard scopes; index 0 is the root's.
     pub scopes: Vec<Scope>,
+    /// The rules the document was read by.
+    pub version: Version,
 }
 
-/// The entry `key` names in `scope` (see the module docs).
-#[must_use]
-pub fn resolve(scopes: &[Scope], scope: usize, key: &str) -> Key {
-    let mut scope = scope;
-    loop {
-        if let Some(k) = key.strip_prefix('@') {
-            return Key { scope: 0, name: k.to_string() };
-        }
-        let Some(s) = scopes.get(scope) else {
-            return Key { scope, name: key.to_string() };
-        };
-        if let Some(k) = s.remap.get(key) {
-            return k.clone();
-        }
-        if s.initial.contains_key(key) {
-            return Key { scope, name: key.to_string() };
-        }
-        match s.parent {
-            Some(p) if s.autoremap && !key.starts_with('_') => scope = p,
-            _ => return Key { scope, name: key.to_string() },
-        }
+impl Flat {
+    /// The entry `key` names in `scope` ([`resolve`] by the document's rules).
+    #[must_use]
+    pub fn resolve(&self, scope: usize, key: &str) -> Key {
+        resolve(&self.scopes, self.version, scope, key)
     }
-}
 
-/// Whether an attribute value names a blackboard entry (BehaviorTree.CPP's rule:
-/// `{key}`, spaces around the braces allowed), and which key.
-#[must_use]
-pub fn blackboard_key(value: &str) -> Option<&str> {
-    let t = value.trim_matches(' ');
-    if t.len() >= 3 && t.starts_with('{') && t.ends_with('}') { Some(&t[1..t.len() - 1]) } else { None }
+    /// The key a port attribute (or a model's default) names, by the document's rules.
+    #[must_use]
+    pub fn port_key<'a>(&self, port: &'a str, value: &'a str) -> Option<&'a str> {
+        port_key(self.version, port, value)
+    }
 }
 
 /// Which tree is the main one: `main` if given, else the document's
@@ -175,22 +154,24 @@ pub fn main_tree<'d>(doc: &'d Document, main: Option<&str>) -> Result<&'d TreeDe
     })
 }
 
-/// Flattens tree `main` of `doc`; `subtree_models` are the `<SubTree>` entries of the
-/// models (for their mandatory ports and defaults).
+/// Flattens tree `main` of `doc` against `models` (a SubTree model's mandatory ports
+/// and defaults; in a version 3 document, which ports are outputs).
 ///
 /// # Errors
 /// The first [`ImportError`].
-pub fn flatten(doc: &Document, main: &TreeDef, models: &[NodeModel]) -> Result<Flat> {
-    let v3 = doc.format.as_deref() != Some("4");
-    let mut f = Flattener { doc, models, v3, scopes: vec![Scope::default()], uid: 0, ancestors: vec![main.id.clone()] };
+pub fn flatten(doc: &Document, main: &TreeDef, models: &Models) -> Result<Flat> {
+    let version = doc.version();
+    let mut f =
+        Flattener { doc, models, version, scopes: vec![Scope::default()], uid: 0, ancestors: vec![main.id.clone()] };
+    f.check_version(main, None)?;
     let root = f.node(&main.root, 0, "", 1)?;
-    Ok(Flat { main: main.id.clone(), root, scopes: f.scopes })
+    Ok(Flat { main: main.id.clone(), root, scopes: f.scopes, version })
 }
 
 struct Flattener<'a> {
     doc: &'a Document,
-    models: &'a [NodeModel],
-    v3: bool,
+    models: &'a Models,
+    version: Version,
     scopes: Vec<Scope>,
     uid: u16,
     ancestors: Vec<String>,
@@ -198,7 +179,27 @@ struct Flattener<'a> {
 
 impl Flattener<'_> {
     fn resolve(&self, scope: usize, key: &str) -> Key {
-        resolve(&self.scopes, scope, key)
+        resolve(&self.scopes, self.version, scope, key)
+    }
+
+    /// Refuses a tree whose file declares the other version than the document's: one
+    /// BehaviorTree.CPP reads every file by its own rules.
+    fn check_version(&self, def: &TreeDef, used: Option<&Location>) -> Result<()> {
+        let Some((format, at)) = &def.format else { return Ok(()) };
+        if Version::of(Some(format)) == self.version {
+            return Ok(());
+        }
+        Err(ImportError::new(
+            used.unwrap_or(at),
+            Fault::Unsupported {
+                construct: format!("<BehaviorTree ID=\"{}\"> of a BTCPP_format=\"{format}\" file (at {at})", def.id),
+                reason: format!(
+                    "the document is read by {}'s rules (its first file {}), and one library reads every file by its own; give each document's files the same BTCPP_format",
+                    self.version.library(),
+                    if self.version == Version::V4 { "has BTCPP_format=\"4\"" } else { "has no BTCPP_format=\"4\"" }
+                ),
+            },
+        ))
     }
 
     fn next_uid(&mut self, at: &Location) -> Result<u16> {
@@ -215,10 +216,11 @@ impl Flattener<'_> {
                 Fault::TooLarge(format!("nesting deeper than {MAX_NESTING} levels (SubTrees included)")),
             ));
         }
+        let v4 = self.version == Version::V4;
         let hooks: Vec<Bound> = e
             .attrs
             .iter()
-            .filter(|a| SCRIPT_ATTRIBUTES.contains(&a.name.as_str()))
+            .filter(|a| v4 && SCRIPT_ATTRIBUTES.contains(&a.name.as_str()))
             .map(|a| Bound {
                 port: a.name.clone(),
                 raw: a.value.clone(),
@@ -227,7 +229,7 @@ impl Flattener<'_> {
             })
             .collect();
         let explicit = matches!(e.tag.as_str(), "Action" | "Condition" | "Control" | "Decorator");
-        let subtree = matches!(e.tag.as_str(), "SubTree" | "SubTreePlus");
+        let subtree = e.tag == "SubTree" || (e.tag == "SubTreePlus" && !v4);
         let id = if explicit || subtree {
             e.attr("ID").ok_or_else(|| {
                 ImportError::new(&e.at, Fault::MissingAttribute { element: e.tag.clone(), attribute: "ID" })
@@ -253,13 +255,10 @@ impl Flattener<'_> {
             return Ok(inst);
         }
         let mut ports = Vec::new();
-        for a in e.attrs.iter().filter(|a| is_port_name(&a.name)) {
-            let value = match a.value.as_str() {
-                "{=}" | "=" => Value::Key(self.resolve(scope, &a.name)),
-                v => match blackboard_key(v) {
-                    Some(k) => Value::Key(self.resolve(scope, k)),
-                    None => Value::Literal(v.to_string()),
-                },
+        for a in e.attrs.iter().filter(|a| is_port_in(self.version, &a.name)) {
+            let value = match port_key(self.version, &a.name, &a.value) {
+                Some(k) => Value::Key(self.resolve(scope, k)),
+                None => self.literal(id, a, scope)?,
             };
             ports.push(Bound { port: a.name.clone(), raw: a.value.clone(), value, at: a.at.clone() });
         }
@@ -282,123 +281,35 @@ impl Flattener<'_> {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn subtree(
-        &mut self,
-        e: &Element,
-        id: &str,
-        name: Option<String>,
-        uid: u16,
-        parent: usize,
-        prefix: &str,
-        depth: usize,
-    ) -> Result<Inst> {
-        if !e.children.is_empty() {
-            return Err(ImportError::new(
-                &e.at,
-                Fault::Children {
-                    node: format!("SubTree ID=\"{id}\""),
-                    expected: "takes no children",
-                    found: e.children.len(),
-                },
-            ));
-        }
-        let Some(def) = self.doc.trees.get(id) else {
-            return Err(ImportError::new(
-                &e.at,
-                Fault::NoSuchTree { id: id.to_string(), available: self.doc.trees.keys().cloned().collect() },
-            ));
+    /// A port attribute that names no key: a literal, except on an output port of a
+    /// version 3 document, where BehaviorTree.CPP 3 writes the key the text names.
+    fn literal(&self, id: &str, a: &crate::xml::document::Attr, scope: usize) -> Result<Value> {
+        let direction = match self.version {
+            Version::V3 => self
+                .models
+                .get(id)
+                .filter(|m| matches!(m.kind, ModelKind::Action | ModelKind::Condition | ModelKind::Decorator))
+                .and_then(|m| m.port(&a.name))
+                .map(|p| p.direction),
+            Version::V4 => None,
         };
-        if let Some(i) = self.ancestors.iter().position(|a| a == id) {
-            let mut cycle = self.ancestors[i..].to_vec();
-            cycle.push(id.to_string());
-            return Err(ImportError::new(&e.at, Fault::SubtreeCycle(cycle.join(" -> "))));
+        match direction {
+            Some(bt_core::PortDirection::Output) => Ok(Value::Key(self.resolve(scope, &a.value))),
+            Some(bt_core::PortDirection::InOut) => Err(ImportError::new(
+                &a.at,
+                Fault::Unsupported {
+                    construct: format!("<{id} {}=\"{}\">", a.name, a.value),
+                    reason: format!(
+                        "`{}` is an in/out port: {} reads the text as a literal and writes the key `{}`; a bt-core port is one or the other: write {{{}}} to read and write that key",
+                        a.name,
+                        Version::V3.library(),
+                        a.value,
+                        a.value
+                    ),
+                },
+            )),
+            _ => Ok(Value::Literal(a.value.clone())),
         }
-        let mut autoremap = false;
-        if let Some(a) = e.attr_at("_autoremap") {
-            autoremap = match convert(Some("bool"), &a.value) {
-                Some(crate::xml::model::Literal::Bool(b)) => b,
-                _ => {
-                    return Err(ImportError::new(
-                        &a.at,
-                        Fault::BadLiteral {
-                            node: format!("SubTree ID=\"{id}\""),
-                            port: "_autoremap".into(),
-                            value: a.value.clone(),
-                            ty: "bool".into(),
-                        },
-                    ));
-                }
-            };
-        }
-        if self.v3 && e.attr("__shared_blackboard").is_some_and(|v| matches!(v, "true" | "1" | "True" | "TRUE")) {
-            autoremap = true;
-        }
-        // The instance's path, as BehaviorTree.CPP builds it for _fullpath.
-        let own = name.clone().unwrap_or_else(|| format!("{id}::{uid}"));
-        let path = format!("{prefix}{own}");
-        let scope = self.scopes.len();
-        let mut s = Scope { path: path.clone(), parent: Some(parent), autoremap, ..Scope::default() };
-        let mut ports = Vec::new();
-        for a in e.attrs.iter().filter(|a| is_port_name(&a.name)) {
-            let text = if a.value == "{=}" { format!("{{{}}}", a.name) } else { a.value.clone() };
-            let value = match blackboard_key(&text) {
-                Some(k) => {
-                    let key = self.resolve(parent, k);
-                    s.remap.insert(a.name.clone(), key.clone());
-                    Value::Key(key)
-                }
-                None => {
-                    s.initial.insert(a.name.clone(), (text.clone(), a.at.clone()));
-                    Value::Literal(text.clone())
-                }
-            };
-            ports.push(Bound { port: a.name.clone(), raw: a.value.clone(), value, at: a.at.clone() });
-        }
-        if let Some(model) = self.models.iter().find(|m| m.kind == ModelKind::SubTree && m.id == id) {
-            for p in &model.ports {
-                if s.remap.contains_key(&p.name) || s.initial.contains_key(&p.name) || autoremap {
-                    continue;
-                }
-                match p.default.as_deref() {
-                    None => {
-                        return Err(ImportError::new(
-                            &e.at,
-                            Fault::MandatorySubtreePort { subtree: id.to_string(), port: p.name.clone() },
-                        ));
-                    }
-                    Some(d) => match blackboard_key(d) {
-                        Some(k) => {
-                            let key = self.resolve(parent, k);
-                            s.remap.insert(p.name.clone(), key);
-                        }
-                        None => {
-                            s.initial.insert(p.name.clone(), (d.to_string(), model.at.clone()));
-                        }
-                    },
-                }
-            }
-        }
-        self.scopes.push(s);
-        self.ancestors.push(id.to_string());
-        let child = self.node(&def.root, scope, &format!("{path}/"), depth + 1)?;
-        self.ancestors.pop();
-        let instance = name.clone().unwrap_or_else(|| id.to_string());
-        let node_path =
-            if instance == id { format!("{prefix}{instance}::{uid}") } else { format!("{prefix}{instance}") };
-        Ok(Inst {
-            id: id.to_string(),
-            is_subtree: true,
-            name,
-            uid,
-            path: node_path,
-            scope,
-            ports,
-            children: vec![child],
-            at: e.at.clone(),
-            hooks: Vec::new(),
-            hook_scope: parent,
-        })
     }
 }
 
@@ -408,5 +319,15 @@ impl Flattener<'_> {
 /// the scripted conditions of [`SCRIPT_ATTRIBUTES`]).
 #[must_use]
 pub fn is_port_name(name: &str) -> bool {
-    name.starts_with(|c: char| c.is_alphabetic()) && name != "name" && name != "ID"
+    is_port_in(Version::V4, name)
+}
+
+/// [`is_port_name`] by `version`'s rules: BehaviorTree.CPP 3 reserves only `ID`, `name`
+/// and `_description`.
+#[must_use]
+pub fn is_port_in(version: Version, name: &str) -> bool {
+    match version {
+        Version::V4 => name.starts_with(|c: char| c.is_alphabetic()) && name != "name" && name != "ID",
+        Version::V3 => !matches!(name, "ID" | "name" | "_description"),
+    }
 }

@@ -19,6 +19,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+mod blackboard;
 mod builtins;
 mod leaves;
 mod loops;
@@ -31,10 +32,11 @@ use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::{self, Shape};
 use crate::xml::catalog::{Models, XmlCatalog};
-use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
+use crate::xml::flatten::{Bound, Flat, Inst, Key, Value};
 use crate::xml::model::{Literal, ModelKind};
 use crate::xml::script;
 
+pub use blackboard::stoi;
 pub use scripts::script_name;
 
 /// A blackboard slot of an imported tree.
@@ -236,17 +238,21 @@ impl Lowerer<'_> {
             for hook in &n.hooks {
                 if let Ok(script) = script::parse(&hook.raw) {
                     for name in script.assigned() {
-                        self.written.insert(resolve(&self.flat.scopes, n.hook_scope, name));
+                        self.written.insert(self.flat.resolve(n.hook_scope, name));
                     }
                 }
             }
-            if kinds::by_id(&n.id).is_some_and(kinds::Entry::takes_scripts)
+            if kinds::by_id_in(&n.id, self.flat.version).is_some_and(kinds::Entry::takes_scripts)
                 && let Some(code) = n.ports.iter().find(|b| b.port == "code" || b.port == "if")
                 && let Ok(script) = script::parse(&code.raw)
             {
                 for name in script.assigned() {
-                    self.written.insert(resolve(&self.flat.scopes, n.scope, name));
+                    self.written.insert(self.flat.resolve(n.scope, name));
                 }
+            }
+            if n.id == "SetBlackboard" && kinds::by_id_in(&n.id, self.flat.version).is_some() {
+                self.written.extend(blackboard::set_blackboard_key(self, n));
+                continue;
             }
             if kinds::loop_element(&n.id).is_some() || self.loops.contains(&n.id) {
                 // A loop writes its `value`. Its `{queue}` it pops in place only when a
@@ -270,9 +276,11 @@ impl Lowerer<'_> {
                 let key = match n.ports.iter().find(|x| x.port == p.name) {
                     Some(Bound { value: Value::Key(k), .. }) => Some(k.clone()),
                     Some(_) => None,
-                    None => {
-                        p.default.as_deref().and_then(blackboard_key).map(|k| resolve(&self.flat.scopes, n.scope, k))
-                    }
+                    None => p
+                        .default
+                        .as_deref()
+                        .and_then(|d| self.flat.port_key(&p.name, d))
+                        .map(|k| self.flat.resolve(n.scope, k)),
                 };
                 if let Some(k) = &key {
                     self.ported.insert(k.clone());
@@ -326,7 +334,7 @@ impl Lowerer<'_> {
         }
         self.out.nodes.push(Node::EMPTY);
         // A built-in's parameters as written (a leaf's or a gate's ports are its values).
-        let params = if kinds::by_id(&n.id).is_some() || self.loops.contains(&n.id) {
+        let params = if kinds::by_id_in(&n.id, self.flat.version).is_some() || self.loops.contains(&n.id) {
             n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect()
         } else {
             Vec::new()
@@ -350,7 +358,7 @@ impl Lowerer<'_> {
 
     /// The bt-core kind of a node and how many children it takes.
     fn kind(&mut self, n: &Inst) -> Result<(NodeKind, Shape)> {
-        if let Some(entry) = kinds::by_id(&n.id) {
+        if let Some(entry) = kinds::by_id_in(&n.id, self.flat.version) {
             return Ok((self.builtin(n, entry)?, entry.shape));
         }
         if self.loops.contains(&n.id) {
@@ -391,6 +399,7 @@ impl Lowerer<'_> {
         if n.id.starts_with("Loop") && n.ports.iter().any(|b| b.port == "queue") {
             return Err(ImportError::new(&n.at, Fault::UnknownLoop(n.id.clone())));
         }
-        Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())))
+        Err(builtins::of_the_other_version(n, self.flat.version)
+            .unwrap_or_else(|| ImportError::new(&n.at, Fault::UnknownNode(n.id.clone()))))
     }
 }

@@ -291,7 +291,8 @@ impl<C: Catalog + ?Sized> Writer<'_, C> {
     /// A node of a BehaviorTree.CPP or Nav2 type, as [`kinds::written`] names it.
     fn builtin(&mut self, i: usize, n: &Node, kind: &NodeKind, meta: &str, end: usize) -> Result<(), XmlError> {
         let children = bt_core::children(self.nodes, u16::try_from(i).unwrap_or(u16::MAX)).count();
-        let Some((entry, written)) = kinds::written(kind, children) else {
+        let id = self.options.ids.get(i).copied();
+        let Some((entry, written)) = kinds::written_as(kind, children, id) else {
             return Err(XmlError::NotExpressible { node: i, kind: kind.name() });
         };
         let attrs = match entry.map {
