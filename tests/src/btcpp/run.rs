@@ -485,59 +485,13 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
         if want.events.iter().any(|e| e.starts_with('h')) {
             return Err(fail("BehaviorTree.CPP halted an action that was not Running"));
         }
-        // Walk both event lists. Where we halt and BehaviorTree.CPP does not, the halts
-        // must be followed by an action starting in both (halt before start); each such
-        // halt must come later in BehaviorTree.CPP's tick, or the run has diverged by
-        // design. Consecutive halts at the start of a tick (timers) may come in any order.
-        let mut theirs: Vec<&String> = want.events.iter().collect();
-        // Script runs are ours only (the harness does not list them).
-        let mine: Vec<&String> = got.events.iter().filter(|e| !e.starts_with('$')).collect();
-        let (mut i, mut j) = (0usize, 0usize);
-        if mine.first().is_some_and(|e| is_halt(e)) {
-            let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();
-            let (mut a, mut b) = (lead(&theirs), lead(&mine));
-            a.sort();
-            b.sort();
-            if a == b {
-                i = a.len();
-                j = b.len();
+        match walk_events(&want.events, &got.events, &|call| is_action(rec, call), &mut cmp) {
+            Ok(Walked::Same) => {}
+            Ok(Walked::Restarted) => {
+                cmp.restarted_at = Some(k);
+                return Ok(cmp);
             }
-        }
-        while j < mine.len() {
-            if i < theirs.len() && theirs[i] == mine[j] {
-                i += 1;
-                j += 1;
-                continue;
-            }
-            if !is_halt(mine[j]) {
-                return Err(fail("different events"));
-            }
-            let run_end = (j..mine.len()).find(|&t| !is_halt(mine[t])).unwrap_or(mine.len());
-            let start = mine.get(run_end);
-            let starts_action = start.is_some_and(|c| c.ends_with(['S', 'F', 'R']) && is_action(rec, c));
-            if !starts_action || theirs.get(i) != start {
-                return Err(fail("a halt that is not before a start"));
-            }
-            for h in &mine[j..run_end] {
-                // BehaviorTree.CPP halts it later in the tick, without ticking it in
-                // between: only the order differs. Otherwise it went on running it.
-                let node = &h[1..];
-                let continued = |e: &&String| e.strip_prefix(node).is_some_and(|s| s.len() == 1);
-                match theirs[i..].iter().position(|e| e == h) {
-                    Some(p) if !theirs[i..i + p].iter().any(continued) => {
-                        theirs.remove(i + p);
-                        cmp.halts_moved_earlier += 1;
-                    }
-                    _ => {
-                        cmp.restarted_at = Some(k);
-                        return Ok(cmp);
-                    }
-                }
-            }
-            j = run_end;
-        }
-        if i != theirs.len() {
-            return Err(fail("BehaviorTree.CPP did more"));
+            Err(what) => return Err(fail(what)),
         }
         if want.root != got.root {
             return Err(fail("root status differs"));
@@ -569,6 +523,83 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
     Ok(cmp)
 }
 
+/// How the events of one tick compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walked {
+    /// The same, but for halts moved earlier by halt before start.
+    Same,
+    /// Halt before start halted a branch that BehaviorTree.CPP went on running: the runs
+    /// differ by design from here.
+    Restarted,
+}
+
+/// Walks the events of one tick, BehaviorTree.CPP's (`want`) and ours (`got`, with our
+/// script runs, `$...`, left out). Where we halt and BehaviorTree.CPP does not, the
+/// halts must be followed by an action starting in both (halt before start,
+/// `starts_action` tells a call that does); each such halt must come later in
+/// BehaviorTree.CPP's tick, or the run has diverged by design. Consecutive halts at the
+/// start of a tick (timers) may come in any order. Counts the halts moved earlier.
+///
+/// # Errors
+/// What differs, in words.
+pub fn walk_events(
+    want: &[String],
+    got: &[String],
+    starts_action: &dyn Fn(&str) -> bool,
+    cmp: &mut Comparison,
+) -> Result<Walked, &'static str> {
+    if want.iter().any(|e| e.starts_with('h')) {
+        return Err("BehaviorTree.CPP halted an action that was not Running");
+    }
+    let mut theirs: Vec<&String> = want.iter().collect();
+    let mine: Vec<&String> = got.iter().filter(|e| !e.starts_with('$')).collect();
+    let (mut i, mut j) = (0usize, 0usize);
+    if mine.first().is_some_and(|e| is_halt(e)) {
+        let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();
+        let (mut a, mut b) = (lead(&theirs), lead(&mine));
+        a.sort();
+        b.sort();
+        if a == b {
+            i = a.len();
+            j = b.len();
+        }
+    }
+    while j < mine.len() {
+        if i < theirs.len() && theirs[i] == mine[j] {
+            i += 1;
+            j += 1;
+            continue;
+        }
+        if !is_halt(mine[j]) {
+            return Err("different events");
+        }
+        let run_end = (j..mine.len()).find(|&t| !is_halt(mine[t])).unwrap_or(mine.len());
+        let start = mine.get(run_end);
+        if !start.is_some_and(|c| starts_action(c)) || theirs.get(i) != start {
+            return Err("a halt that is not before a start");
+        }
+        for h in &mine[j..run_end] {
+            // BehaviorTree.CPP halts it later in the tick, without ticking it in
+            // between: only the order differs. Otherwise it went on running it.
+            let node = &h[1..];
+            let continued =
+                |e: &&String| e.strip_prefix(node).is_some_and(|s| s.starts_with(['S', 'F', 'R', 's', 'f', 'r']));
+            match theirs[i..].iter().position(|e| e == h) {
+                Some(p) if !theirs[i..i + p].iter().any(continued) => {
+                    theirs.remove(i + p);
+                    cmp.halts_moved_earlier += 1;
+                }
+                _ => return Ok(Walked::Restarted),
+            }
+        }
+        j = run_end;
+    }
+    if i != theirs.len() {
+        return Err("BehaviorTree.CPP did more");
+    }
+    Ok(Walked::Same)
+}
+
 /// Each node's parent, pre-order.
 fn parents(spec: &Spec) -> Vec<Option<usize>> {
     let nodes = spec.preorder();
@@ -584,7 +615,11 @@ fn parents(spec: &Spec) -> Vec<Option<usize>> {
     out
 }
 
+/// Whether `call` starts an action of the case (a call whose letter is upper case).
 fn is_action(rec: &Recorded, call: &str) -> bool {
+    if !call.ends_with(['S', 'F', 'R']) {
+        return false;
+    }
     let node: usize = call.trim_end_matches(|c: char| c.is_ascii_alphabetic()).parse().unwrap_or(usize::MAX);
     rec.case.scripts.iter().any(|s| s.node == node && s.action)
 }
