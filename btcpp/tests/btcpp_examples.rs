@@ -61,11 +61,6 @@ const EXPECTED: &[(&str, Option<&str>, Result<usize, &str>)] = &[
 ];
 
 /// Trees that import but whose flattened XML cannot be written, and why.
-const NO_XML: &[(&str, &str)] = &[
-    // MySub's model starts `sub_in_value` at 42, and its ScriptCondition reads the key.
-    ("t14_subtree_model_1.xml", "blackboard key `MySub::3/sub_in_value` (slot 1) starts at 42"),
-];
-
 /// What the example's C++ program registers before it creates the tree: the models
 /// (and other documents), scripting enums and polymorphic casts.
 fn program(dir: &Path, file: &str) -> ImportOptions<'static> {
@@ -114,15 +109,8 @@ fn behaviortree_cpp_examples_import_or_are_refused_for_their_reason() {
             (Ok(i), Ok(nodes)) => {
                 assert_eq!(i.nodes.len(), nodes, "{file}");
                 // Its XML (scripts written as the document wrote them) imports as the same image.
-                let xml = match (i.to_xml(), NO_XML.iter().find(|(f, _)| *f == file)) {
-                    (Ok(xml), None) => xml,
-                    (Err(e), Some((_, why))) => {
-                        assert!(e.to_string().contains(why), "{file}: {e}");
-                        continue;
-                    }
-                    (Ok(_), Some((_, why))) => panic!("{file}: its XML was written, expected the refusal {why}"),
-                    (Err(e), None) => panic!("{file}: {e}"),
-                };
+                // (t14's MySub starts `sub_in_value` at 42: written as a SubTree giving it.)
+                let xml = i.to_xml().unwrap_or_else(|e| panic!("{file}: {e}"));
                 let again = import_text(&dir.join(file), &xml, &ImportOptions { models: vec![], ..options.clone() })
                     .unwrap_or_else(|e| panic!("{file}: its XML: {e}\n{xml}"));
                 assert_eq!(again.image().unwrap(), i.image().unwrap(), "{file}: its XML gives another image");

@@ -40,6 +40,50 @@ pub struct Names {
     /// The constants of the image's ports section by index (not part of the names
     /// section: the controller reads them there).
     pub constants: Vec<Constant>,
+    /// The `BTCPP_format` of the BehaviorTree.CPP document the tree was imported from
+    /// (3 or 4), whose rules its XML is written by; 0 for trees made otherwise.
+    pub source_format: u8,
+    /// What the document the tree was imported from says of each node, in node order
+    /// (empty for trees made otherwise): what tools need to write it back as it was
+    /// written (scripts, loops, node names) and number it as its library does.
+    pub nodes: Vec<NodeSource>,
+    /// The document's SubTree nodes, which the flat tree has no nodes for.
+    pub subtrees: Vec<SubtreeSource>,
+}
+
+/// What the source document says of one node of the tree.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeSource {
+    /// Its registration ID (`Sequence`, `SetBlackboard`, `ComputePathToPose`).
+    pub id: String,
+    /// Its `name` attribute.
+    pub name: Option<String>,
+    /// Its uid (creation order from 1, SubTree nodes included).
+    pub uid: u16,
+    /// Its parameters as the document wrote them.
+    pub params: Vec<(String, String)>,
+    /// Its attributes as the flattened tree's document writes them, where they differ
+    /// from `params` (a script's keys renamed).
+    pub flat: Option<Vec<(String, String)>>,
+}
+
+/// A SubTree node of the source document.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SubtreeSource {
+    /// The node its subtree's root became.
+    pub node: u16,
+    /// Its uid.
+    pub uid: u16,
+    /// The subtree's ID.
+    pub id: String,
+    /// Its `name` attribute.
+    pub name: Option<String>,
+    /// The node's full path.
+    pub path: String,
+    /// The instance's path.
+    pub instance: String,
+    /// Its attributes as written.
+    pub attrs: Vec<(String, String)>,
 }
 
 /// One behavior as the names section records it.

@@ -121,6 +121,9 @@ pub enum Kind {
     /// BehaviorTree.CPP 3's `BlackboardCheck*`: its `return_on_mismatch` status; its
     /// comparison's result is asked as a leaf's.
     Check(u8),
+    /// A plugin decorator a model declares (bt-core's `Gate`: Nav2's
+    /// `DistanceController`, `GoalUpdater`, ...): its answer is asked as a leaf's.
+    Gate,
 }
 
 impl Kind {
@@ -144,6 +147,7 @@ impl Kind {
                 | Self::Loop { .. }
                 | Self::Cycles { .. }
                 | Self::Check(_)
+                | Self::Gate
         )
     }
 }
@@ -194,7 +198,7 @@ impl Hooks {
 /// A leaf type's model, as registered in the factory.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct LeafModel {
-    /// `Action` or `Condition`.
+    /// `Action`, `Condition`, or `Decorator` (a plugin decorator's).
     pub tag: &'static str,
     /// Registration ID.
     pub id: String,
@@ -403,7 +407,7 @@ impl LogTree {
                 out[p].children.push(idx);
             }
             let (kind, element, attrs, default_name) = match n.kind() {
-                NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+                NodeKind::Condition(leaf) | NodeKind::Action(leaf) | NodeKind::Gate(leaf) => {
                     let b = leaf.behavior();
                     let name = catalog.info(b).map_or_else(|| format!("behavior{b}"), |i| i.name.to_string());
                     let element = type_id(&name);
@@ -421,7 +425,11 @@ impl LogTree {
                             )
                         })
                         .collect();
-                    let kind = if matches!(n.kind(), NodeKind::Condition(_)) { Kind::Condition } else { Kind::Action };
+                    let kind = match n.kind() {
+                        NodeKind::Condition(_) => Kind::Condition,
+                        NodeKind::Gate(_) => Kind::Gate,
+                        _ => Kind::Action,
+                    };
                     let default_name = if element == name { None } else { Some(name) };
                     (kind, element, attr_order(given, &[]), default_name)
                 }
@@ -479,10 +487,21 @@ impl LogTree {
             return Err(NotExpressible { node: p.hooks.core, kind: "Guard" });
         }
         let mut models = Vec::new();
+        // The behaviors gates ask are the plugin decorators' models.
+        let gates: Vec<u16> = nodes
+            .iter()
+            .filter_map(|n| if let NodeKind::Gate(leaf) = n.kind() { Some(leaf.behavior()) } else { None })
+            .collect();
         for b in 0..catalog.len() {
             let Ok(b) = u16::try_from(b) else { break };
             let Some(info) = catalog.info(b) else { continue };
-            let tag = if info.kind == bt_core::LeafKind::Condition { "Condition" } else { "Action" };
+            let tag = if gates.contains(&b) {
+                "Decorator"
+            } else if info.kind == bt_core::LeafKind::Condition {
+                "Condition"
+            } else {
+                "Action"
+            };
             let ports = (0..usize::from(info.arity))
                 .map(|pos| match catalog.port(b, pos) {
                     Some(p) => (

@@ -123,21 +123,19 @@ const fn check(id: &'static str, ty: Compared) -> Entry {
 }
 
 fn check_kind(p: &mut dyn Params, ty: Compared) -> Result<NodeKind> {
-    // 3.8 reads SUCCESS, FAILURE and RUNNING (IDLE makes its parent throw).
+    // 3.8 ignores whether `getInput` read it: text it does not read as a status leaves
+    // FAILURE; IDLE would make its parent throw.
     let otherwise = match p.text("return_on_mismatch")? {
-        None => Status::Failure,
-        Some((text, at)) => match text.as_str() {
-            "SUCCESS" => Status::Success,
-            "FAILURE" => Status::Failure,
-            "RUNNING" => Status::Running,
-            _ => {
-                return Err(refuse(
-                    &at,
-                    format!("<{} return_on_mismatch=\"{text}\">", p.id()),
-                    "BehaviorTree.CPP 3.8 returns SUCCESS, FAILURE or RUNNING here",
-                ));
-            }
-        },
+        Some((text, _)) if text == "SUCCESS" => Status::Success,
+        Some((text, _)) if text == "RUNNING" => Status::Running,
+        Some((text, at)) if text == "IDLE" => {
+            return Err(refuse(
+                &at,
+                format!("<{} return_on_mismatch=\"IDLE\">", p.id()),
+                "a node that returns IDLE makes its parent throw in BehaviorTree.CPP 3.8",
+            ));
+        }
+        _ => Status::Failure,
     };
     Ok(NodeKind::Check { code: p.comparison(ty)?, otherwise })
 }

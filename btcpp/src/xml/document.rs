@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Fault, ImportError, Location, Result, Source};
-use crate::xml::model::{self, NodeModel};
+use crate::xml::model::{self, NodeModel, Origin};
 
 /// An XML element: a node of a tree, or a model.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -59,11 +59,12 @@ impl Element {
 }
 
 /// The BehaviorTree.CPP version whose rules a document is read by.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Version {
     /// BehaviorTree.CPP 3 (3.8): `<root>` without `BTCPP_format`, or with `BTCPP_format="3"`.
     V3,
     /// BehaviorTree.CPP 4: `<root BTCPP_format="4">`.
+    #[default]
     V4,
 }
 
@@ -131,10 +132,10 @@ pub fn read(tree_file: &Path, model_files: &[PathBuf]) -> Result<Document> {
     let mut doc = Document::default();
     for m in model_files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     let mut stack = Vec::new();
-    read_file(tree_file, &mut doc, &mut stack, true)?;
+    read_file(tree_file, &mut doc, &mut stack, true, Origin::InFile)?;
     Ok(doc)
 }
 
@@ -146,7 +147,7 @@ pub fn read_models(files: &[PathBuf]) -> Result<Document> {
     let mut doc = Document::default();
     for m in files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     Ok(doc)
 }
@@ -159,14 +160,14 @@ pub fn read_text(path: &Path, text: &str, model_files: &[PathBuf]) -> Result<Doc
     let mut doc = Document::default();
     for m in model_files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     let mut stack = vec![path.to_path_buf()];
-    read_source(&Source::new(path, text.to_string()), &mut doc, &mut stack, true)?;
+    read_source(&Source::new(path, text.to_string()), &mut doc, &mut stack, true, Origin::InFile)?;
     Ok(doc)
 }
 
-fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool, origin: Origin) -> Result<()> {
     let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
     if let Some(i) = stack.iter().position(|p| *p == key) {
         let cycle: Vec<String> =
@@ -179,7 +180,7 @@ fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: b
     doc.seen.push(key.clone());
     let text = read_bounded(path)?;
     stack.push(key);
-    let r = read_source(&Source::new(path, text), doc, stack, first);
+    let r = read_source(&Source::new(path, text), doc, stack, first, origin);
     stack.pop();
     r
 }
@@ -229,7 +230,7 @@ fn element(src: &Source, node: roxmltree::Node<'_, '_>, depth: usize) -> Result<
     Ok(Element { tag: node.tag_name().name().to_string(), attrs, children, at })
 }
 
-fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool, origin: Origin) -> Result<()> {
     let opts = roxmltree::ParsingOptions { allow_dtd: false, ..roxmltree::ParsingOptions::default() };
     let xml = roxmltree::Document::parse_with_options(&src.text, opts).map_err(|e| {
         let pos = e.pos();
@@ -265,7 +266,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         };
         let base = src.path.parent().unwrap_or_else(|| Path::new(""));
         let target = base.join(rel);
-        read_file(&target, doc, stack, false).map_err(|e| match e.at {
+        read_file(&target, doc, stack, false, origin).map_err(|e| match e.at {
             // A file that cannot be read is reported at the <include> naming it.
             None if matches!(*e.fault, Fault::Read { .. }) => ImportError::new(&child.at, *e.fault),
             _ => e,
@@ -307,7 +308,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone(), format: declared.clone() });
     }
     for models in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
-        doc.models.extend(model::read_models(models)?);
+        doc.models.extend(model::read_models(models, origin)?);
     }
     Ok(())
 }

@@ -84,6 +84,11 @@ fn xml(
 ) -> anyhow::Result<String> {
     let catalog = known.catalog.as_ref();
     let fail = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
+    // An image `import` wrote carries what its document said of each node: written back
+    // as the document wrote it (scripts, loops, SubTree nodes, node names).
+    if let Some(imported) = btcpp::xml::Imported::from_image(bytes).map_err(|e| fail(&e))? {
+        return imported.to_xml().map_err(|e| fail(&e));
+    }
     // A key that starts at a literal was given it by a SubTree, which the document of a
     // flattened tree does not have.
     let table = PortTable::of_image(bytes).map_err(|e| fail(&e))?;

@@ -79,6 +79,11 @@ pub struct Args {
     /// creates the tree (repeatable).
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
+    /// A --nodes model wins over the tree file's model of the same node type, however
+    /// they differ (without it, models that differ in more than a port's type or default
+    /// are an error naming both).
+    #[arg(long)]
+    pub nodes_override: bool,
     /// The tree to import instead of main_tree_to_execute.
     #[arg(long, value_name = "ID")]
     pub main: Option<String>,
@@ -150,6 +155,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         enums: args.enums.clone(),
         casts: args.casts.clone(),
         loops: args.loops.clone(),
+        nodes_override: args.nodes_override,
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {

@@ -1,6 +1,7 @@
 //! How BehaviorTree.CPP 3.8's nodes that 4.10 changed tick (`SequenceStar`, `Parallel`,
-//! `Repeat`, `RetryUntilSuccessful`, `BlackboardCheck*`), and a count read from the
-//! blackboard: what [`Replay`] runs for them.
+//! `Repeat`, `RetryUntilSuccessful`, `BlackboardCheck*`), a count read from the
+//! blackboard, and the plugin decorators the run asked (bt-core's `Gate`): what
+//! [`Replay`] runs for them.
 
 use super::status::{FAILURE, IDLE, RUNNING, SUCCESS};
 use super::{Leaves, Replay};
@@ -92,6 +93,17 @@ impl Replay<'_> {
                     self.halt_child(i, 0, leaves);
                 }
                 otherwise
+            }
+            // A plugin decorator: its answer is the run's (asked as a leaf's); a child
+            // that runs is ticked whatever it says, else Success lets the child go.
+            Kind::Gate => {
+                self.set_status(i, RUNNING);
+                let answer = node.core.map_or(FAILURE, |c| leaves.tick(c));
+                let c = self.child(i, 0);
+                if self.rt[c].status == RUNNING || answer == SUCCESS {
+                    return self.execute(c, leaves);
+                }
+                answer
             }
             _ => IDLE,
         }

@@ -67,6 +67,9 @@ pub struct Inst {
     pub hooks: Vec<Bound>,
     /// The scope its scripted attributes read keys in (a SubTree node's: its parent's).
     pub hook_scope: usize,
+    /// The kind its element names, for `<Action ID>`, `<Condition ID>`, `<Control ID>`
+    /// and `<Decorator ID>`.
+    pub tag: Option<ModelKind>,
 }
 
 impl Inst {
@@ -278,6 +281,7 @@ impl Flattener<'_> {
             at: e.at.clone(),
             hooks,
             hook_scope: scope,
+            tag: ModelKind::from_tag(&e.tag).filter(|_| explicit),
         })
     }
 

@@ -70,6 +70,7 @@ impl Flattener<'_> {
             at: e.at.clone(),
             hooks: Vec::new(),
             hook_scope: parent,
+            tag: None,
         })
     }
 

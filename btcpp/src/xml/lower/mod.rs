@@ -32,6 +32,7 @@ use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::{self, Shape};
 use crate::xml::catalog::{Models, XmlCatalog};
+use crate::xml::document::Version;
 use crate::xml::flatten::{Bound, Flat, Inst, Key, Value};
 use crate::xml::model::{Literal, ModelKind};
 use crate::xml::script;
@@ -137,6 +138,8 @@ pub struct Imported {
     pub subtrees: Vec<SubtreeMeta>,
     /// The scripting enums the scripts were compiled with, as given.
     pub enums: Vec<(String, i64)>,
+    /// The rules the document was read by, which [`Imported::to_xml`] writes it for.
+    pub version: Version,
 }
 
 impl Imported {
@@ -194,12 +197,14 @@ pub fn lower(
             meta: Vec::new(),
             subtrees: Vec::new(),
             enums: enums.to_vec(),
+            version: flat.version,
         },
         slot_ids: BTreeMap::new(),
         slot_first: Vec::new(),
         constant_ids: BTreeMap::new(),
     };
     l.collect_written(&flat.root);
+    l.check_declared(&flat.root)?;
     l.node(&flat.root)?;
     l.out.subtrees.sort_by_key(|s| s.uid);
     let mut out = l.out;
@@ -231,6 +236,40 @@ struct Lowerer<'a> {
 }
 
 impl Lowerer<'_> {
+    /// Refuses, at once, every node type the tree uses that is neither a built-in (of
+    /// either version: the other version's are refused by name where they are lowered)
+    /// nor declared by a model nor registered as a loop, with where each is first used.
+    fn check_declared(&self, root: &Inst) -> Result<()> {
+        let mut undeclared: Vec<(String, Location)> = Vec::new();
+        let mut stack = vec![root];
+        while let Some(n) = stack.pop() {
+            stack.extend(n.children.iter().rev());
+            if n.is_subtree || undeclared.iter().any(|(id, _)| *id == n.id) {
+                continue;
+            }
+            let known = match &self.known {
+                Some((_, names)) => {
+                    names.contains_key(&n.id) || n.name.as_deref().is_some_and(|m| names.contains_key(m))
+                }
+                None => self.models.get(&n.id).is_some(),
+            };
+            let other_builtin = kinds::is_builtin(&n.id);
+            let a_loop = n.id.starts_with("Loop") && n.ports.iter().any(|b| b.port == "queue");
+            if !(known
+                || other_builtin
+                || a_loop
+                || self.loops.contains(&n.id)
+                || kinds::by_id_in(&n.id, self.flat.version).is_some())
+            {
+                undeclared.push((n.id.clone(), n.at.clone()));
+            }
+        }
+        match undeclared.first() {
+            None => Ok(()),
+            Some((_, at)) => Err(ImportError::new(at, Fault::Undeclared { nodes: undeclared.clone() })),
+        }
+    }
+
     fn collect_written(&mut self, root: &Inst) {
         let mut stack = vec![root];
         while let Some(n) = stack.pop() {
