@@ -384,19 +384,7 @@ impl WireKind {
     /// expire.
     fn since(&self) -> u16 {
         match self {
-            Self::Sequence
-            | Self::Fallback
-            | Self::SequenceWithMemory
-            | Self::FallbackWithMemory
-            | Self::Parallel { .. }
-            | Self::Inverter
-            | Self::ForceSuccess
-            | Self::ForceFailure
-            | Self::Repeat(_)
-            | Self::Retry(_)
-            | Self::Timeout(_)
-            | Self::Condition(_)
-            | Self::Action(_) => 1,
+            _ if self.in_version_1() => 1,
             Self::TimeLimit(d) | Self::Delay(d) | Self::RateController(d) if d.never() => 4,
             Self::Sleep(d) if d.never() => 4,
             Self::Script(_)
@@ -411,9 +399,31 @@ impl WireKind {
         }
     }
 
-    /// Whether version `version` has this tag.
+    /// Whether version `version` has this tag. Without the `btcpp` feature only the
+    /// tags of versions 1 and 2 decode at all: the test is then the one of those two,
+    /// which keeps the firmware's loader small.
     fn in_version(&self, version: u16) -> bool {
-        self.since() <= version
+        if cfg!(feature = "btcpp") { self.since() <= version } else { version >= 2 || self.in_version_1() }
+    }
+
+    /// Whether it is one of version 1's tags, 0 to 12.
+    const fn in_version_1(&self) -> bool {
+        matches!(
+            self,
+            Self::Sequence
+                | Self::Fallback
+                | Self::SequenceWithMemory
+                | Self::FallbackWithMemory
+                | Self::Parallel { .. }
+                | Self::Inverter
+                | Self::ForceSuccess
+                | Self::ForceFailure
+                | Self::Repeat(_)
+                | Self::Retry(_)
+                | Self::Timeout(_)
+                | Self::Condition(_)
+                | Self::Action(_)
+        )
     }
 }
 

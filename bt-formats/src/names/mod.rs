@@ -51,38 +51,45 @@ pub struct Names {
     pub subtrees: Vec<SubtreeSource>,
 }
 
-/// What the source document says of one node of the tree.
+/// What the source document says of one node of the tree, which the bt-core node does
+/// not keep.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct NodeSource {
     /// Its registration ID (`Sequence`, `SetBlackboard`, `ComputePathToPose`).
     pub id: String,
     /// Its `name` attribute.
     pub name: Option<String>,
-    /// Its uid (creation order from 1, SubTree nodes included).
+    /// BehaviorTree.CPP's node id: creation order from 1, SubTree nodes included.
     pub uid: u16,
-    /// Its parameters as the document wrote them.
+    /// A built-in node's parameters as written (`num_cycles="-1"`), in document order:
+    /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
+    /// resolved value. Empty for leaves and plugin decorators (their ports are values).
     pub params: Vec<(String, String)>,
-    /// Its attributes as the flattened tree's document writes them, where they differ
-    /// from `params` (a script's keys renamed).
+    /// For a script node or a guard: its attributes as the XML of the flattened tree
+    /// writes them, each script with every key as that tree names it (a key a SubTree
+    /// remaps becomes its parent's, a SubTree's local key a name made of its instance's
+    /// path; a guard's attributes go on the node it guards). `None` for other nodes,
+    /// whose `params` are written as they are.
     pub flat: Option<Vec<(String, String)>>,
 }
 
-/// A SubTree node of the source document.
+/// A `<SubTree>` node of the source document: BehaviorTree.CPP keeps it as a node (with
+/// a uid and a status), the flattened tree does not.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SubtreeSource {
     /// The node its subtree's root became.
     pub node: u16,
-    /// Its uid.
+    /// BehaviorTree.CPP's node id.
     pub uid: u16,
     /// The subtree's ID.
     pub id: String,
     /// Its `name` attribute.
     pub name: Option<String>,
-    /// The node's full path.
+    /// The node's `_fullpath`.
     pub path: String,
-    /// The instance's path.
+    /// The instance's path (the `_fullpath` of its `<BehaviorTree>`).
     pub instance: String,
-    /// Its attributes as written.
+    /// Its port attributes as written.
     pub attrs: Vec<(String, String)>,
 }
 

@@ -337,7 +337,7 @@ impl LogTree {
         uids: &[u16],
         names: &[Option<String>],
         params: &[Option<&[(String, String)]>],
-        subtrees: &[crate::xml::lower::SubtreeMeta],
+        subtrees: &[bt_formats::names::SubtreeSource],
         ids: &[&str],
         values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
     ) -> Result<Self, NotExpressible> {
@@ -351,7 +351,7 @@ impl LogTree {
                 open.pop();
             }
             // SubTree nodes whose subtree's root is node i, outermost first.
-            for s in subtrees.iter().filter(|s| s.node == i) {
+            for s in subtrees.iter().filter(|s| usize::from(s.node) == i) {
                 let idx = out.len();
                 if let Some(&(p, _)) = open.last() {
                     out[p].children.push(idx);

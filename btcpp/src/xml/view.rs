@@ -6,12 +6,11 @@ use std::fmt;
 
 use bt_core::{BehaviorId, BehaviorInfo, Catalog, Node, PortInfo, PortTable};
 use bt_formats::constant::write_port_value;
-use bt_formats::names::{NodeSource, SubtreeSource};
 use bt_formats::{Image, ImageError, Names, NamesError};
 
 use crate::xml::catalog::{Behavior, XmlCatalog};
 use crate::xml::document::Version;
-use crate::xml::lower::{Imported, NodeMeta, Slot, SubtreeMeta};
+use crate::xml::lower::{Imported, Slot};
 use crate::xml::model::{Literal, PortModel};
 use crate::xml::write::{XmlError, XmlOptions, to_xml_with};
 
@@ -48,8 +47,9 @@ impl Catalog for Imported {
 
 impl Imported {
     /// The names the image carries for host tools: the main tree's ID, the models'
-    /// behavior set with its ports, the blackboard keys, the scripting enums and the
-    /// constants, titled by the tree's ID (a producer may give a better title). For a tree imported against
+    /// behavior set with its ports, the blackboard keys, the scripting enums, the
+    /// constants, the document's version and what it says of each node, titled by the
+    /// tree's ID (a producer may give a better title). For a tree imported against
     /// its models; one read against a known set ([`Target::Known`](crate::xml::Target))
     /// takes that set's names.
     #[must_use]
@@ -63,30 +63,8 @@ impl Imported {
             Version::V3 => 3,
             Version::V4 => 4,
         };
-        names.nodes = self
-            .meta
-            .iter()
-            .map(|m| NodeSource {
-                id: m.id.clone(),
-                name: m.name.clone(),
-                uid: m.uid,
-                params: m.params.clone(),
-                flat: m.flat.clone(),
-            })
-            .collect();
-        names.subtrees = self
-            .subtrees
-            .iter()
-            .map(|s| SubtreeSource {
-                node: u16::try_from(s.node).unwrap_or(u16::MAX),
-                uid: s.uid,
-                id: s.id.clone(),
-                name: s.name.clone(),
-                path: s.path.clone(),
-                instance: s.instance.clone(),
-                attrs: s.attrs.clone(),
-            })
-            .collect();
+        names.nodes.clone_from(&self.meta);
+        names.subtrees.clone_from(&self.subtrees);
         names
     }
 
@@ -142,30 +120,6 @@ impl Imported {
                 Ok(Slot { name, info, type_name: None })
             })
             .collect::<Result<Vec<_>, NamesError>>()?;
-        let meta = names
-            .nodes
-            .iter()
-            .map(|n| NodeMeta {
-                id: n.id.clone(),
-                name: n.name.clone(),
-                uid: n.uid,
-                params: n.params.clone(),
-                flat: n.flat.clone(),
-            })
-            .collect();
-        let subtrees = names
-            .subtrees
-            .iter()
-            .map(|s| SubtreeMeta {
-                node: usize::from(s.node),
-                uid: s.uid,
-                id: s.id.clone(),
-                name: s.name.clone(),
-                path: s.path.clone(),
-                instance: s.instance.clone(),
-                attrs: s.attrs.clone(),
-            })
-            .collect();
         Ok(Some(Self {
             main: names.tree_id.clone(),
             fingerprint: header.fingerprint,
@@ -174,8 +128,8 @@ impl Imported {
             values,
             slots,
             constants: names.constants.clone(),
-            meta,
-            subtrees,
+            meta: names.nodes.clone(),
+            subtrees: names.subtrees.clone(),
             enums: names.enums.clone(),
             version: if names.source_format == 3 { Version::V3 } else { Version::V4 },
         }))

@@ -485,42 +485,74 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
         if want.events.iter().any(|e| e.starts_with('h')) {
             return Err(fail("BehaviorTree.CPP halted an action that was not Running"));
         }
-        match walk_events(&want.events, &got.events, &|call| is_action(rec, call), &mut cmp) {
+        let view = btcpp_view(&rec.case.spec, &got.statuses);
+        let parents = parents(&rec.case.spec);
+        let ours = Ours { tick: got, running: &got.statuses, view: &view };
+        match compare_tick(want, &ours, &|n| parents.get(n).copied().flatten(), &|call| is_action(rec, call), &mut cmp)
+        {
             Ok(Walked::Same) => {}
             Ok(Walked::Restarted) => {
                 cmp.restarted_at = Some(k);
                 return Ok(cmp);
             }
-            Err(what) => return Err(fail(what)),
+            Err(what) => return Err(fail(&what)),
         }
-        if want.root != got.root {
-            return Err(fail("root status differs"));
-        }
-        let running = |s: &str| s.chars().map(|c| c == 'R').collect::<Vec<_>>();
-        if running(&want.statuses) != running(&got.statuses) {
-            return Err(fail("different nodes Running after the tick"));
-        }
-        let view = btcpp_view(&rec.case.spec, &got.statuses);
-        if want.statuses != view {
-            // The only difference allowed: a finished status BehaviorTree.CPP left
-            // behind under a node it had reset (it resets a node, not its subtree),
-            // where bt-core's node is Idle.
-            let theirs: Vec<char> = want.statuses.chars().collect();
-            let parents = parents(&rec.case.spec);
-            for (n, (w, g)) in theirs.iter().zip(view.chars()).enumerate() {
-                let stale = g == 'I' && matches!(w, 'S' | 'F') && parents[n].is_some_and(|p| theirs[p] != 'R');
-                if w != &g && !stale {
-                    return Err(fail(&format!("node {n} shows {w} in BehaviorTree.CPP, {g} here")));
-                }
-            }
-            cmp.ticks_with_other_statuses += 1;
-        }
-        cmp.ticks += 1;
     }
     if rec.ticks.len() != ours.len() {
         return Err(format!("{}: {} ticks recorded, {} run", rec.case.name, rec.ticks.len(), ours.len()));
     }
     Ok(cmp)
+}
+
+/// Our tick, for [`compare_tick`]: the tick, the statuses whose Running nodes must be
+/// BehaviorTree.CPP's, and the statuses as BehaviorTree.CPP shows them.
+#[derive(Debug)]
+pub struct Ours<'a> {
+    /// Our tick.
+    pub tick: &'a Tick,
+    /// Statuses per recorded node, for the Running ones.
+    pub running: &'a str,
+    /// Statuses as BehaviorTree.CPP shows them.
+    pub view: &'a str,
+}
+
+/// Compares one tick of ours with BehaviorTree.CPP's `want`: the same leaf calls and
+/// halts ([`walk_events`]), root status and nodes Running, and the same statuses as
+/// BehaviorTree.CPP shows them but for a finished status it left behind under a node it
+/// had reset (it resets a node, not its subtree), where bt-core's node is Idle (counted
+/// in `cmp`). `parent` gives each recorded node's parent.
+///
+/// # Errors
+/// What differs.
+pub fn compare_tick(
+    want: &Tick,
+    ours: &Ours<'_>,
+    parent: &dyn Fn(usize) -> Option<usize>,
+    is_action: &dyn Fn(&str) -> bool,
+    cmp: &mut Comparison,
+) -> Result<Walked, String> {
+    if walk_events(&want.events, &ours.tick.events, is_action, cmp)? == Walked::Restarted {
+        return Ok(Walked::Restarted);
+    }
+    if want.root != ours.tick.root {
+        return Err("root status differs".into());
+    }
+    let running = |s: &str| s.chars().map(|c| c == 'R').collect::<Vec<_>>();
+    if running(&want.statuses) != running(ours.running) {
+        return Err("different nodes Running after the tick".into());
+    }
+    if want.statuses != ours.view {
+        let theirs: Vec<char> = want.statuses.chars().collect();
+        for (n, (w, g)) in theirs.iter().zip(ours.view.chars()).enumerate() {
+            let stale = g == 'I' && matches!(w, 'S' | 'F') && parent(n).is_some_and(|p| theirs[p] != 'R');
+            if *w != g && !stale {
+                return Err(format!("node {n} shows {w} in BehaviorTree.CPP, {g} here"));
+            }
+        }
+        cmp.ticks_with_other_statuses += 1;
+    }
+    cmp.ticks += 1;
+    Ok(Walked::Same)
 }
 
 /// How the events of one tick compared.

@@ -38,6 +38,7 @@ use crate::xml::model::{Literal, ModelKind};
 use crate::xml::script;
 
 pub use blackboard::stoi;
+pub use bt_formats::names::{NodeSource, SubtreeSource};
 pub use scripts::script_name;
 
 /// A blackboard slot of an imported tree.
@@ -49,47 +50,6 @@ pub struct Slot {
     pub info: SlotInfo,
     /// The C++ type of the first port that uses it.
     pub type_name: Option<String>,
-}
-
-/// What BehaviorTree.CPP knows about a node that the bt-core node does not keep.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct NodeMeta {
-    /// Registration ID (`Sequence`, `ComputePathToPose`).
-    pub id: String,
-    /// The `name` attribute.
-    pub name: Option<String>,
-    /// BehaviorTree.CPP's node id.
-    pub uid: u16,
-    /// A built-in node's parameters as written (`num_cycles="-1"`), in document order:
-    /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
-    /// resolved value. Empty for leaves and plugin decorators (their ports are values).
-    pub params: Vec<(String, String)>,
-    /// For a script node or a guard: its attributes as the XML of the flattened tree
-    /// writes them, each script with every key as that tree names it (a key a SubTree
-    /// remaps becomes its parent's, a SubTree's local key its [`script_name`]; a
-    /// guard's attributes go on the node it guards). `None` for other nodes, whose
-    /// `params` are written as they are.
-    pub flat: Option<Vec<(String, String)>>,
-}
-
-/// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
-/// and status), bt-core does not.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct SubtreeMeta {
-    /// The bt-core node its subtree's root became.
-    pub node: usize,
-    /// BehaviorTree.CPP's node id.
-    pub uid: u16,
-    /// The subtree's ID.
-    pub id: String,
-    /// The `name` attribute.
-    pub name: Option<String>,
-    /// The node's `_fullpath`.
-    pub path: String,
-    /// The instance's path (the `_fullpath` of its `<BehaviorTree>`).
-    pub instance: String,
-    /// Its port attributes as written.
-    pub attrs: Vec<(String, String)>,
 }
 
 /// Which behavior set leaves resolve against.
@@ -132,10 +92,10 @@ pub struct Imported {
     pub slots: Vec<Slot>,
     /// Constants.
     pub constants: Vec<Literal>,
-    /// Per node, parallel to `nodes`.
-    pub meta: Vec<NodeMeta>,
+    /// What the document says of each node, parallel to `nodes`.
+    pub meta: Vec<NodeSource>,
     /// The SubTree nodes, in uid order.
-    pub subtrees: Vec<SubtreeMeta>,
+    pub subtrees: Vec<SubtreeSource>,
     /// The scripting enums the scripts were compiled with, as given.
     pub enums: Vec<(String, i64)>,
     /// The rules the document was read by, which [`Imported::to_xml`] writes it for.
@@ -339,7 +299,13 @@ impl Lowerer<'_> {
                 return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
             }
             self.out.nodes.push(Node::EMPTY);
-            self.out.meta.push(NodeMeta { id: "Guard".into(), name: None, uid: n.uid, params: Vec::new(), flat: None });
+            self.out.meta.push(NodeSource {
+                id: "Guard".into(),
+                name: None,
+                uid: n.uid,
+                params: Vec::new(),
+                flat: None,
+            });
             let kind = self.guard(n)?;
             self.node_unguarded(n)?;
             let size = u16::try_from(self.out.nodes.len() - index)
@@ -353,8 +319,9 @@ impl Lowerer<'_> {
     fn node_unguarded(&mut self, n: &Inst) -> Result<()> {
         if n.is_subtree {
             let attrs = n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
-            self.out.subtrees.push(SubtreeMeta {
-                node: self.out.nodes.len(),
+            self.out.subtrees.push(SubtreeSource {
+                // Trees of more nodes than a u16 counts are refused later.
+                node: u16::try_from(self.out.nodes.len()).unwrap_or(u16::MAX),
                 uid: n.uid,
                 id: n.id.clone(),
                 name: n.name.clone(),
@@ -378,7 +345,7 @@ impl Lowerer<'_> {
         } else {
             Vec::new()
         };
-        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat: None });
+        self.out.meta.push(NodeSource { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat: None });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(

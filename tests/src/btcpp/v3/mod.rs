@@ -122,16 +122,7 @@ pub fn parse_fixtures(text: &str) -> Result<Vec<Recorded>, String> {
                     c.nodes.push((id.to_string(), parent));
                 }
             }
-            "tick" => {
-                let parts: Vec<&str> = rest.splitn(3, " | ").collect();
-                let [head, events, statuses] = parts[..] else { return Err(at("bad tick line")) };
-                let root = head.split(' ').nth(1).and_then(|s| s.chars().next()).ok_or_else(|| at("no root status"))?;
-                c.ticks.push(Tick {
-                    root,
-                    events: events.split(' ').filter(|e| !e.is_empty()).map(str::to_string).collect(),
-                    statuses: statuses.to_string(),
-                });
-            }
+            "tick" => c.ticks.push(Tick::parse(rest).map_err(at)?),
             "error" => c.error = Some(rest.to_string()),
             "runaway" => c.error = Some("runaway".to_string()),
             "end" => out.push(cur.take().ok_or_else(|| at("end outside a case"))?),
