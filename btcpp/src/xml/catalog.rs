@@ -40,7 +40,7 @@ impl Models {
     /// writes into logs and Groot2 files) are skipped.
     ///
     /// # Errors
-    /// [`Fault::ModelConflict`] at the second of two truly differing models.
+    /// [`Fault::ModelConflict`](crate::error::Fault::ModelConflict) at the second of two truly differing models.
     pub fn new(models: &[NodeModel]) -> Result<Self> {
         Self::read(models, false)
     }

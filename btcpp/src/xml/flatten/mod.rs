@@ -3,7 +3,7 @@
 //! its factory assigns them.
 //!
 //! The document is read by the rules of its version ([`Version`]; how each writes a
-//! key is in [`scope`]). Each `<SubTree>` instance gets its own blackboard scope, as
+//! key is in the `scope` module). Each `<SubTree>` instance gets its own blackboard scope, as
 //! BehaviorTree.CPP gives it its own blackboard. In a BehaviorTree.CPP 4 document a
 //! port `{key}` inside it names
 //! - the parent's key that the instance remaps `key` to (`key="{parent_key}"`, or
