@@ -120,10 +120,16 @@ impl Imported {
                 Ok(Slot { name, info, type_name: None })
             })
             .collect::<Result<Vec<_>, NamesError>>()?;
+        // Behaviors by ID, as an import numbers them: names in another order (or twice)
+        // would name other behaviors than the image's.
+        let catalog = XmlCatalog::new(behaviors);
+        if catalog.fingerprint() != header.fingerprint {
+            return Ok(None);
+        }
         Ok(Some(Self {
             main: names.tree_id.clone(),
             fingerprint: header.fingerprint,
-            catalog: XmlCatalog::new(behaviors),
+            catalog,
             nodes,
             values,
             slots,

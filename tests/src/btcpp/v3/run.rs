@@ -194,7 +194,7 @@ fn resets_finished_children(id: &str) -> bool {
 }
 
 /// Our statuses as BehaviorTree.CPP 3.8 would show them (see
-/// [`resets_finished_children`]); a finished root shows Idle (`tickRoot()` resets it).
+/// `resets_finished_children`); a finished root shows Idle (`tickRoot()` resets it).
 #[must_use]
 pub fn btcpp_view(nodes: &[(String, Option<usize>)], ours: &str) -> String {
     let ours: Vec<char> = ours.chars().collect();
