@@ -1,13 +1,13 @@
 //! The deployable image: a tree as bytes, checked end to end before it can run.
 //!
-//! # Byte layout (format version 3)
+//! # Byte layout (format version 4)
 //!
 //! All fixed-width integers are little-endian.
 //!
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0      | 4    | magic, the ASCII bytes `BTIM` |
-//! | 4      | 2    | format version, `u16` (3 or 2, see below; version 1 is still read) |
+//! | 4      | 2    | format version, `u16` (4, 3 or 2, see below; version 1 is still read) |
 //! | 6      | 8    | fingerprint of the behavior set, `u64` (see [`fingerprint`](crate::fingerprint)) |
 //! | 14     | 2    | node count `n`, `u16`, at least 1 |
 //! | 16     | …    | `n` nodes in pre-order, each [postcard]-encoded as below |
@@ -61,6 +61,13 @@
 //! | 38 | `Guard` (version 3) | its table of scripts: start `u16`, length `u16` in the value table |
 //! | 39 | `Loop` (version 3) | its queue's table as tag 38, then the `if_empty` status as tag 36's `else` |
 //! | 40 | `ManualSelector` (version 3) | repeat the last selection, one byte 0 or 1 |
+//! | 41 | `SequenceStarV3` (version 4) | — |
+//! | 42 | `ParallelV3` (version 4) | as tag 4 |
+//! | 43 | `Cycles` (version 4) | count or slot `u16`, then flags, one byte: 1 from a slot, 2 retry, 4 version 3's loop |
+//! | 44 | `Check` (version 4) | program as tag 34, then the status when it does not hold, as tag 36's `else` |
+//!
+//! A span of `u32::MAX` units ([`Span::NEVER`]: low and high `0xFFFF`) never expires;
+//! an image with one is version 4, so that older loaders refuse it by its version.
 //!
 //! A tree of the cube task (19 nodes) takes about 70 bytes of payload.
 //!
@@ -89,10 +96,11 @@
 //! takes the next version; a loader reads exactly the versions it knows and refuses
 //! others with [`LoadError::UnsupportedVersion`], so old firmware never misreads a newer
 //! image. The magic and the version field stay at offsets 0 and 4 in every version. This
-//! build reads versions 1 to 3. It writes version 3 for a tree with script, `Sleep`,
-//! `Guard`, `Loop` or `ManualSelector` nodes (tags 34 to 40, the only difference) and
-//! version 2 otherwise, so that controllers built
-//! before scripts existed keep loading every image they can run. A version-1 image has
+//! build reads versions 1 to 4. It writes the oldest version that has every node of the
+//! tree: version 4 for a tree with a kind of BehaviorTree.CPP 3 (tags 41 to 44) or a
+//! span that never expires, version 3 for one with script, `Sleep`, `Guard`, `Loop` or
+//! `ManualSelector` nodes (tags 34 to 40), version 2 otherwise, so that controllers built
+//! before a kind existed keep loading every image they can run. A version-1 image has
 //! neither extended leaves nor sections.
 //!
 //! # Loading
@@ -116,8 +124,12 @@ use crate::tree::Tree;
 
 /// The first four bytes of every image.
 pub const MAGIC: [u8; 4] = *b"BTIM";
-/// The newest format version this build reads and writes (for trees with scripts).
-pub const VERSION: u16 = 3;
+/// The newest format version this build reads and writes (for trees with the kinds of
+/// BehaviorTree.CPP 3).
+pub const VERSION: u16 = 4;
+/// The version this build writes for trees with scripts and without the kinds of
+/// version 4.
+pub const VERSION_WITH_SCRIPTS: u16 = 3;
 /// The version this build writes for trees without scripts.
 pub const VERSION_WITHOUT_SCRIPTS: u16 = 2;
 /// The oldest format version this build reads.
@@ -341,7 +353,24 @@ enum WireKind {
     ManualSelector {
         repeat_last: bool,
     },
+    // Version 4: the kinds of BehaviorTree.CPP 3.
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    SequenceStarV3,
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    ParallelV3 {
+        success_threshold: u16,
+        failure_threshold: u16,
+    },
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Cycles(u16, u8),
+    #[cfg_attr(not(feature = "btcpp"), serde(skip_deserializing))]
+    Check(WireCode, u8),
 }
+
+/// `Cycles` flags (tag 43).
+const CYCLES_FROM_SLOT: u8 = 1;
+const CYCLES_RETRY: u8 = 2;
+const CYCLES_V3: u8 = 4;
 
 #[derive(Serialize, Deserialize)]
 struct WireCode {
@@ -350,38 +379,58 @@ struct WireCode {
 }
 
 impl WireKind {
-    /// Whether version `version` has this tag: version 1 has tags 0 to 12, version 2 up
-    /// to 33, version 3 up to 40.
-    fn in_version(&self, version: u16) -> bool {
-        if matches!(
-            self,
+    /// The oldest version with this tag (and its fields): version 1 has tags 0 to 12,
+    /// version 2 up to 33, version 3 up to 40, version 4 up to 44 and spans that never
+    /// expire.
+    fn since(&self) -> u16 {
+        match self {
+            _ if self.in_version_1() => 1,
+            Self::TimeLimit(d) | Self::Delay(d) | Self::RateController(d) if d.never() => 4,
+            Self::Sleep(d) if d.never() => 4,
             Self::Script(_)
-                | Self::ScriptCondition(_)
-                | Self::Precondition(..)
-                | Self::Sleep(_)
-                | Self::Guard(_)
-                | Self::Loop(..)
-                | Self::ManualSelector { .. }
-        ) {
-            return version >= 3;
+            | Self::ScriptCondition(_)
+            | Self::Precondition(..)
+            | Self::Sleep(_)
+            | Self::Guard(_)
+            | Self::Loop(..)
+            | Self::ManualSelector { .. } => 3,
+            Self::SequenceStarV3 | Self::ParallelV3 { .. } | Self::Cycles(..) | Self::Check(..) => 4,
+            _ => 2,
         }
-        version >= 2
-            || matches!(
-                self,
-                Self::Sequence
-                    | Self::Fallback
-                    | Self::SequenceWithMemory
-                    | Self::FallbackWithMemory
-                    | Self::Parallel { .. }
-                    | Self::Inverter
-                    | Self::ForceSuccess
-                    | Self::ForceFailure
-                    | Self::Repeat(_)
-                    | Self::Retry(_)
-                    | Self::Timeout(_)
-                    | Self::Condition(_)
-                    | Self::Action(_)
-            )
+    }
+
+    /// Whether version `version` has this tag. Without the `btcpp` feature only the
+    /// tags of versions 1 and 2 decode at all: the test is then the one of those two,
+    /// which keeps the firmware's loader small.
+    fn in_version(&self, version: u16) -> bool {
+        if cfg!(feature = "btcpp") { self.since() <= version } else { version >= 2 || self.in_version_1() }
+    }
+
+    /// Whether it is one of version 1's tags, 0 to 12.
+    const fn in_version_1(&self) -> bool {
+        matches!(
+            self,
+            Self::Sequence
+                | Self::Fallback
+                | Self::SequenceWithMemory
+                | Self::FallbackWithMemory
+                | Self::Parallel { .. }
+                | Self::Inverter
+                | Self::ForceSuccess
+                | Self::ForceFailure
+                | Self::Repeat(_)
+                | Self::Retry(_)
+                | Self::Timeout(_)
+                | Self::Condition(_)
+                | Self::Action(_)
+        )
+    }
+}
+
+impl WireSpan {
+    /// Whether it is [`Span::NEVER`].
+    const fn never(&self) -> bool {
+        self.lo == u16::MAX && self.hi == u16::MAX
     }
 }
 
@@ -447,6 +496,17 @@ fn to_wire(node: &Node) -> WireNode {
             WireKind::Loop(WireCode { start: table.start, len: table.len }, status_byte(*if_empty))
         }
         &NodeKind::ManualSelector { repeat_last } => WireKind::ManualSelector { repeat_last },
+        NodeKind::SequenceStarV3 => WireKind::SequenceStarV3,
+        &NodeKind::ParallelV3 { success_threshold, failure_threshold } => {
+            WireKind::ParallelV3 { success_threshold, failure_threshold }
+        }
+        &NodeKind::Cycles { count, from_slot, retry, v3 } => {
+            let flag = |on: bool, bit: u8| if on { bit } else { 0 };
+            WireKind::Cycles(count, flag(from_slot, CYCLES_FROM_SLOT) | flag(retry, CYCLES_RETRY) | flag(v3, CYCLES_V3))
+        }
+        NodeKind::Check { code, otherwise } => {
+            WireKind::Check(WireCode { start: code.start, len: code.len }, status_byte(*otherwise))
+        }
     };
     WireNode { size: node.size(), kind }
 }
@@ -485,6 +545,9 @@ fn wire_leaf(l: &Leaf) -> Result<WireLeaf, WireLeaf> {
 
 #[cfg(feature = "btcpp")]
 fn from_span(id: NodeId, d: WireSpan) -> Result<Span, LoadError> {
+    if d.never() {
+        return Ok(Span::NEVER);
+    }
     let units = u32::from(d.hi) << 16 | u32::from(d.lo);
     Span::new(units)
         .ok_or(LoadError::BadArgument { node: id, fault: crate::error::ArgumentFault::SpanTooLong { units } })
@@ -571,6 +634,25 @@ fn from_wire_btcpp(id: NodeId, offset: usize, kind: WireKind) -> Result<NodeKind
             if_empty: byte_status(if_empty).ok_or(LoadError::MalformedNode { node: id, offset })?,
         },
         WireKind::ManualSelector { repeat_last } => NodeKind::ManualSelector { repeat_last },
+        WireKind::SequenceStarV3 => NodeKind::SequenceStarV3,
+        WireKind::ParallelV3 { success_threshold, failure_threshold } => {
+            NodeKind::ParallelV3 { success_threshold, failure_threshold }
+        }
+        WireKind::Cycles(count, flags) => {
+            if flags & !(CYCLES_FROM_SLOT | CYCLES_RETRY | CYCLES_V3) != 0 {
+                return Err(LoadError::MalformedNode { node: id, offset });
+            }
+            NodeKind::Cycles {
+                count,
+                from_slot: flags & CYCLES_FROM_SLOT != 0,
+                retry: flags & CYCLES_RETRY != 0,
+                v3: flags & CYCLES_V3 != 0,
+            }
+        }
+        WireKind::Check(c, otherwise) => NodeKind::Check {
+            code: crate::node::Code { start: c.start, len: c.len },
+            otherwise: byte_status(otherwise).ok_or(LoadError::MalformedNode { node: id, offset })?,
+        },
         // The kinds of version 1 and the extended leaves: `from_wire`.
         WireKind::Sequence
         | WireKind::Fallback
@@ -620,13 +702,11 @@ pub fn encode_with(parts: &ImageParts<'_>, fingerprint: u64, out: &mut [u8]) -> 
     header.get_mut(6..14).ok_or(too_small)?.copy_from_slice(&fingerprint.to_le_bytes());
     header.get_mut(14..16).ok_or(too_small)?.copy_from_slice(&count.to_le_bytes());
     let mut w = Writer { buf: body, used: 0, too_small };
-    // The oldest version that has every node's tag (see `WireKind::in_version`).
+    // The oldest version that has every node's tag (see `WireKind::since`).
     let mut version = VERSION_WITHOUT_SCRIPTS;
     for node in nodes {
         let wire = to_wire(node);
-        if !wire.kind.in_version(version) {
-            version = VERSION;
-        }
+        version = version.max(wire.kind.since());
         w.put(&wire)?;
     }
     header.get_mut(4..6).ok_or(too_small)?.copy_from_slice(&version.to_le_bytes());
@@ -777,8 +857,8 @@ fn unsupported(bytes: &[u8], version: u16, id: NodeId) -> Option<LoadError> {
     if version >= 2 {
         let (_size, after) = postcard::take_from_bytes::<u16>(bytes).ok()?;
         let (tag, _) = postcard::take_from_bytes::<u32>(after).ok()?;
-        // Tags 15 to 33: the kinds of version 2 for BehaviorTree.CPP's and Nav2's nodes.
-        return (15..=33)
+        // Tags 15 and up: the kinds for BehaviorTree.CPP's and Nav2's nodes.
+        return (15..=44)
             .contains(&tag)
             .then_some(LoadError::UnsupportedKind { node: id, kind: crate::tree::LEFT_OUT_KIND });
     }
@@ -948,8 +1028,13 @@ pub fn load_with_ports<'s, C: Catalog + ?Sized, const DEPTH: usize>(
         #[cfg(feature = "btcpp")]
         {
             let checked = match *node.kind() {
-                NodeKind::Script(code) | NodeKind::ScriptCondition(code) | NodeKind::Precondition { code, .. } => {
-                    crate::script::check(code.words(tree.values()), &ports)
+                NodeKind::Script(code)
+                | NodeKind::ScriptCondition(code)
+                | NodeKind::Precondition { code, .. }
+                | NodeKind::Check { code, .. } => crate::script::check(code.words(tree.values()), &ports),
+                // A count read from a slot: the program that reads it.
+                NodeKind::Cycles { count, from_slot: true, .. } => {
+                    crate::script::check(&[crate::script::op::LOAD, count], &ports)
                 }
                 NodeKind::Guard(table) => crate::script::check_guard(table.words(tree.values()), &ports),
                 NodeKind::Loop { table, .. } => crate::script::check_queue(table.words(tree.values()), &ports),

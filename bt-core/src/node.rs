@@ -195,7 +195,8 @@ pub enum LeafKind {
 }
 
 /// A span of the caller's clock: a number of units of the `now` given to
-/// [`Executor::tick`](crate::Executor::tick), at most [`Span::MAX`] (2^24 - 1).
+/// [`Executor::tick`](crate::Executor::tick), at most [`Span::MAX`] (2^24 - 1), or
+/// [`Span::NEVER`].
 ///
 /// Trees imported from BehaviorTree.CPP count `now` in milliseconds, so a span is then
 /// at most 16,777,215 ms (4 h 39 min). Stored as two `u16` so that a [`Node`] stays 12
@@ -210,6 +211,11 @@ impl Span {
     /// The longest span: the executor keeps a start time in 24 bits of a node's state.
     pub const MAX: u32 = (1 << 24) - 1;
 
+    /// A span longer than any time the clock counts (`now` is a `u32`): a timer with it
+    /// never expires, a `RateController` with it ticks its child only when it starts
+    /// and while the child runs (Nav2's "plan once" idiom, a rate near 0 Hz).
+    pub const NEVER: Span = Span { lo: u16::MAX, hi: u16::MAX };
+
     /// A span of `units`, or `None` above [`Span::MAX`].
     #[must_use]
     pub const fn new(units: u32) -> Option<Span> {
@@ -219,7 +225,8 @@ impl Span {
         Some(Span { lo: units as u16, hi: (units >> 16) as u16 })
     }
 
-    /// The span in units of `now`.
+    /// The span in units of `now` (`u32::MAX` for [`Span::NEVER`], more than any
+    /// elapsed time the executor measures).
     #[inline]
     #[must_use]
     pub const fn get(self) -> u32 {
@@ -427,6 +434,50 @@ pub enum NodeKind {
         /// the life of the executor, through halts and activations.
         repeat_last: bool,
     },
+    /// BehaviorTree.CPP 3's `SequenceStar`: as [`NodeKind::SequenceStar`] it keeps its
+    /// place after a Failure, but a child that succeeds is followed by the next in the
+    /// same tick, and a halt while it runs sends it back to its first child.
+    SequenceStarV3,
+    /// BehaviorTree.CPP 3's `Parallel(success_threshold, failure_threshold)`: on every
+    /// tick it goes through its children in order, ticking those that have not finished
+    /// in the activation and counting those that have where they stand; Success as soon
+    /// as `success_threshold` children have succeeded, Failure as soon as
+    /// `failure_threshold` have failed or success can no longer be reached. Every child
+    /// is then reset, those Running halted.
+    ParallelV3 {
+        /// Children that must succeed.
+        success_threshold: u16,
+        /// Children whose failure makes the whole node fail.
+        failure_threshold: u16,
+    },
+    /// BehaviorTree.CPP's `Repeat` (`retry` false) or `RetryUntilSuccessful` (`retry`
+    /// true) in the forms [`NodeKind::RepeatCycles`] and
+    /// [`NodeKind::RetryUntilSuccessful`] do not take: its count read on every tick
+    /// from blackboard slot `count` (`from_slot`, as BehaviorTree.CPP reads a `{key}`),
+    /// and with `v3` as BehaviorTree.CPP 3 runs it: after each cycle the child is
+    /// ticked again in the same tick, whether it had been Running or not.
+    Cycles {
+        /// The count ([`NodeKind::FOREVER`]: no limit), or the slot holding it.
+        count: u16,
+        /// `count` is a slot.
+        from_slot: bool,
+        /// `RetryUntilSuccessful`: a Failure counts a cycle and a Success ends it.
+        retry: bool,
+        /// BehaviorTree.CPP 3's loop within the tick.
+        v3: bool,
+    },
+    /// BehaviorTree.CPP 3's `BlackboardCheckInt`, `BlackboardCheckDouble`,
+    /// `BlackboardCheckString` and `BlackboardCheckBool`: on every tick runs its program
+    /// (the comparison); when it holds, ticks its child and returns what the child
+    /// returns, else halts the child if it runs and returns `otherwise`. A program
+    /// that stops with a fault (a key read before it is set) does not hold, as
+    /// BehaviorTree.CPP's `getInput` fails then.
+    Check {
+        /// The comparison.
+        code: Code,
+        /// The status when it does not hold (`return_on_mismatch`).
+        otherwise: crate::Status,
+    },
 }
 
 /// How many children a kind of node takes.
@@ -492,6 +543,10 @@ impl NodeKind {
             Self::Guard(_) => "Guard",
             Self::Loop { .. } => "Loop",
             Self::ManualSelector { .. } => "ManualSelector",
+            Self::SequenceStarV3 => "SequenceStarV3",
+            Self::ParallelV3 { .. } => "ParallelV3",
+            Self::Cycles { .. } => "Cycles",
+            Self::Check { .. } => "Check",
         }
     }
 
@@ -507,7 +562,9 @@ impl NodeKind {
             | Self::SequenceStar
             | Self::ParallelAll { .. }
             | Self::PipelineSequence
-            | Self::RoundRobin => Arity::AtLeastOne,
+            | Self::RoundRobin
+            | Self::SequenceStarV3
+            | Self::ParallelV3 { .. } => Arity::AtLeastOne,
             Self::IfThenElse | Self::WhileDoElse => Arity::TwoOrThree,
             Self::Recovery { .. } => Arity::Two,
             Self::ManualSelector { .. } => Arity::Any,
@@ -527,7 +584,9 @@ impl NodeKind {
             | Self::Gate(_)
             | Self::Precondition { .. }
             | Self::Loop { .. }
-            | Self::Guard(_) => Arity::One,
+            | Self::Guard(_)
+            | Self::Cycles { .. }
+            | Self::Check { .. } => Arity::One,
             Self::Condition(_)
             | Self::Action(_)
             | Self::AlwaysSuccess
@@ -551,15 +610,16 @@ impl NodeKind {
             | Self::Retry(_)
             | Self::Timeout(_) => Family::Decorators,
             Self::Condition(_) | Self::Action(_) => Family::Leaves,
-            Self::SequenceStar | Self::PipelineSequence | Self::RoundRobin => Family::Sequences,
+            Self::SequenceStar | Self::SequenceStarV3 | Self::PipelineSequence | Self::RoundRobin => Family::Sequences,
             Self::IfThenElse | Self::WhileDoElse | Self::Recovery { .. } => Family::Branches,
-            Self::ParallelAll { .. } => Family::ParallelAll,
+            Self::ParallelAll { .. } | Self::ParallelV3 { .. } => Family::ParallelAll,
             Self::RepeatCycles(_)
             | Self::RetryUntilSuccessful(_)
             | Self::KeepRunningUntilFailure
-            | Self::RunOnce { .. } => Family::Counting,
+            | Self::RunOnce { .. }
+            | Self::Cycles { .. } => Family::Counting,
             Self::TimeLimit(_) | Self::Delay(_) | Self::RateController(_) | Self::Sleep(_) => Family::Timers,
-            Self::Guard(_) | Self::Precondition { .. } | Self::Gate(_) => Family::Guards,
+            Self::Guard(_) | Self::Precondition { .. } | Self::Gate(_) | Self::Check { .. } => Family::Guards,
             Self::Loop { .. } => Family::Loops,
             Self::ManualSelector { .. } => Family::ManualSelector,
             Self::Script(_) | Self::ScriptCondition(_) | Self::AlwaysSuccess | Self::AlwaysFailure => Family::Scripts,
@@ -590,18 +650,18 @@ pub(crate) enum Family {
     Decorators,
     /// Condition and Action: the tick loop's own (`exec/tick.rs`).
     Leaves,
-    /// SequenceStar, PipelineSequence, RoundRobin (`exec/sequences.rs`).
+    /// SequenceStar, SequenceStarV3, PipelineSequence, RoundRobin (`exec/sequences.rs`).
     Sequences,
     /// IfThenElse, WhileDoElse, Recovery (`exec/branches.rs`).
     Branches,
-    /// ParallelAll (`exec/parallel_all.rs`).
+    /// ParallelAll and ParallelV3 (`exec/parallel_all.rs`).
     ParallelAll,
-    /// RepeatCycles, RetryUntilSuccessful, KeepRunningUntilFailure, RunOnce
+    /// RepeatCycles, RetryUntilSuccessful, Cycles, KeepRunningUntilFailure, RunOnce
     /// (`exec/counting.rs`).
     Counting,
     /// TimeLimit, Delay, RateController, Sleep (`exec/timers.rs`).
     Timers,
-    /// Guard, Precondition, Gate (`exec/guards.rs`).
+    /// Guard, Precondition, Gate, Check (`exec/guards.rs`).
     Guards,
     /// Loop (`exec/loops.rs`).
     Loops,

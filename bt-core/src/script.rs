@@ -38,11 +38,15 @@
 //! | 20 | `jump-unless` | target | pop; jump if it is false |
 //! | 21 | `jump` | target | jump |
 //! | 22 | `pop` | — | drop the top value |
-//! | 23 | `store` | assignment (0 `:=`, 1 `=`, 2 `+=`, 3 `-=`, 4 `*=`, 5 `/=`), slot, flags | pop, assign, push the slot's new value |
+//! | 23 | `store` | assignment (0 `:=`, 1 `=`, 2 `+=`, 3 `-=`, 4 `*=`, 5 `/=`, 6 set), slot, flags | pop, assign, push the slot's new value |
 //!
 //! A `store`'s flags are 1 when a port of the tree declares the slot (such a slot exists
 //! before any script assigns it, so `=` may assign it), else 0; the slot's type comes
-//! from the ports section. A program leaves one value, the last statement's.
+//! from the ports section. Assignment 6, *set*, is BehaviorTree.CPP 3's blackboard
+//! `set` (its `SetBlackboard`; programs of image format version 4): a string given to a
+//! slot whose ports declare a type is converted by it, any other value is put in the
+//! slot as it is, whatever the slot held. A program leaves one value, the last
+//! statement's.
 
 use crate::port::{Constant, PortTable, PortType};
 
@@ -193,9 +197,11 @@ pub mod op {
     pub const STORE: u16 = 23;
     /// `store`'s flag: a port declares the slot.
     pub const DECLARED: u16 = 1;
+    /// `store`'s set: BehaviorTree.CPP 3's blackboard `set`.
+    pub const SET: u16 = 6;
 }
 
-use op::{ADD, CMP, CMP_CHAIN, COMPL, CONCAT, DOUBLE, INT, JUMP, JUMP_UNLESS, LOAD, NEG, NOT, POP, STORE, STR};
+use op::{ADD, CMP, CMP_CHAIN, COMPL, CONCAT, DOUBLE, INT, JUMP, JUMP_UNLESS, LOAD, NEG, NOT, POP, SET, STORE, STR};
 
 /// Operand words of each opcode (`None`: not an opcode).
 const fn operands(op: u16) -> Option<usize> {
@@ -317,7 +323,7 @@ pub fn check(code: &[u16], ports: &PortTable<'_>) -> Result<(), ScriptFault> {
             (CMP, &[c]) => c <= 5,
             (CMP_CHAIN, &[c, t]) => c <= 5 && target_ok(t),
             (JUMP_UNLESS | JUMP, &[t]) => target_ok(t),
-            (STORE, &[mode, s, flags]) => mode <= 5 && s < ports.slot_count() && flags <= 1,
+            (STORE, &[mode, s, flags]) => mode <= SET && s < ports.slot_count() && flags <= 1,
             _ => true,
         };
         if !ok {
@@ -826,6 +832,17 @@ fn store<B: Blackboard + ?Sized>(
     v: Value,
 ) -> Result<Value, ScriptFault> {
     let ty = ports.slot(slot).map_or(PortType::Any, |info| info.ty);
+    if mode == SET {
+        let new = match v {
+            Value::Str(k) if ty != PortType::Any => {
+                convert_str(str_of(ports, k).ok_or(ScriptFault::Conversion { slot })?, k, ty)
+                    .ok_or(ScriptFault::Conversion { slot })?
+            }
+            _ => v,
+        };
+        bb.set(slot, new);
+        return Ok(new);
+    }
     let declared = flags & op::DECLARED != 0;
     let held = bb.get(slot);
     if mode != 0 && held.is_none() && !declared {

@@ -261,6 +261,7 @@ fn check_node<C: Catalog + ?Sized>(id: NodeId, node: &Node, values: usize, catal
         | NodeKind::Precondition { code, .. }
         | NodeKind::Guard(code)
         | NodeKind::Loop { table: code, .. }
+        | NodeKind::Check { code, .. }
             if code.len == 0 || usize::from(code.start) + usize::from(code.len) > values =>
         {
             Err(out_of_range(code.start, code.len))
@@ -289,7 +290,8 @@ fn check_children(nodes: &[Node], open: Open) -> Result<(), LoadError> {
     }
     let bad = |fault| Err(LoadError::BadArgument { node: open.node, fault });
     match *kind {
-        NodeKind::Parallel { success_threshold, failure_threshold, .. } => {
+        NodeKind::Parallel { success_threshold, failure_threshold, .. }
+        | NodeKind::ParallelV3 { success_threshold, failure_threshold } => {
             for (which, threshold) in [("success", success_threshold), ("failure", failure_threshold)] {
                 if threshold == 0 || threshold > children {
                     return bad(ArgumentFault::Threshold { which, threshold, children });

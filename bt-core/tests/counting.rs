@@ -116,3 +116,84 @@ fn run_once_runs_its_child_once_ever() {
         }
     }
 }
+
+/// BehaviorTree.CPP 3's Repeat and RetryUntilSuccessful (`Cycles` with `v3`): every
+/// cycle in the same tick, whether the child had been Running or not.
+#[test]
+fn cycles_of_version_3_loop_within_the_tick() {
+    let repeat = NodeKind::Cycles { count: 3, from_slot: false, retry: false, v3: true };
+    executor!(exec, over_action(repeat));
+    let mut w = Scripted::new();
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), S);
+    assert!(!exec.take_woken());
+    assert_eq!(w.ticks(act(0)), 3);
+    let retry = NodeKind::Cycles { count: 2, from_slot: false, retry: true, v3: true };
+    executor!(exec, over_action(retry));
+    let mut w = Scripted::new();
+    w.set(act(0), F);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), F);
+    assert_eq!(w.ticks(act(0)), 2);
+    // A Success ends a retry; a Running child is resumed on the next tick.
+    executor!(exec, over_action(retry));
+    let mut w = Scripted::new();
+    w.set(act(0), R);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), S);
+}
+
+/// A count read from a slot on every tick, as BehaviorTree.CPP reads `num_cycles="{n}"`:
+/// -1 is no limit, a count that falls below the cycles done ends the node (halting a
+/// child still Running), a value that is no count ends the tick with an error.
+#[test]
+fn cycles_read_their_count_from_a_slot_on_every_tick() {
+    use bt_core::script::{ScriptFault, Value, op};
+    let kind = NodeKind::Cycles { count: 7, from_slot: true, retry: false, v3: false };
+    executor!(exec, over_action(kind));
+    let mut w = Scripted::new();
+    w.set(act(0), R).program(op::LOAD, Ok(Value::Int(2)));
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    assert_eq!(w.scripts(), [op::LOAD]);
+    // The child had been Running: its Success is followed by a second cycle at once.
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), S);
+    assert_eq!(w.ticks(act(0)), 3);
+    // A count that falls to the cycles done ends the node, halting the Running child.
+    w.set(act(0), R);
+    assert_eq!(exec.tick(&mut w, 2).unwrap(), R);
+    w.program(op::LOAD, Ok(Value::Int(0)));
+    assert_eq!(exec.tick(&mut w, 3).unwrap(), S);
+    assert_eq!(w.halts(act(0)), 1);
+    // -1: no limit; 0 or less: done at once.
+    w.program(op::LOAD, Ok(Value::Int(-1))).set(act(0), S);
+    for k in 3..6 {
+        assert_eq!(exec.tick(&mut w, k).unwrap(), R);
+    }
+    w.program(op::LOAD, Ok(Value::Int(-5)));
+    let ticks = w.ticks(act(0));
+    assert_eq!(exec.tick(&mut w, 6).unwrap(), S);
+    assert_eq!(w.ticks(act(0)), ticks);
+    // A count out of range, a string, a double with a fraction: an error.
+    for bad in [Value::Int(70_000), Value::Str(0), Value::Double(1.5)] {
+        w.program(op::LOAD, Ok(bad));
+        let e = exec.tick(&mut w, 7).unwrap_err();
+        assert!(matches!(e, bt_core::TickError::Script { fault: ScriptFault::Conversion { slot: 7 }, .. }), "{e}");
+    }
+}
+
+/// Version 3's Repeat for ever over a child that finishes at once never returns in
+/// BehaviorTree.CPP 3.8; here it yields after 65,535 cycles in a tick, Running, asking
+/// to be ticked again.
+#[test]
+fn cycles_of_version_3_yield_after_65535_cycles_in_a_tick() {
+    let forever = NodeKind::Cycles { count: NodeKind::FOREVER, from_slot: false, retry: false, v3: true };
+    executor!(exec, over_action(forever));
+    let mut w = Scripted::new();
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    assert!(exec.take_woken());
+    assert_eq!(w.ticks(act(0)), 65_535);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), R);
+    assert_eq!(w.ticks(act(0)), 2 * 65_535);
+}

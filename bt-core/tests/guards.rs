@@ -140,3 +140,29 @@ fn a_precondition_lets_its_child_go_and_does_not_ask_again_until_it_finishes() {
     assert_eq!(exec.tick(&mut w, 4).unwrap(), F);
     assert_eq!(w.scripts(), [7]);
 }
+
+/// BehaviorTree.CPP 3's BlackboardCheck (`Check`): asked on every tick; a mismatch, or a
+/// program that faults (a key not set), halts a Running child and returns `otherwise`.
+#[test]
+fn a_check_asks_on_every_tick_and_halts_its_child_on_a_mismatch() {
+    use bt_core::script::ScriptFault;
+    let code = Code { start: 0, len: 1 };
+    let nodes = build(|b| {
+        b.open(NodeKind::Check { code, otherwise: R })?.action(act(0), &[])?.end()?;
+        Ok(())
+    });
+    executor_with!(exec, nodes, &[77]);
+    let mut w = Scripted::new();
+    w.set(act(0), R).program(77, Ok(Value::Bool(true)));
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), R);
+    assert_eq!(w.scripts(), [77, 77]);
+    w.program(77, Ok(Value::Bool(false)));
+    assert_eq!(exec.tick(&mut w, 2).unwrap(), R);
+    assert_eq!((w.ticks(act(0)), w.halts(act(0))), (2, 1));
+    w.program(77, Err(ScriptFault::Unset { slot: 0 }));
+    assert_eq!(exec.tick(&mut w, 3).unwrap(), R);
+    assert_eq!(w.ticks(act(0)), 2);
+    w.program(77, Ok(Value::Bool(true))).set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 4).unwrap(), S);
+}

@@ -62,7 +62,7 @@ fn a_good_image_round_trips_and_says_what_it_is() {
     let h = read_header(&bytes).unwrap();
     // A tree without scripts is written as version 2, which controllers built before
     // scripts load.
-    assert_eq!(VERSION, 3);
+    assert_eq!(VERSION, 4);
     assert_eq!((h.version, h.fingerprint, h.node_count, h.len), (2, fingerprint(&SET), 6, bytes.len()));
     // 16 header + 6 nodes + 4 CRC: a handful of bytes per node.
     assert!(bytes.len() <= HEADER_LEN + 6 * 5 + CRC_LEN, "{} bytes", bytes.len());
@@ -93,15 +93,17 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
-    for version in [0u16, 4, 0xffff] {
+    for version in [0u16, 5, 0xffff] {
         let mut b = good();
         b[4..6].copy_from_slice(&version.to_le_bytes());
-        assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: version, supported: 3 }));
+        assert_eq!(try_load(&b), Err(LoadError::UnsupportedVersion { found: version, supported: 4 }));
     }
-    // Version 3 only adds script kinds: a version-2 tree reads the same under it.
-    let mut b = good();
-    b[4..6].copy_from_slice(&3u16.to_le_bytes());
-    assert!(try_load(&reseal(b)).is_ok());
+    // Versions 3 and 4 only add kinds: a version-2 tree reads the same under them.
+    for version in [3u16, 4] {
+        let mut b = good();
+        b[4..6].copy_from_slice(&version.to_le_bytes());
+        assert!(try_load(&reseal(b)).is_ok());
+    }
     // Version 1 (no extended leaves, no sections) still loads, as the same tree.
     let mut b = good();
     b[4..6].copy_from_slice(&1u16.to_le_bytes());
@@ -512,4 +514,40 @@ fn a_manual_selector_is_tag_40_of_version_3() {
     }
     let lone = [Node::new(NodeKind::ManualSelector { repeat_last: false }, 1)];
     assert_eq!(try_load(&image_of(&lone)).unwrap(), lone);
+}
+
+/// The kinds of BehaviorTree.CPP 3 are tags 41 to 44 of version 4, and a span that never
+/// expires makes an image version 4 too: a version-3 image holds neither, so a loader
+/// of version 3 refuses such an image by its version.
+#[test]
+fn the_kinds_of_behaviortree_cpp_3_are_tags_41_to_44_of_version_4() {
+    let code = bt_core::Code { start: 0, len: 1 };
+    let cases: [(NodeKind, &[u8]); 5] = [
+        (NodeKind::SequenceStarV3, &[2, 41]),
+        (NodeKind::ParallelV3 { success_threshold: 1, failure_threshold: 1 }, &[2, 42, 1, 1]),
+        (NodeKind::Cycles { count: 3, from_slot: false, retry: true, v3: true }, &[2, 43, 3, 6]),
+        (NodeKind::Check { code, otherwise: Status::Running }, &[2, 44, 0, 1, 2]),
+        (NodeKind::RateController(bt_core::Span::NEVER), &[2, 28, 0xff, 0xff, 3, 0xff, 0xff, 3]),
+    ];
+    for (kind, wire) in cases {
+        let nodes = [Node::new(kind, 2), Node::new(NodeKind::Condition(Leaf::new(0)), 1)];
+        let parts = bt_core::image::ImageParts::new(&nodes).values(&[bt_core::script::op::INT]);
+        let mut buf = [0u8; 128];
+        let len = bt_core::image::encode_with(&parts, fingerprint(&SET), &mut buf).unwrap();
+        let bytes = buf[..len].to_vec();
+        assert_eq!(read_header(&bytes).unwrap().version, 4, "{kind:?}");
+        assert_eq!(&bytes[HEADER_LEN..HEADER_LEN + wire.len()], wire, "{kind:?}");
+        let mut v3 = bytes.clone();
+        v3[4..6].copy_from_slice(&3u16.to_le_bytes());
+        assert!(matches!(try_load(&reseal(v3)), Err(LoadError::MalformedNode { node: 0, .. })), "{kind:?}");
+    }
+    // Flags beyond the three a Cycles has are no Cycles.
+    let nodes = [
+        Node::new(NodeKind::Cycles { count: 3, from_slot: false, retry: false, v3: false }, 2),
+        Node::new(NodeKind::Condition(Leaf::new(0)), 1),
+    ];
+    let mut bytes = image_of(&nodes);
+    assert_eq!(try_load(&bytes).unwrap(), nodes);
+    bytes[HEADER_LEN + 3] = 8;
+    assert_eq!(try_load(&reseal(bytes)), Err(LoadError::MalformedNode { node: 0, offset: HEADER_LEN }));
 }

@@ -66,6 +66,8 @@ fn control() -> impl Strategy<Value = NodeKind> {
         Just(NodeKind::PipelineSequence),
         (0u16..=2).prop_map(|r| NodeKind::Recovery { retries: r }),
         Just(NodeKind::RoundRobin),
+        Just(NodeKind::SequenceStarV3),
+        (1u16..=4, 1u16..=4).prop_map(|(s, f)| NodeKind::ParallelV3 { success_threshold: s, failure_threshold: f }),
     ]
 }
 
@@ -89,6 +91,13 @@ fn decorator() -> impl Strategy<Value = NodeKind> {
         Just(NodeKind::Guard(GUARD_CODE)),
         (prop_oneof![Just(KEY_QUEUE), Just(LITERAL_QUEUE)], status())
             .prop_map(|(table, if_empty)| NodeKind::Loop { table, if_empty }),
+        // Version 3's for ever over a child that finishes at once runs 65,535 cycles a
+        // tick (`counting.rs` tests it): finite counts here.
+        (cycles(), any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(count, from_slot, retry, v3)| {
+            let count = if v3 && count == NodeKind::FOREVER { 3 } else { count };
+            NodeKind::Cycles { count, from_slot, retry, v3 }
+        }),
+        status().prop_map(|otherwise| NodeKind::Check { code: Code { start: 0, len: 1 }, otherwise }),
     ]
 }
 
@@ -192,6 +201,10 @@ fn emit(t: &T, b: &mut Builder<'_, 16>) {
                     count_skipped,
                 },
                 NodeKind::ParallelAll { max_failures } => NodeKind::ParallelAll { max_failures: max_failures.min(n) },
+                NodeKind::ParallelV3 { success_threshold, failure_threshold } => NodeKind::ParallelV3 {
+                    success_threshold: success_threshold.min(n),
+                    failure_threshold: failure_threshold.min(n),
+                },
                 k => k,
             };
             b.open(kind).unwrap();
@@ -281,6 +294,7 @@ fn outcome(nodes: &[Node], script: &[u8], node: usize) -> Status {
         NodeKind::Condition(_)
         | NodeKind::ScriptCondition(_)
         | NodeKind::Precondition { .. }
+        | NodeKind::Check { .. }
         | NodeKind::Loop { .. } => [Status::Success, Status::Failure][usize::from(v % 2)],
         NodeKind::Script(_) => Status::Success,
         _ => [Status::Success, Status::Failure, Status::Running][usize::from(v % 3)],
@@ -468,6 +482,8 @@ impl<'a> Reference<'a> {
         let mut fresh = RState::default();
         match self.nodes[i].kind() {
             NodeKind::SequenceStar => fresh.mem = was.mem,
+            // BehaviorTree.CPP 3's forgets its place when halted Running.
+            NodeKind::SequenceStarV3 if was.status != NodeStatus::Running => fresh.mem = was.mem,
             NodeKind::RunOnce { .. } => fresh.done = was.done,
             NodeKind::Precondition { .. } => fresh.mem = was.mem,
             NodeKind::ManualSelector { .. } => fresh.choice = was.choice,
@@ -703,7 +719,9 @@ impl<'a> Reference<'a> {
                 }
             }
             // ------------------------------------------- BehaviorTree.CPP's and Nav2's
-            NodeKind::SequenceStar => {
+            kind @ (NodeKind::SequenceStar | NodeKind::SequenceStarV3) => {
+                // Version 3 goes on to the next child where version 4 wakes up.
+                let v3 = kind == NodeKind::SequenceStarV3;
                 let kids = self.kids(i);
                 let mut idx = kids.iter().position(|&c| c == was.mem).unwrap_or(0);
                 loop {
@@ -729,7 +747,7 @@ impl<'a> Reference<'a> {
                         }
                         Status::Success => {
                             idx += 1;
-                            if was_idle && idx < kids.len() {
+                            if was_idle && idx < kids.len() && !v3 {
                                 self.st[i].mem = kids[idx];
                                 self.woken = true;
                                 break Status::Running;
@@ -818,6 +836,40 @@ impl<'a> Reference<'a> {
                     if failed >= max_failures { Status::Failure } else { Status::Success }
                 } else {
                     Status::Running
+                }
+            }
+            // Counts anew each tick, in child order, finished children where they stand.
+            NodeKind::ParallelV3 { success_threshold, failure_threshold } => {
+                let kids = self.kids(i);
+                let n = kids.len() as u16;
+                let (mut ok, mut failed) = (0u16, 0u16);
+                let mut verdict = None;
+                for &c in &kids {
+                    let r = match self.status(c) {
+                        NodeStatus::Success if running => Status::Success,
+                        NodeStatus::Failure if running => Status::Failure,
+                        _ => self.tick(c, true),
+                    };
+                    match r {
+                        Status::Success => ok += 1,
+                        Status::Failure => failed += 1,
+                        Status::Running | Status::Skipped => continue,
+                    }
+                    if ok >= success_threshold {
+                        verdict = Some(Status::Success);
+                    } else if failed >= failure_threshold || failed > n - success_threshold {
+                        verdict = Some(Status::Failure);
+                    }
+                    if verdict.is_some() {
+                        break;
+                    }
+                }
+                match verdict {
+                    Some(v) => {
+                        self.halt_children(i);
+                        v
+                    }
+                    None => Status::Running,
                 }
             }
             NodeKind::PipelineSequence => {
@@ -934,15 +986,30 @@ impl<'a> Reference<'a> {
                     }
                 }
             }
-            NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => {
-                let again = if matches!(self.nodes[i].kind(), NodeKind::RepeatCycles(_)) {
+            kind @ (NodeKind::RepeatCycles(_) | NodeKind::RetryUntilSuccessful(_) | NodeKind::Cycles { .. }) => {
+                let again = if matches!(kind, NodeKind::RepeatCycles(_) | NodeKind::Cycles { retry: false, .. }) {
                     Status::Success
                 } else {
                     Status::Failure
                 };
+                let v3 = matches!(kind, NodeKind::Cycles { v3: true, .. });
+                let n = match kind {
+                    NodeKind::RepeatCycles(n) | NodeKind::RetryUntilSuccessful(n) => n,
+                    // A count from a slot: the scripted set's truth, 0 or 1.
+                    NodeKind::Cycles { from_slot: true, .. } => {
+                        self.log.push(Ev::Tick { node: i, starting: true });
+                        u16::from(outcome(self.nodes, &self.script, i) == Status::Success)
+                    }
+                    NodeKind::Cycles { count, .. } => count,
+                    _ => unreachable!(),
+                };
                 let mut count = if running { was.count } else { 0 };
+                let mut in_tick = 0u16;
                 loop {
                     if !(count < n || n == NodeKind::FOREVER) {
+                        if self.status(i + 1) == NodeStatus::Running {
+                            self.halt(i + 1);
+                        }
                         self.st[i].count = 0;
                         break again;
                     }
@@ -962,7 +1029,9 @@ impl<'a> Reference<'a> {
                         break s;
                     }
                     count += 1;
-                    if was_idle && (count < n || n == NodeKind::FOREVER) {
+                    in_tick += 1;
+                    let yields = if v3 { in_tick == u16::MAX } else { was_idle };
+                    if yields && (count < n || n == NodeKind::FOREVER) {
                         self.st[i].count = count;
                         self.woken = true;
                         break Status::Running;
@@ -1044,6 +1113,25 @@ impl<'a> Reference<'a> {
                     self.halt_child(i + 1);
                 }
                 s
+            }
+            // Asks on every tick; a mismatch halts a Running child.
+            NodeKind::Check { otherwise, .. } => {
+                self.log.push(Ev::Tick { node: i, starting: true });
+                if outcome(self.nodes, &self.script, i) == Status::Success {
+                    let s = self.tick(i + 1, true);
+                    if matches!(s, Status::Success | Status::Failure) {
+                        self.halt_child(i + 1);
+                    }
+                    s
+                } else {
+                    if self.status(i + 1) == NodeStatus::Running {
+                        self.halt(i + 1);
+                    }
+                    if otherwise == Status::Skipped {
+                        return self.set(i, otherwise);
+                    }
+                    otherwise
+                }
             }
             NodeKind::RunOnce { then_skip } => match was.done {
                 // A RunOnce that skips keeps no status: Idle.

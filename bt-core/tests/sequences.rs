@@ -191,3 +191,45 @@ fn round_robin_halted_while_running_starts_over_at_the_first_child() {
     assert_eq!(exec.tick(&mut w, 2).unwrap(), S);
     assert_eq!(w.ticks(act(0)), 1, "halted Running: the turn is back at the first child");
 }
+
+/// BehaviorTree.CPP 3's SequenceStar: no wake-up between children, its place kept after
+/// a Failure and through a reset, lost when it is halted while Running.
+#[test]
+fn sequence_star_v3_goes_on_at_once_and_forgets_its_place_when_halted() {
+    // SequenceStarV3[A0, C0, A1].
+    let nodes = build(|b| {
+        b.open(NodeKind::SequenceStarV3)?.action(act(0), &[])?.condition(cond(0), &[])?.action(act(1), &[])?.end()?;
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(act(0), S).set(cond(0), F).set(act(1), R);
+    // A0 succeeds and C0 is ticked in the same tick, without a wake-up.
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), F);
+    assert!(!exec.take_woken());
+    // Resumes at C0 after the failure.
+    w.set(cond(0), S);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), R);
+    assert_eq!((w.ticks(act(0)), w.ticks(cond(0)), w.ticks(act(1))), (1, 2, 1));
+    // Halted while A1 runs: back to A0.
+    exec.halt_all(&mut w);
+    assert_eq!(w.halts(act(1)), 1);
+    assert_eq!(exec.tick(&mut w, 2).unwrap(), R);
+    assert_eq!(w.ticks(act(0)), 2);
+    // Under a reactive parent that resets it after its failure, it keeps its place:
+    // Sequence[C1, SequenceStarV3[A0, C0]].
+    let nodes = build(|b| {
+        b.sequence()?.condition(cond(1), &[])?;
+        b.open(NodeKind::SequenceStarV3)?.action(act(0), &[])?.condition(cond(0), &[])?.end()?.end()?;
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(cond(1), S).set(act(0), S).set(cond(0), F);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), F);
+    w.set(cond(1), F);
+    assert_eq!(exec.tick(&mut w, 1).unwrap(), F);
+    w.set(cond(1), S).set(cond(0), S);
+    assert_eq!(exec.tick(&mut w, 2).unwrap(), S);
+    assert_eq!((w.ticks(act(0)), w.ticks(cond(0))), (1, 2));
+}

@@ -125,3 +125,25 @@ fn rate_controller_keeps_ticking_a_running_child_and_starts_afresh_when_reset() 
     assert_eq!(w.ticks(act(0)), 4);
     assert_eq!(exec.status(0), Some(NodeStatus::Success));
 }
+
+/// A period that never expires (Nav2's `hz="0.0000001"`, "plan once"): the child is
+/// ticked when the node starts and while it runs, never again in the activation.
+#[test]
+fn a_rate_controller_that_never_expires_ticks_its_child_once_per_activation() {
+    let nodes = build(|b| {
+        b.open(NodeKind::PipelineSequence)?;
+        b.open(NodeKind::RateController(Span::NEVER))?.action(act(0), &[])?.end()?;
+        b.action(act(1), &[])?.end()?;
+        Ok(())
+    });
+    executor!(exec, nodes);
+    let mut w = Scripted::new();
+    w.set(act(0), R).set(act(1), R);
+    assert_eq!(exec.tick(&mut w, 0).unwrap(), R);
+    w.set(act(0), S);
+    assert_eq!(exec.tick(&mut w, 10).unwrap(), R);
+    for now in [1_000, 16_777_215, 4_000_000_000, u32::MAX] {
+        assert_eq!(exec.tick(&mut w, now).unwrap(), R);
+    }
+    assert_eq!(w.ticks(act(0)), 2);
+}

@@ -174,13 +174,25 @@ pub enum Fault {
         /// Where it was first defined.
         first: Location,
     },
-    /// Two models of the same node type that differ.
-    #[error("the model of `{id}` differs from the one at {first}")]
+    /// Two models of the same node type that truly differ (kind, a port's direction, a
+    /// port one of them lacks), which BehaviorTree.CPP would not both accept.
+    #[error("the models of `{id}` here and at {first} differ: {difference}{hint}")]
     ModelConflict {
         /// The node type.
         id: String,
         /// The other model.
         first: Location,
+        /// What differs, with both values (this model's first).
+        difference: String,
+        /// Which one wins how, when one can.
+        hint: String,
+    },
+    /// Node types used that are neither built-ins nor declared by any model: every one,
+    /// with where it is first used (the error is placed at the first).
+    #[error("{}", undeclared(nodes))]
+    Undeclared {
+        /// Each node type, and where it is first used.
+        nodes: Vec<(String, Location)>,
     },
     /// No tree with the requested ID.
     #[error("no <BehaviorTree ID=\"{id}\"> (the documents define {})", list(available))]
@@ -311,6 +323,20 @@ pub enum Fault {
     /// The tree does not fit an image (nodes, values, constants or slots).
     #[error("the tree is too large for an image: {0}")]
     TooLarge(String),
+}
+
+fn undeclared(nodes: &[(String, Location)]) -> String {
+    let stub = "`sim-host catalog --stub TREE.xml --out models.xml` (ports from the attributes used; check the kinds it guesses)";
+    match nodes {
+        [(id, _)] => format!(
+            "`{id}` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>; give its model with --nodes, or write one with {stub}"
+        ),
+        _ => format!(
+            "{} node types are neither BehaviorTree.CPP built-ins nor declared in any <TreeNodesModel>: {}; give their models with --nodes, or write them with {stub}",
+            nodes.len(),
+            nodes.iter().map(|(id, at)| format!("`{id}` ({at})")).collect::<Vec<_>>().join(", ")
+        ),
+    }
 }
 
 fn list(items: &[String]) -> String {

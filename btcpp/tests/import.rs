@@ -285,7 +285,12 @@ fn what_cannot_run_is_refused_with_its_place() {
             r#"<LoopPose queue="{q}" value="{v}"><BatteryOk/></LoopPose>"#,
             "t.xml:2:27: `LoopPose` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>; if the program registers it as a LoopNode<T> (registerNodeType<LoopNode<T>>(\"LoopPose\")), give --loop LoopPose",
         ),
-        (r#"<SetBlackboard value="1" output_key="k"/>"#, "t.xml:2:27: <SetBlackboard> is not supported"),
+        (r#"<UnsetBlackboard key="k"/>"#, "t.xml:2:27: <UnsetBlackboard> is not supported"),
+        (
+            r#"<SetBlackboard value="1" output_key="{k}"/>"#,
+            "t.xml:2:52: <SetBlackboard output_key=\"{k}\"> is not supported: a {key} here names the entry whose name",
+        ),
+        (r#"<SetBlackboard value="1"/>"#, "t.xml:2:27: <SetBlackboard> needs the attribute `output_key`"),
         (
             r#"<Teleport/>"#,
             "t.xml:2:27: `Teleport` is neither a BehaviorTree.CPP built-in node nor declared in any <TreeNodesModel>",
@@ -306,8 +311,8 @@ fn what_cannot_run_is_refused_with_its_place() {
             "t.xml:2:62: blackboard key `v` is used as bool here and as double at t.xml:2:43",
         ),
         (
-            r#"<Repeat num_cycles="{n}"><BatteryOk/></Repeat>"#,
-            "t.xml:2:35: <Repeat> `num_cycles` must be a literal number here, not the blackboard key {n}",
+            r#"<Sequence><Read value="{n}"/><Repeat num_cycles="{n}"><BatteryOk/></Repeat></Sequence>"#,
+            "t.xml:2:64: blackboard key `n` is used as int here and as double at t.xml:2:43",
         ),
         (r#"<Inverter><BatteryOk/><BatteryOk/></Inverter>"#, "t.xml:2:27: <Inverter> takes exactly one child, found 2"),
         (r#"<BatteryOk><BatteryOk/></BatteryOk>"#, "t.xml:2:27: <BatteryOk> takes no children, found 1"),
@@ -357,7 +362,10 @@ fn bad_documents() {
         "t.xml:1:59: <BehaviorTree ID=\"M\"> is defined twice (first at t.xml:1:7)"
     );
     let conflict = "<root><BehaviorTree><A/></BehaviorTree><TreeNodesModel><Action ID=\"A\"/><Condition ID=\"A\"/></TreeNodesModel></root>";
-    assert_eq!(err(conflict), "t.xml:1:72: the model of `A` differs from the one at t.xml:1:56");
+    assert_eq!(
+        err(conflict),
+        "t.xml:1:72: the models of `A` here and at t.xml:1:56 differ: its kind, Condition here and Action there; BehaviorTree.CPP ignores the models in tree files: give the node's model with --nodes and --nodes-override"
+    );
 }
 
 #[test]
@@ -610,7 +618,7 @@ fn manual_selectors_take_the_operators_choice_from_the_behavior_set() {
 
 /// The XML of a flattened tree writes scripts with the keys as it names them: a key a
 /// SubTree remaps becomes its parent's, a SubTree's own key a name made of its path; a
-/// key the SubTree starts at a literal cannot be written.
+/// key the SubTree starts at a literal is given by a SubTree around the tree.
 #[test]
 fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
     let imported = |doc: &str| import_text(Path::new("t.xml"), doc, &ImportOptions::default()).unwrap();
@@ -641,9 +649,12 @@ fn scripts_in_subtrees_are_written_with_the_flattened_keys() {
   <BehaviorTree ID="M"><SubTree ID="S" x="3"/></BehaviorTree>
   <BehaviorTree ID="S"><Script code="x := x + 1"/></BehaviorTree>
 </root>"#;
-    assert_eq!(
-        refusal(started),
-        "blackboard key `S::1/x` (slot 0) starts at 3, given by its SubTree; the flattened tree has no SubTree to give it"
+    // Written as a SubTree giving it, every other key shared.
+    let xml = round_trip(started);
+    assert!(
+        xml.contains(r#"<SubTree ID="M.body" _autoremap="true" S_1_x="3"/>"#)
+            && xml.contains(r#"<BehaviorTree ID="M.body">"#),
+        "{xml}"
     );
 
     let clash = r#"<root BTCPP_format="4" main_tree_to_execute="M">

@@ -370,7 +370,6 @@ fn runs_behaviortree_cpp_cannot_make_are_refused_naming_the_node_and_the_tick() 
     let e = RunLog::new(&tree, 0).tick(0, 0, 0, &[(1, S)]).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "tick 0: BehaviorTree.CPP's ManualSelector node 0 (ManualSelector) asks for a selection, and the run \
-         made no more in the tick"
+        "tick 0: ManualSelector `ManualSelector` (uid 1) asks for a selection, and the run made none there"
     );
 }

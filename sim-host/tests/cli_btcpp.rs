@@ -316,7 +316,7 @@ fn a_trace_of_a_tree_with_a_value_table_becomes_a_replay_log() {
     assert!(dot.contains("lift(hoist0, crate0, container-0-0, loadarea, container0)"), "{dot}");
     cli_common::one_line_error(
         &sim_host(&["export", &s(&image), "--format", "tokens"]),
-        "--format tokens cannot write leaves with more than 3 arguments",
+        "--format tokens cannot write node 15: it has 5 arguments, the notation at most 3",
     );
 }
 
@@ -339,7 +339,7 @@ fn imported_leaves_with_more_than_three_ports_keep_them_in_every_notation() {
     }
     cli_common::one_line_error(
         &sim_host(&["import", x, "--format", "tokens"]),
-        "--format tokens cannot write leaves with more than 3 arguments",
+        "--format tokens cannot write node 2, `MoveTo`: it has 5 arguments, the notation at most 3",
     );
 }
 

@@ -1,13 +1,14 @@
 //! The decorators that decide whether their child runs (rules 9 and 12): a `Guard`
 //! (BehaviorTree.CPP's scripted attributes around one node), a `Precondition` (its
-//! `if` script), and a `Gate` (a behavior of the set: Nav2's `DistanceController`,
-//! `SpeedController`, ...).
+//! `if` script), a `Gate` (a behavior of the set: Nav2's `DistanceController`,
+//! `SpeedController`, ...), and a `Check` (BehaviorTree.CPP 3's `BlackboardCheck*`).
 //!
 //! | kind | state | frame, side entry |
 //! |---|---|---|
 //! | `Guard` | — | — |
 //! | `Precondition` | `aux`: 1 while its child is under way; kept for ever | — |
 //! | `Gate` | — | — |
+//! | `Check` | — | — |
 
 use super::btcpp::{Ascending, Entering};
 use super::frame::{Ascent, Entered};
@@ -15,7 +16,7 @@ use super::oob;
 use super::run::Run;
 use crate::behavior::{BehaviorSet, Context, Observer, TickError};
 use crate::node::{Code, NodeId, NodeKind};
-use crate::script::{Hook, hook};
+use crate::script::{Hook, hook, truth};
 use crate::status::{NodeStatus, Status};
 
 impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true> {
@@ -59,6 +60,18 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
                     Entered::Decided(otherwise)
                 }
             }
+            NodeKind::Check { code, otherwise } => {
+                // A fault (a key not set yet) is a mismatch, as a failed `getInput`.
+                let holds = self.run_script(idx, code.words(self.values), now).is_ok_and(|v| truth(v) == Ok(true));
+                if holds {
+                    Entered::Child(first)
+                } else {
+                    if self.status(first) == NodeStatus::Running {
+                        self.halt_child(first);
+                    }
+                    Entered::Decided(otherwise)
+                }
+            }
             NodeKind::Gate(ref leaf) => {
                 let starting = Self::fresh(st, parent_mirrors);
                 let open =
@@ -91,7 +104,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
                     self.set_memory(node, 0, 0);
                 }
             }
-            NodeKind::Gate(_) => {}
+            NodeKind::Gate(_) | NodeKind::Check { .. } => {}
             _ => return Err(oob(node)),
         }
         Ok(self.finish_decorator(top, r))

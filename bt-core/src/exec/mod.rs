@@ -38,8 +38,8 @@
 //!    `docs/behaviortree-cpp.md`), and reset their children when the originals do: a
 //!    Running child is halted (rule 3), any other child only becomes Idle, its subtree
 //!    left as it is. Their memory survives resets where the originals' does: a
-//!    `SequenceStar`'s place and a `RunOnce`'s result always, a `RoundRobin`'s turn and a
-//!    `Recovery`'s count unless halted while Running. A `RateController` or `Gate` starts
+//!    `SequenceStar`'s place and a `RunOnce`'s result always, a `RoundRobin`'s turn, a
+//!    `Recovery`'s count and a `SequenceStarV3`'s place unless halted while Running. A `RateController` or `Gate` starts
 //!    afresh when it is Idle, or when it finished under a parent that BehaviorTree.CPP
 //!    would have reset it under (any parent but these kinds).
 //! 10. **Time.** `TimeLimit`, `Delay`, `RateController` and `Sleep` measure spans of `now` (for
@@ -94,6 +94,26 @@
 //!     BehaviorTree.CPP's do. Without children it asks for a status only. A child it
 //!     does not have ends the tick with [`TickError::NoSuchChild`], a set that refuses
 //!     with [`TickError::Script`].
+//! 14. **BehaviorTree.CPP 3.** Its kinds follow 3.8's nodes. A `SequenceStarV3` goes on
+//!     to the next child in the same tick when a child succeeds (no wake-up), keeps its
+//!     place after a Failure and through resets, and goes back to its first child when
+//!     it is halted while Running. A `ParallelV3` counts anew on every tick, in child
+//!     order: a child that finished earlier in the activation counts where it stands, one
+//!     that has not is ticked; it returns Success as soon as `success_threshold` have
+//!     succeeded, Failure as soon as `failure_threshold` have failed or fewer than
+//!     `success_threshold` can still succeed, and then resets every child (halting the
+//!     Running ones); otherwise Running. A `Cycles` is a `RepeatCycles` (or, with
+//!     `retry`, a `RetryUntilSuccessful`) whose count may be read on every tick from a
+//!     slot (through [`BehaviorSet::script`], a one-word program that loads it: -1 is no
+//!     limit, other negative counts are 0, anything else that is no count from 0 to
+//!     65,534 ends the tick with [`TickError::Script`]); with `v3` the child is ticked
+//!     again in the same tick after every cycle, without a wake-up, up to 65,535
+//!     cycles in a tick (then Running, with a wake-up: 3.8 never returns from a loop for
+//!     ever over a child that finishes at once). Reaching its count
+//!     without ticking the child (a count that fell) halts a child still Running. A
+//!     `Check` runs its program on every tick: when it holds, it ticks its child and
+//!     returns what the child returns; otherwise (a fault included, as 3.8's failed
+//!     `getInput`) it halts a Running child and returns `otherwise`.
 //!
 //! After a tick, a node's status is what it returned when last ticked in the current
 //! activation of its parent, and `Idle` for nodes that were halted or left behind:
@@ -216,7 +236,8 @@ pub struct Executor<'t, 's, const DEPTH: usize> {
     tree: Tree<'t, DEPTH>,
     state: &'s mut [NodeState],
     stack: Stack<DEPTH>,
-    /// No `Parallel` or `Timeout` in the tree: see `Run::still_running`.
+    /// No node in the tree that ticks another child after one still Running (`Parallel`,
+    /// `Timeout`, ...): see `Run::still_running`.
     still_running: bool,
     /// The tree has a `TimeLimit`, `Delay` or `Sleep`: see `Run::timers`.
     #[cfg(feature = "btcpp")]
@@ -287,7 +308,7 @@ impl<'t, 's, const DEPTH: usize> Executor<'t, 's, DEPTH> {
         let nodes = tree.nodes();
         let still_running = !nodes.iter().any(|n| match n.kind() {
             NodeKind::Parallel { .. } | NodeKind::Timeout(_) => true,
-            NodeKind::ParallelAll { .. } | NodeKind::PipelineSequence => BTCPP,
+            NodeKind::ParallelAll { .. } | NodeKind::ParallelV3 { .. } | NodeKind::PipelineSequence => BTCPP,
             _ => false,
         });
         // Decided once: a tree of the papers' kinds ticks with the plain loop.

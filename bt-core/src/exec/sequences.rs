@@ -1,9 +1,10 @@
-//! BehaviorTree.CPP's and Nav2's sequences: `SequenceStar`, `PipelineSequence`,
-//! `RoundRobin`.
+//! BehaviorTree.CPP's and Nav2's sequences: `SequenceStar`, `SequenceStarV3`,
+//! `PipelineSequence`, `RoundRobin`.
 //!
 //! | kind | state | frame, side entry |
 //! |---|---|---|
 //! | `SequenceStar` | `aux`: the child to resume at (0: the first); kept through halts | `a`: the child ticked was Idle |
+//! | `SequenceStarV3` | `aux`: as `SequenceStar`'s; kept unless halted Running | — |
 //! | `PipelineSequence` | `aux`: the furthest child that ran (0: the first) | `ok` that child, `skipped`, `children` |
 //! | `RoundRobin` | `aux`: the next child (0-based), `ext`: failures; kept unless halted Running | `ok` next, `failed`, `skipped`, `children` |
 
@@ -23,7 +24,7 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         let first = idx + 1;
         let child = |aux: u16| if aux == 0 { first } else { usize::from(aux) };
         Ok(match kind {
-            NodeKind::SequenceStar => {
+            NodeKind::SequenceStar | NodeKind::SequenceStarV3 => {
                 let c = child(st.aux);
                 frame.a = u16::from(self.status(c) == NodeStatus::Idle);
                 Entered::Child(c)
@@ -61,8 +62,9 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
         let more = child_end < end;
         let done = |v| Ok(Ascent::Return(v));
         match kind {
-            NodeKind::SequenceStar => match r {
-                Status::Success if more && top.a == 1 => {
+            NodeKind::SequenceStar | NodeKind::SequenceStarV3 => match r {
+                // Version 4's wake-up; version 3 goes on to the next child.
+                Status::Success if more && top.a == 1 && *kind == NodeKind::SequenceStar => {
                     // BehaviorTree.CPP's wake-up: return, ask to be ticked again.
                     self.set_memory(node, child_end as u16, 0);
                     self.side.woken = true;
@@ -145,11 +147,11 @@ impl<B: BehaviorSet, O: Observer, const DEPTH: usize> Run<'_, B, O, DEPTH, true>
     }
 
     /// Whether a node of this family keeps its memory when reset: a `SequenceStar`
-    /// always, a `RoundRobin` unless it was Running.
+    /// always, a `SequenceStarV3` and a `RoundRobin` unless it was Running (halted).
     pub(super) fn sequences_keep(kind: &NodeKind, running: bool) -> bool {
         match kind {
             NodeKind::SequenceStar => true,
-            NodeKind::RoundRobin => !running,
+            NodeKind::SequenceStarV3 | NodeKind::RoundRobin => !running,
             _ => false,
         }
     }

@@ -40,6 +40,57 @@ pub struct Names {
     /// The constants of the image's ports section by index (not part of the names
     /// section: the controller reads them there).
     pub constants: Vec<Constant>,
+    /// The `BTCPP_format` of the BehaviorTree.CPP document the tree was imported from
+    /// (3 or 4), whose rules its XML is written by; 0 for trees made otherwise.
+    pub source_format: u8,
+    /// What the document the tree was imported from says of each node, in node order
+    /// (empty for trees made otherwise): what tools need to write it back as it was
+    /// written (scripts, loops, node names) and number it as its library does.
+    pub nodes: Vec<NodeSource>,
+    /// The document's SubTree nodes, which the flat tree has no nodes for.
+    pub subtrees: Vec<SubtreeSource>,
+}
+
+/// What the source document says of one node of the tree, which the bt-core node does
+/// not keep.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeSource {
+    /// Its registration ID (`Sequence`, `SetBlackboard`, `ComputePathToPose`).
+    pub id: String,
+    /// Its `name` attribute.
+    pub name: Option<String>,
+    /// BehaviorTree.CPP's node id: creation order from 1, SubTree nodes included.
+    pub uid: u16,
+    /// A built-in node's parameters as written (`num_cycles="-1"`), in document order:
+    /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
+    /// resolved value. Empty for leaves and plugin decorators (their ports are values).
+    pub params: Vec<(String, String)>,
+    /// For a script node or a guard: its attributes as the XML of the flattened tree
+    /// writes them, each script with every key as that tree names it (a key a SubTree
+    /// remaps becomes its parent's, a SubTree's local key a name made of its instance's
+    /// path; a guard's attributes go on the node it guards). `None` for other nodes,
+    /// whose `params` are written as they are.
+    pub flat: Option<Vec<(String, String)>>,
+}
+
+/// A `<SubTree>` node of the source document: BehaviorTree.CPP keeps it as a node (with
+/// a uid and a status), the flattened tree does not.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SubtreeSource {
+    /// The node its subtree's root became.
+    pub node: u16,
+    /// BehaviorTree.CPP's node id.
+    pub uid: u16,
+    /// The subtree's ID.
+    pub id: String,
+    /// Its `name` attribute.
+    pub name: Option<String>,
+    /// The node's `_fullpath`.
+    pub path: String,
+    /// The instance's path (the `_fullpath` of its `<BehaviorTree>`).
+    pub instance: String,
+    /// Its port attributes as written.
+    pub attrs: Vec<(String, String)>,
 }
 
 /// One behavior as the names section records it.

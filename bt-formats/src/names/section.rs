@@ -7,7 +7,8 @@
 //!
 //! | version | fields |
 //! |--------:|--------|
-//! | 2 (written) | title `String`; tree ID `String`; behaviors: list of (name `String`, action `bool`, arity `u8`, values: list of (name `String`, port: `Option` of (direction `u8`: 0 input, 1 output, 2 in/out; type `u8` as [`bt_core::PortType`]; type name `String`; default `Option<String>`))); value names: list of `String`; slot names: list of `String`; enums: list of (name `String`, value `i64` zigzag varint) |
+//! | 3 (written) | version 2's, then the source document's `BTCPP_format` `u8` (0: none), the source nodes: list of (ID `String`; name `Option<String>`; uid `u16`; parameters: list of (`String`, `String`); flat: `Option` of such a list), then the SubTree nodes: list of (node `u16`; uid `u16`; ID `String`; name `Option<String>`; path `String`; instance `String`; attributes: list of (`String`, `String`)) |
+//! | 2 (read) | title `String`; tree ID `String`; behaviors: list of (name `String`, action `bool`, arity `u8`, values: list of (name `String`, port: `Option` of (direction `u8`: 0 input, 1 output, 2 in/out; type `u8` as [`bt_core::PortType`]; type name `String`; default `Option<String>`))); value names: list of `String`; slot names: list of `String`; enums: list of (name `String`, value `i64` zigzag varint) |
 //! | 1 (read) | title; behaviors: list of (name, action, arity, parameter names: list of `String`); value names |
 //!
 //! A behavior's list of values is empty or has one entry per value (its arity). The
@@ -17,17 +18,17 @@
 use bt_core::{LeafKind, PortDirection, PortType};
 use serde::{Deserialize, Serialize};
 
-use super::{BehaviorNames, Declared, Names, Param};
+use super::{BehaviorNames, Declared, Names, NodeSource, Param, SubtreeSource};
 
 /// The version of the names section's layout this build writes.
-pub const FORMAT: u8 = 2;
+pub const FORMAT: u8 = 3;
 
 /// Why a names section could not be read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum NamesError {
     /// The section is of a layout this build does not know.
-    #[error("names section format {0} is not supported (this build reads formats 1 and {FORMAT})")]
+    #[error("names section format {0} is not supported (this build reads formats 1 to {FORMAT})")]
     Format(u8),
     /// The bytes do not decode, or decode to names that contradict themselves.
     #[error("names section is malformed: {0}")]
@@ -45,6 +46,36 @@ struct V2 {
     values: Vec<String>,
     slots: Vec<String>,
     enums: Vec<(String, i64)>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct V3 {
+    v2: V2,
+    source_format: u8,
+    nodes: Vec<NodeV3>,
+    subtrees: Vec<SubtreeV3>,
+}
+
+type Attrs = Vec<(String, String)>;
+
+#[derive(Serialize, Deserialize)]
+struct NodeV3 {
+    id: String,
+    name: Option<String>,
+    uid: u16,
+    params: Attrs,
+    flat: Option<Attrs>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SubtreeV3 {
+    node: u16,
+    uid: u16,
+    id: String,
+    name: Option<String>,
+    path: String,
+    instance: String,
+    attrs: Attrs,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -129,20 +160,50 @@ impl Names {
             slots: self.slots.clone(),
             enums: self.enums.clone(),
         };
+        let v3 = V3 {
+            v2,
+            source_format: self.source_format,
+            nodes: self
+                .nodes
+                .iter()
+                .map(|n| NodeV3 {
+                    id: n.id.clone(),
+                    name: n.name.clone(),
+                    uid: n.uid,
+                    params: n.params.clone(),
+                    flat: n.flat.clone(),
+                })
+                .collect(),
+            subtrees: self
+                .subtrees
+                .iter()
+                .map(|s| SubtreeV3 {
+                    node: s.node,
+                    uid: s.uid,
+                    id: s.id.clone(),
+                    name: s.name.clone(),
+                    path: s.path.clone(),
+                    instance: s.instance.clone(),
+                    attrs: s.attrs.clone(),
+                })
+                .collect(),
+        };
         let mut out = vec![FORMAT];
         // Serializing strings and vectors into a Vec cannot fail.
-        out.extend(postcard::to_allocvec(&v2).unwrap_or_default());
+        out.extend(postcard::to_allocvec(&v3).unwrap_or_default());
         out
     }
 
-    /// Reads a section body, of this layout or of version 1 (no ports, slots or enums).
+    /// Reads a section body, of this layout, of version 2 (no source nodes) or of
+    /// version 1 (no ports, slots or enums either).
     ///
     /// # Errors
     /// [`NamesError::Format`] for another layout version, [`NamesError::Malformed`] for
     /// bytes that do not decode or a behavior whose values do not match its arity.
     pub fn from_section(bytes: &[u8]) -> Result<Self, NamesError> {
         let names = match bytes.split_first() {
-            Some((&FORMAT, rest)) => from_v2(whole::<V2>(rest)?)?,
+            Some((&FORMAT, rest)) => from_v3(whole::<V3>(rest)?)?,
+            Some((&2, rest)) => from_v2(whole::<V2>(rest)?)?,
             Some((&1, rest)) => from_v1(whole::<V1>(rest)?),
             Some((&other, _)) => return Err(NamesError::Format(other)),
             None => return Err(NamesError::Malformed("empty".to_string())),
@@ -173,6 +234,30 @@ fn from_v1(t: V1) -> Names {
         })
         .collect();
     Names { title: t.title, behaviors, values: t.values, ..Names::default() }
+}
+
+fn from_v3(t: V3) -> Result<Names, NamesError> {
+    let mut names = from_v2(t.v2)?;
+    names.source_format = t.source_format;
+    names.nodes = t
+        .nodes
+        .into_iter()
+        .map(|n| NodeSource { id: n.id, name: n.name, uid: n.uid, params: n.params, flat: n.flat })
+        .collect();
+    names.subtrees = t
+        .subtrees
+        .into_iter()
+        .map(|s| SubtreeSource {
+            node: s.node,
+            uid: s.uid,
+            id: s.id,
+            name: s.name,
+            path: s.path,
+            instance: s.instance,
+            attrs: s.attrs,
+        })
+        .collect();
+    Ok(names)
 }
 
 fn from_v2(t: V2) -> Result<Names, NamesError> {
@@ -215,7 +300,7 @@ fn from_v2(t: V2) -> Result<Names, NamesError> {
         values: t.values,
         slots: t.slots,
         enums: t.enums,
-        constants: Vec::new(),
+        ..Names::default()
     })
 }
 
@@ -251,6 +336,23 @@ mod tests {
             slots: vec!["goal".into()],
             enums: vec![("RED".into(), 1), ("BLUE".into(), -2)],
             constants: Vec::new(),
+            source_format: 3,
+            nodes: vec![NodeSource {
+                id: "SetBlackboard".into(),
+                name: Some("init".into()),
+                uid: 2,
+                params: vec![("value".into(), "1".into()), ("output_key".into(), "k".into())],
+                flat: Some(vec![("output_key".into(), "S_3_k".into())]),
+            }],
+            subtrees: vec![SubtreeSource {
+                node: 1,
+                uid: 3,
+                id: "S".into(),
+                name: None,
+                path: "S::3".into(),
+                instance: "S::3".into(),
+                attrs: vec![("x".into(), "{a}".into())],
+            }],
         }
     }
 
@@ -259,6 +361,19 @@ mod tests {
         let names = sample();
         let bytes = names.to_section();
         assert_eq!(bytes[0], FORMAT);
+        assert_eq!(Names::from_section(&bytes), Ok(names));
+    }
+
+    #[test]
+    fn version_2_sections_read_without_source_nodes() {
+        let mut names = sample();
+        names.nodes.clear();
+        names.subtrees.clear();
+        names.source_format = 0;
+        // Version 3 is version 2's fields then the format and two lists, all 0 here.
+        let mut bytes = names.to_section();
+        assert_eq!(bytes.split_off(bytes.len() - 3), [0, 0, 0]);
+        bytes[0] = 2;
         assert_eq!(Names::from_section(&bytes), Ok(names));
     }
 
@@ -278,7 +393,7 @@ mod tests {
     fn bad_sections_are_named() {
         assert_eq!(Names::from_section(&[]), Err(NamesError::Malformed("empty".into())));
         assert_eq!(Names::from_section(&[7, 0]), Err(NamesError::Format(7)));
-        assert!(matches!(Names::from_section(&[2, 200]), Err(NamesError::Malformed(_))));
+        assert!(matches!(Names::from_section(&[3, 200]), Err(NamesError::Malformed(_))));
         let mut b = Names::default().to_section();
         b.push(0);
         assert_eq!(Names::from_section(&b), Err(NamesError::Malformed("1 byte after the table".into())));

@@ -206,7 +206,8 @@ impl<'t> RunLog<'t> {
         if let Some((m, c)) = self.replay.take_left_running() {
             self.left_running = Some((tick, m, c));
         }
-        if let Some(what) = q.wrong.take().or(refusal) {
+        // A node the replay cannot follow explains what goes wrong after it.
+        if let Some(what) = refusal.or_else(|| q.wrong.take()) {
             return Err(Mismatch { tick, what });
         }
         if let Some(&c) = q.early.first() {

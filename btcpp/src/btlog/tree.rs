@@ -99,6 +99,31 @@ pub enum Kind {
         /// The status when the queue is empty.
         if_empty: u8,
     },
+    /// BehaviorTree.CPP 3's `SequenceStar`.
+    SequenceStarV3,
+    /// BehaviorTree.CPP 3's `Parallel`: `success_threshold`, `failure_threshold`.
+    ParallelV3 {
+        /// `success_threshold`.
+        success: i32,
+        /// `failure_threshold`.
+        failure: i32,
+    },
+    /// `Repeat` or `RetryUntilSuccessful` with a count read from the blackboard, or
+    /// BehaviorTree.CPP 3's (whose cycles run within the tick).
+    Cycles {
+        /// The count (-1: no limit); `None` when read from the blackboard.
+        count: Option<i32>,
+        /// `RetryUntilSuccessful`.
+        retry: bool,
+        /// BehaviorTree.CPP 3's.
+        v3: bool,
+    },
+    /// BehaviorTree.CPP 3's `BlackboardCheck*`: its `return_on_mismatch` status; its
+    /// comparison's result is asked as a leaf's.
+    Check(u8),
+    /// A plugin decorator a model declares (bt-core's `Gate`: Nav2's
+    /// `DistanceController`, `GoalUpdater`, ...): its answer is asked as a leaf's.
+    Gate,
 }
 
 impl Kind {
@@ -120,6 +145,9 @@ impl Kind {
                 | Self::SubTree
                 | Self::Precondition(_)
                 | Self::Loop { .. }
+                | Self::Cycles { .. }
+                | Self::Check(_)
+                | Self::Gate
         )
     }
 }
@@ -170,7 +198,7 @@ impl Hooks {
 /// A leaf type's model, as registered in the factory.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct LeafModel {
-    /// `Action` or `Condition`.
+    /// `Action`, `Condition`, or `Decorator` (a plugin decorator's).
     pub tag: &'static str,
     /// Registration ID.
     pub id: String,
@@ -309,7 +337,7 @@ impl LogTree {
         uids: &[u16],
         names: &[Option<String>],
         params: &[Option<&[(String, String)]>],
-        subtrees: &[crate::xml::lower::SubtreeMeta],
+        subtrees: &[bt_formats::names::SubtreeSource],
         ids: &[&str],
         values: impl Fn(&bt_core::Leaf) -> Vec<u16>,
     ) -> Result<Self, NotExpressible> {
@@ -323,7 +351,7 @@ impl LogTree {
                 open.pop();
             }
             // SubTree nodes whose subtree's root is node i, outermost first.
-            for s in subtrees.iter().filter(|s| s.node == i) {
+            for s in subtrees.iter().filter(|s| usize::from(s.node) == i) {
                 let idx = out.len();
                 if let Some(&(p, _)) = open.last() {
                     out[p].children.push(idx);
@@ -379,7 +407,7 @@ impl LogTree {
                 out[p].children.push(idx);
             }
             let (kind, element, attrs, default_name) = match n.kind() {
-                NodeKind::Condition(leaf) | NodeKind::Action(leaf) => {
+                NodeKind::Condition(leaf) | NodeKind::Action(leaf) | NodeKind::Gate(leaf) => {
                     let b = leaf.behavior();
                     let name = catalog.info(b).map_or_else(|| format!("behavior{b}"), |i| i.name.to_string());
                     let element = type_id(&name);
@@ -397,7 +425,11 @@ impl LogTree {
                             )
                         })
                         .collect();
-                    let kind = if matches!(n.kind(), NodeKind::Condition(_)) { Kind::Condition } else { Kind::Action };
+                    let kind = match n.kind() {
+                        NodeKind::Condition(_) => Kind::Condition,
+                        NodeKind::Gate(_) => Kind::Gate,
+                        _ => Kind::Action,
+                    };
                     let default_name = if element == name { None } else { Some(name) };
                     (kind, element, attr_order(given, &[]), default_name)
                 }
@@ -455,10 +487,21 @@ impl LogTree {
             return Err(NotExpressible { node: p.hooks.core, kind: "Guard" });
         }
         let mut models = Vec::new();
+        // The behaviors gates ask are the plugin decorators' models.
+        let gates: Vec<u16> = nodes
+            .iter()
+            .filter_map(|n| if let NodeKind::Gate(leaf) = n.kind() { Some(leaf.behavior()) } else { None })
+            .collect();
         for b in 0..catalog.len() {
             let Ok(b) = u16::try_from(b) else { break };
             let Some(info) = catalog.info(b) else { continue };
-            let tag = if info.kind == bt_core::LeafKind::Condition { "Condition" } else { "Action" };
+            let tag = if gates.contains(&b) {
+                "Decorator"
+            } else if info.kind == bt_core::LeafKind::Condition {
+                "Condition"
+            } else {
+                "Action"
+            };
             let ports = (0..usize::from(info.arity))
                 .map(|pos| match catalog.port(b, pos) {
                     Some(p) => (

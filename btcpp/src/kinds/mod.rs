@@ -1,7 +1,11 @@
 //! The node types of BehaviorTree.CPP 4.10 (with the v3 names it still reads) and Nav2's
-//! control nodes, in one table ([`TABLE`]): for each, its registration ID, shape and
-//! ports, the bt-core kind it becomes and how its parameters map to that kind's fields,
-//! both ways, and what a Groot2 log writes for it.
+//! control nodes, in one table ([`TABLE`]), and those of BehaviorTree.CPP 3.8 that
+//! differ from them ([`TABLE_V3`]): for each, its registration ID, shape and ports, the
+//! bt-core kind it becomes and how its parameters map to that kind's fields, both ways,
+//! and what a Groot2 log writes for it. A document is read with the node types of its
+//! version ([`by_id_in`]): version 4's [`TABLE`]; version 3's [`TABLE_V3`] and the
+//! entries of [`TABLE`] that 3.8 has with the same ports and semantics
+//! ([`Entry::v3`]).
 //!
 //! Everything that names a built-in node reads the table: lowering
 //! ([`crate::xml::lower`]: XML ID to [`NodeKind`], the import's refusals and port
@@ -27,15 +31,21 @@
 
 mod params;
 mod table;
+mod v3;
 
 use bt_core::script::Element;
 use bt_core::{NodeKind, PortType};
 
-pub use params::{Params, boolean, count, cycles, int, period, rate, refuse, span, status, status_code, status_name};
+pub use params::{
+    Compared, Count, Params, boolean, count, count_of, cycles, int, period, rate, refuse, span, status, status_code,
+    status_name,
+};
 pub use table::TABLE;
+pub use v3::TABLE_V3;
 
 use crate::btlog::tree::Kind;
 use crate::error::Result;
+use crate::xml::document::Version;
 
 /// How many children a node type takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -189,6 +199,10 @@ pub struct Entry {
     /// Its model as BehaviorTree.CPP 4.10 writes it into a log whose tree has one, when
     /// it is not among the factory's built-ins (`btlog/builtin-models.xml`).
     pub log_model: Option<&'static str>,
+    /// For an entry of [`TABLE`]: whether BehaviorTree.CPP 3.8 (and Nav2 humble) has the
+    /// node type with the same ports and semantics, so that version 3 documents read
+    /// it too. Always true in [`TABLE_V3`].
+    pub v3: bool,
 }
 
 impl Entry {
@@ -220,11 +234,29 @@ impl Entry {
     }
 }
 
-/// The node type with this ID, reading the v3 names (`SequenceStar`,
-/// `RetryUntilSuccesful`) as their v4 successors.
+/// The node type with this ID in a BehaviorTree.CPP 4 document (`SequenceStar` read as
+/// its successor `SequenceWithMemory`, as BehaviorTree.CPP 4 reads it).
 #[must_use]
 pub fn by_id(id: &str) -> Option<&'static Entry> {
-    TABLE.iter().find(|e| e.id == id || e.aliases.contains(&id))
+    by_id_in(id, Version::V4)
+}
+
+/// The node type with this ID in a document of `version`: [`TABLE`] for version 4;
+/// [`TABLE_V3`], then the entries of [`TABLE`] 3.8 shares, for version 3.
+#[must_use]
+pub fn by_id_in(id: &str, version: Version) -> Option<&'static Entry> {
+    let named = |e: &&Entry| e.id == id || e.aliases.contains(&id);
+    match version {
+        Version::V4 => TABLE.iter().find(named),
+        Version::V3 => TABLE_V3.iter().find(named).or_else(|| TABLE.iter().filter(|e| e.v3).find(named)),
+    }
+}
+
+/// Whether `id` is a built-in node type of either version (its models in a document
+/// are skipped: BehaviorTree.CPP's own, as it writes them into logs and Groot files).
+#[must_use]
+pub fn is_builtin(id: &str) -> bool {
+    [Version::V4, Version::V3].into_iter().any(|v| by_id_in(id, v).is_some_and(|e| e.origin == Origin::BehaviorTreeCpp))
 }
 
 /// The node type a kind is written as, with its parameters and log kind (`children`:
@@ -233,11 +265,29 @@ pub fn by_id(id: &str) -> Option<&'static Entry> {
 /// for the kinds the writers handle themselves (leaves, guards, loops).
 #[must_use]
 pub fn written(kind: &NodeKind, children: usize) -> Option<(&'static Entry, Written)> {
-    TABLE.iter().find_map(|e| match e.map {
+    TABLE.iter().chain(TABLE_V3).find_map(|e| match e.map {
         Map::Plain(k, log) if k == *kind => Some((e, Written { params: Vec::new(), log })),
         Map::Params { write, .. } => write(kind, children).map(|w| (e, w)),
         _ => None,
     })
+}
+
+/// [`written`], under the node type `id` names when it is one that writes `kind` (an
+/// imported `SetBlackboard`, which is a `Script`; a version 3 node type), else as
+/// [`written`] names it.
+#[must_use]
+pub fn written_as(kind: &NodeKind, children: usize, id: Option<&str>) -> Option<(&'static Entry, Written)> {
+    let named = id
+        .into_iter()
+        .flat_map(|id| TABLE.iter().chain(TABLE_V3).filter(move |e| e.id == id || e.aliases.contains(&id)));
+    named
+        .filter_map(|e| match e.map {
+            Map::Plain(k, log) if k == *kind => Some((e, Written { params: Vec::new(), log })),
+            Map::Params { write, .. } => write(kind, children).map(|w| (e, w)),
+            _ => None,
+        })
+        .next()
+        .or_else(|| written(kind, children))
 }
 
 /// The element type of a built-in loop (`LoopInt`, ...).

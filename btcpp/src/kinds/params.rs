@@ -31,10 +31,63 @@ pub trait Params {
     /// # Errors
     /// The script's fault, with its place.
     fn script(&mut self, port: &'static str) -> Result<Code>;
+    /// `SetBlackboard`'s program, compiled into the tree's value table: its `value`
+    /// (a string, or a `{key}` copied) assigned to the key its `output_key` names.
+    ///
+    /// # Errors
+    /// A missing parameter; an `output_key` that is a `{key}`.
+    fn set_blackboard(&mut self) -> Result<Code>;
+    /// The slot of parameter `port` when it is a `{key}` without a literal to start at
+    /// (typed `int`, as a count), else `None`.
+    ///
+    /// # Errors
+    /// A key of another type.
+    fn count_slot(&mut self, port: &'static str) -> Result<Option<u16>>;
+    /// A `BlackboardCheck*` node's comparison of `value_A` and `value_B` as values of
+    /// `ty`, compiled into the tree's value table.
+    ///
+    /// # Errors
+    /// A parameter missing; the value table full.
+    fn comparison(&mut self, ty: Compared) -> Result<Code>;
 
     /// Where attribute `port` is, else where the node is.
     fn at_of(&self, port: &str) -> &Location {
         self.attr(port).map_or_else(|| self.at(), |(_, at)| at)
+    }
+}
+
+/// The type a `BlackboardCheck*` node compares its values as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Compared {
+    /// `BlackboardCheckInt`.
+    Int,
+    /// `BlackboardCheckDouble` (equal within `f32`'s epsilon).
+    Double,
+    /// `BlackboardCheckString`.
+    String,
+    /// `BlackboardCheckBool`.
+    Bool,
+}
+
+/// What a count parameter (`num_cycles`, `num_attempts`) gives: a literal count, or a
+/// blackboard slot read on every tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Count {
+    /// The count ([`NodeKind::FOREVER`]: no limit).
+    Literal(u16),
+    /// The slot holding it.
+    Slot(u16),
+}
+
+/// A count parameter: a `{key}` is read on every tick, as BehaviorTree.CPP reads it;
+/// else as [`cycles`].
+///
+/// # Errors
+/// As [`cycles`], or a key of another type than an integer.
+pub fn count_of(p: &mut dyn Params, port: &'static str) -> Result<Count> {
+    match p.count_slot(port)? {
+        Some(slot) => Ok(Count::Slot(slot)),
+        None => Ok(Count::Literal(cycles(p, port)?)),
     }
 }
 
@@ -155,11 +208,12 @@ pub fn span(p: &dyn Params, port: &'static str) -> Result<Span> {
 
 /// Nav2's `RateController` rate (`hz`) as its period in milliseconds, rounded up so
 /// the rate is never exceeded (less a hair, so that the rate [`rate`] writes for a
-/// period reads back as it).
+/// period reads back as it). A period longer than `now` counts (2^32 ms, 49.7 days:
+/// Nav2's `hz="0.0000001"`, "plan once") never expires: [`Span::NEVER`].
 ///
 /// # Errors
 /// [`Fault::BadLiteral`] for a rate that is not a number; [`Fault::Unsupported`] for one
-/// of 0 or less, or whose period is longer than [`Span::MAX`].
+/// of 0 or less, or whose period is longer than [`Span::MAX`] and shorter than 2^32 ms.
 pub fn period(p: &dyn Params, port: &'static str) -> Result<Span> {
     let Some((text, at)) = p.text(port)? else {
         return Err(ImportError::new(p.at(), Fault::MissingAttribute { element: p.id().to_string(), attribute: port }));
@@ -169,17 +223,28 @@ pub fn period(p: &dyn Params, port: &'static str) -> Result<Span> {
         _ => return Err(bad_literal(p, &at, port, text, "double")),
     };
     let ms = if hz > 0.0 { (1000.0 / hz * (1.0 - 1e-12)).ceil() } else { f64::INFINITY };
+    if ms.is_finite() && ms > f64::from(u32::MAX) {
+        return Ok(Span::NEVER);
+    }
     (ms.is_finite() && ms <= f64::from(Span::MAX)).then(|| Span::new(ms as u32)).flatten().ok_or_else(|| {
         refuse(
             &at,
             format!("<{} {port}=\"{text}\">", p.id()),
-            "the rate must be above 0 and its period at most 16,777,215 ms",
+            if hz > 0.0 {
+                "its period is longer than 16,777,215 ms (4 h 39 min), the longest a controller's 24-bit start time measures, and shorter than 2^32 ms (49.7 days), beyond which it is read as never expiring"
+            } else {
+                "the rate must be above 0"
+            },
         )
     })
 }
 
-/// The rate that gives a period back, as written.
+/// The rate that gives a period back, as written (Nav2's "plan once" rate for
+/// [`Span::NEVER`]).
 #[must_use]
 pub fn rate(period: Span) -> String {
+    if period == Span::NEVER {
+        return "0.0000001".to_string();
+    }
     (1000.0 / f64::from(period.get())).to_string()
 }

@@ -6,36 +6,52 @@ use bt_core::script::Element;
 
 use super::Origin::{BehaviorTreeCpp, Nav2};
 use super::Shape::{AnyNumber, Control, Decorator, Leaf, Two, TwoOrThree};
-use super::params::{boolean, count, cycles, int, period, rate, refuse, span, status, status_code};
+use super::params::{Count, boolean, count, count_of, int, period, rate, refuse, span, status, status_code};
+use super::v3::write_cycles;
 use super::{Attrs, Entry, LOOP_LOG_DEFAULTS, LOOP_PORTS, Map, Port, Shape, Written};
 use crate::btlog::tree::Kind;
 
 const SWITCH: &str = "it compares blackboard strings at run time; write the cases as a Fallback of Sequences, each a condition and its branch";
-const BLACKBOARD: &str = "it writes or removes blackboard entries of any type at run time; give the value to an output port of an Action instead";
+const UNSET: &str = "it removes a blackboard entry at run time, and a controller's slots stay; give an output port of an Action the value instead";
 const UPDATED: &str = "it watches blackboard sequence numbers, which a controller's slots do not keep";
 const NO_KIND: &str = "bt-core has no node kind with its semantics";
 
-const fn port(name: &'static str, ty: bt_core::PortType, default: Option<&'static str>) -> Port {
+pub(super) const fn port(name: &'static str, ty: bt_core::PortType, default: Option<&'static str>) -> Port {
     Port { name, ty, default }
 }
 
-/// An entry without aliases, log defaults or log model.
-const fn entry(id: &'static str, shape: Shape, ports: &'static [Port], map: Map) -> Entry {
-    Entry { id, aliases: &[], origin: BehaviorTreeCpp, shape, ports, map, log_defaults: &[], log_model: None }
+/// An entry without aliases, log defaults or log model, of version 4 only.
+pub(super) const fn entry(id: &'static str, shape: Shape, ports: &'static [Port], map: Map) -> Entry {
+    Entry {
+        id,
+        aliases: &[],
+        origin: BehaviorTreeCpp,
+        shape,
+        ports,
+        map,
+        log_defaults: &[],
+        log_model: None,
+        v3: false,
+    }
+}
+
+/// An entry BehaviorTree.CPP 3.8 shares (see [`Entry::v3`]).
+const fn both(e: Entry) -> Entry {
+    Entry { v3: true, ..e }
 }
 
 /// A node type that is always the same kind.
-const fn plain(id: &'static str, shape: Shape, kind: NodeKind, log: Kind) -> Entry {
+pub(super) const fn plain(id: &'static str, shape: Shape, kind: NodeKind, log: Kind) -> Entry {
     entry(id, shape, &[], Map::Plain(kind, log))
 }
 
 /// A node type that is refused.
-const fn refused(id: &'static str, shape: Shape, ports: &'static [Port], why: &'static str) -> Entry {
+pub(super) const fn refused(id: &'static str, shape: Shape, ports: &'static [Port], why: &'static str) -> Entry {
     entry(id, shape, ports, Map::Refused(why))
 }
 
 /// A node type whose parameters `read` and `write` map.
-const fn params(
+pub(super) const fn params(
     id: &'static str,
     shape: Shape,
     ports: &'static [Port],
@@ -61,16 +77,17 @@ const fn with_attrs(e: Entry, attrs: Attrs) -> Entry {
     }
 }
 
+/// Nav2's: its humble release (BehaviorTree.CPP 3.8) runs them as its later ones do.
 const fn nav2(e: Entry, log_model: &'static str) -> Entry {
-    Entry { origin: Nav2, log_model: Some(log_model), ..e }
+    Entry { origin: Nav2, log_model: Some(log_model), v3: true, ..e }
 }
 
-fn written(params: Vec<(&'static str, String)>, log: Kind) -> Option<Written> {
+pub(super) fn written(params: Vec<(&'static str, String)>, log: Kind) -> Option<Written> {
     Some(Written { params, log })
 }
 
 /// A span as written: whole milliseconds.
-fn ms(s: bt_core::Span) -> String {
+pub(super) fn ms(s: bt_core::Span) -> String {
     s.get().to_string()
 }
 
@@ -80,14 +97,14 @@ pub const TABLE: &[Entry] = &[
     // Reactive and with-memory sequences and fallbacks. BehaviorTree.CPP's `Sequence`
     // resumes at the running child; its `SequenceWithMemory` also keeps its place after
     // a failure (bt-core's `SequenceStar`).
-    plain("Sequence", Control, NodeKind::SequenceWithMemory, Kind::Sequence),
-    plain("Fallback", Control, NodeKind::FallbackWithMemory, Kind::Fallback),
+    both(plain("Sequence", Control, NodeKind::SequenceWithMemory, Kind::Sequence)),
+    both(plain("Fallback", Control, NodeKind::FallbackWithMemory, Kind::Fallback)),
     Entry {
         aliases: &["SequenceStar"],
         ..plain("SequenceWithMemory", Control, NodeKind::SequenceStar, Kind::SequenceWithMemory)
     },
-    plain("ReactiveSequence", Control, NodeKind::Sequence, Kind::ReactiveSequence),
-    plain("ReactiveFallback", Control, NodeKind::Fallback, Kind::ReactiveFallback),
+    both(plain("ReactiveSequence", Control, NodeKind::Sequence, Kind::ReactiveSequence)),
+    both(plain("ReactiveFallback", Control, NodeKind::Fallback, Kind::ReactiveFallback)),
     // A negative count is counted from the number of children; a success count that
     // counts skipped children was negative in the XML.
     with_defaults(
@@ -164,35 +181,45 @@ pub const TABLE: &[Entry] = &[
         ),
         &[("max_failures", "1")],
     ),
-    plain("IfThenElse", TwoOrThree, NodeKind::IfThenElse, Kind::IfThenElse),
+    both(plain("IfThenElse", TwoOrThree, NodeKind::IfThenElse, Kind::IfThenElse)),
     plain("WhileDoElse", TwoOrThree, NodeKind::WhileDoElse, Kind::WhileDoElse),
-    plain("Inverter", Decorator, NodeKind::Inverter, Kind::Inverter),
-    plain("ForceSuccess", Decorator, NodeKind::ForceSuccess, Kind::ForceSuccess),
-    plain("ForceFailure", Decorator, NodeKind::ForceFailure, Kind::ForceFailure),
+    both(plain("Inverter", Decorator, NodeKind::Inverter, Kind::Inverter)),
+    both(plain("ForceSuccess", Decorator, NodeKind::ForceSuccess, Kind::ForceSuccess)),
+    both(plain("ForceFailure", Decorator, NodeKind::ForceFailure, Kind::ForceFailure)),
+    // A `{key}` count is read on every tick (a `Cycles`).
     params(
         "Repeat",
         Decorator,
         &[port("num_cycles", Int, None)],
-        |p| Ok(NodeKind::RepeatCycles(cycles(p, "num_cycles")?)),
-        |k, _| {
-            let NodeKind::RepeatCycles(n) = *k else { return None };
-            written(vec![("num_cycles", count(n).to_string())], Kind::Repeat(count(n)))
+        |p| {
+            Ok(match count_of(p, "num_cycles")? {
+                Count::Literal(n) => NodeKind::RepeatCycles(n),
+                Count::Slot(s) => NodeKind::Cycles { count: s, from_slot: true, retry: false, v3: false },
+            })
+        },
+        |k, _| match *k {
+            NodeKind::RepeatCycles(n) => written(vec![("num_cycles", count(n).to_string())], Kind::Repeat(count(n))),
+            _ => write_cycles(k, false, false),
         },
     ),
-    Entry {
-        aliases: &["RetryUntilSuccesful"],
-        ..params(
-            "RetryUntilSuccessful",
-            Decorator,
-            &[port("num_attempts", Int, None)],
-            |p| Ok(NodeKind::RetryUntilSuccessful(cycles(p, "num_attempts")?)),
-            |k, _| {
-                let NodeKind::RetryUntilSuccessful(n) = *k else { return None };
+    params(
+        "RetryUntilSuccessful",
+        Decorator,
+        &[port("num_attempts", Int, None)],
+        |p| {
+            Ok(match count_of(p, "num_attempts")? {
+                Count::Literal(n) => NodeKind::RetryUntilSuccessful(n),
+                Count::Slot(s) => NodeKind::Cycles { count: s, from_slot: true, retry: true, v3: false },
+            })
+        },
+        |k, _| match *k {
+            NodeKind::RetryUntilSuccessful(n) => {
                 written(vec![("num_attempts", count(n).to_string())], Kind::Retry(count(n)))
-            },
-        )
-    },
-    plain("KeepRunningUntilFailure", Decorator, NodeKind::KeepRunningUntilFailure, Kind::KeepRunningUntilFailure),
+            }
+            _ => write_cycles(k, true, false),
+        },
+    ),
+    both(plain("KeepRunningUntilFailure", Decorator, NodeKind::KeepRunningUntilFailure, Kind::KeepRunningUntilFailure)),
     with_defaults(
         params(
             "RunOnce",
@@ -216,7 +243,7 @@ pub const TABLE: &[Entry] = &[
             written(vec![("msec", ms(s))], Kind::Timeout(s.get()))
         },
     ),
-    params(
+    both(params(
         "Delay",
         Decorator,
         &[port("delay_msec", Int, None)],
@@ -225,9 +252,9 @@ pub const TABLE: &[Entry] = &[
             let NodeKind::Delay(s) = *k else { return None };
             written(vec![("delay_msec", ms(s))], Kind::Delay(s.get()))
         },
-    ),
-    plain("AlwaysSuccess", Leaf, NodeKind::AlwaysSuccess, Kind::AlwaysSuccess),
-    plain("AlwaysFailure", Leaf, NodeKind::AlwaysFailure, Kind::AlwaysFailure),
+    )),
+    both(plain("AlwaysSuccess", Leaf, NodeKind::AlwaysSuccess, Kind::AlwaysSuccess)),
+    both(plain("AlwaysFailure", Leaf, NodeKind::AlwaysFailure, Kind::AlwaysFailure)),
     refused("AsyncSequence", Control, &[], NO_KIND),
     refused("AsyncFallback", Control, &[], NO_KIND),
     refused("TryCatch", Control, &[port("catch_on_halt", Bool, Some("false"))], NO_KIND),
@@ -305,8 +332,18 @@ pub const TABLE: &[Entry] = &[
         ),
         &[("else", "FAILURE")],
     ),
-    refused("SetBlackboard", Leaf, &[port("value", Any, None), port("output_key", Any, None)], BLACKBOARD),
-    refused("UnsetBlackboard", Leaf, &[port("key", Str, None)], BLACKBOARD),
+    // A `Script` assigning `value` to the key `output_key` names; written back as it.
+    both(with_attrs(
+        params(
+            "SetBlackboard",
+            Leaf,
+            &[port("value", Any, None), port("output_key", Any, None)],
+            |p| Ok(NodeKind::Script(p.set_blackboard()?)),
+            |k, _| matches!(k, NodeKind::Script(_)).then(|| Written { params: Vec::new(), log: Kind::Script }),
+        ),
+        Attrs::Script,
+    )),
+    refused("UnsetBlackboard", Leaf, &[port("key", Str, None)], UNSET),
     // Written from the kind: a `msec` a SubTree's literal gave is written as its value.
     with_attrs(
         params(
@@ -321,11 +358,11 @@ pub const TABLE: &[Entry] = &[
         ),
         Attrs::Kind,
     ),
-    refused("Switch2", Control, &[], SWITCH),
-    refused("Switch3", Control, &[], SWITCH),
-    refused("Switch4", Control, &[], SWITCH),
-    refused("Switch5", Control, &[], SWITCH),
-    refused("Switch6", Control, &[], SWITCH),
+    both(refused("Switch2", Control, &[], SWITCH)),
+    both(refused("Switch3", Control, &[], SWITCH)),
+    both(refused("Switch4", Control, &[], SWITCH)),
+    both(refused("Switch5", Control, &[], SWITCH)),
+    both(refused("Switch6", Control, &[], SWITCH)),
     looping("LoopInt", Element::Int),
     looping("LoopBool", Element::Bool),
     looping("LoopDouble", Element::Double),

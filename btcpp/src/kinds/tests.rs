@@ -58,8 +58,25 @@ impl Params for Stub {
         Ok(given.or(default).map(|v| (v, self.at.clone())))
     }
 
+    fn set_blackboard(&mut self) -> Result<Code> {
+        self.check("value");
+        self.check("output_key");
+        Ok(Code { start: 0, len: 1 })
+    }
+
     fn script(&mut self, port: &'static str) -> Result<Code> {
         self.check(port);
+        Ok(Code { start: 0, len: 1 })
+    }
+
+    fn count_slot(&mut self, port: &'static str) -> Result<Option<u16>> {
+        self.check(port);
+        Ok(None)
+    }
+
+    fn comparison(&mut self, _: Compared) -> Result<Code> {
+        self.check("value_A");
+        self.check("value_B");
         Ok(Code { start: 0, len: 1 })
     }
 }
@@ -70,7 +87,14 @@ fn required(entry: &Entry) -> Vec<(&'static str, String)> {
         .ports
         .iter()
         .filter(|p| p.default.is_none() && p.name != "wrap_around")
-        .map(|p| (p.name, if p.name == "if" || p.name == "code" { "x := 1".to_string() } else { "5".to_string() }))
+        .map(|p| {
+            let v = match p.name {
+                "if" | "code" => "x := 1",
+                name if name.ends_with("threshold") => "1",
+                _ => "5",
+            };
+            (p.name, v.to_string())
+        })
         .collect()
 }
 
@@ -78,15 +102,15 @@ fn children(entry: &Entry) -> usize {
     match entry.shape {
         Shape::Leaf => 0,
         Shape::Decorator => 1,
-        Shape::Two | Shape::TwoOrThree => 2,
-        Shape::Control | Shape::AnyNumber => 3,
+        Shape::Two => 2,
+        Shape::TwoOrThree | Shape::Control | Shape::AnyNumber => 3,
     }
 }
 
 #[test]
 fn every_kind_read_is_written_back_by_its_entry() {
     let mut read = 0;
-    for entry in TABLE {
+    for entry in TABLE.iter().chain(TABLE_V3) {
         let n = children(entry);
         let kind = match entry.map {
             Map::Refused(_) | Map::Loop(_) => continue,
@@ -100,7 +124,8 @@ fn every_kind_read_is_written_back_by_its_entry() {
         };
         read += 1;
         assert_eq!(Shape::of(&kind), entry.shape, "{}", entry.id);
-        let (back, written) = written(&kind, n).unwrap_or_else(|| panic!("{}: {kind:?} is not written", entry.id));
+        let (back, written) =
+            written_as(&kind, n, Some(entry.id)).unwrap_or_else(|| panic!("{}: {kind:?} is not written", entry.id));
         assert_eq!(back.id, entry.id);
         // Its parameters, read again, give the same kind.
         if let Map::Params { read, .. } = entry.map {
@@ -111,7 +136,7 @@ fn every_kind_read_is_written_back_by_its_entry() {
             assert_eq!(read(&mut stub).unwrap(), kind, "{}", entry.id);
         }
     }
-    assert_eq!(read, 29);
+    assert_eq!(read, 40);
 }
 
 #[test]
@@ -127,14 +152,25 @@ fn loops_are_found_by_element_and_id() {
 }
 
 #[test]
-fn ids_are_distinct_and_v3_names_read_as_v4() {
-    let mut ids: Vec<&str> =
-        TABLE.iter().flat_map(|e| std::iter::once(e.id).chain(e.aliases.iter().copied())).collect();
-    let all = ids.len();
-    ids.sort_unstable();
-    ids.dedup();
-    assert_eq!(ids.len(), all);
-    assert_eq!(by_id("RetryUntilSuccesful").unwrap().id, "RetryUntilSuccessful");
+fn ids_are_distinct_per_version_and_each_version_reads_its_own() {
+    for table in [TABLE, TABLE_V3] {
+        let mut ids: Vec<&str> =
+            table.iter().flat_map(|e| std::iter::once(e.id).chain(e.aliases.iter().copied())).collect();
+        let all = ids.len();
+        ids.sort_unstable();
+        ids.dedup();
+        assert_eq!(ids.len(), all);
+    }
+    use crate::xml::document::Version::{V3, V4};
+    // BehaviorTree.CPP 4 reads `SequenceStar` as its SequenceWithMemory; 3.8 has its own.
+    assert!(matches!(by_id_in("SequenceStar", V3).unwrap().map, Map::Plain(NodeKind::SequenceStarV3, _)));
+    assert!(matches!(by_id_in("SequenceStar", V4).unwrap().map, Map::Plain(NodeKind::SequenceStar, _)));
+    // The misspelt Retry of 3.5 and 3.6 is read in version 3 documents only.
+    assert_eq!(by_id_in("RetryUntilSuccesful", V3).unwrap().id, "RetryUntilSuccessful");
+    assert!(by_id("RetryUntilSuccesful").is_none());
+    // Version 4's nodes are not read in version 3 documents, nor 3's in 4's.
+    assert!(by_id_in("Script", V3).is_none() && by_id_in("BlackboardCheckInt", V4).is_none());
+    assert_eq!(by_id_in("Parallel", V3).unwrap().ports[0].name, "success_threshold");
     assert_eq!(nav2_controls(), "PipelineSequence, RecoveryNode and RoundRobin");
 }
 

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 use bt_core::{BehaviorId, BehaviorInfo, Catalog, LeafKind, PortInfo};
 
-use crate::error::{Fault, ImportError, Location, Result};
+use crate::error::{Location, Result};
 use crate::kinds::{self, Origin};
 use crate::xml::model::{ModelKind, NodeModel, PortModel, classify};
 
@@ -34,29 +34,33 @@ pub struct Models {
 }
 
 impl Models {
-    /// Collects `models`; the same ID twice must declare the same kind and ports.
-    /// Models of BehaviorTree.CPP's built-in nodes (which BehaviorTree.CPP itself writes
-    /// into logs and Groot2 files) are skipped.
+    /// Collects `models`, two of one ID made one ([`merge`](crate::xml::merge::merge):
+    /// differences of a port's type or default are not refused, the `--nodes` model
+    /// wins). Models of BehaviorTree.CPP's built-in nodes (which BehaviorTree.CPP itself
+    /// writes into logs and Groot2 files) are skipped.
     ///
     /// # Errors
-    /// [`Fault::ModelConflict`] at the second of two differing models.
+    /// [`Fault::ModelConflict`](crate::error::Fault::ModelConflict) at the second of two truly differing models.
     pub fn new(models: &[NodeModel]) -> Result<Self> {
+        Self::read(models, false)
+    }
+
+    /// [`Models::new`]; with `nodes_override`, a `--nodes` model wins outright over a
+    /// tree file's.
+    ///
+    /// # Errors
+    /// As [`Models::new`].
+    pub fn read(models: &[NodeModel], nodes_override: bool) -> Result<Self> {
         let mut by_id: BTreeMap<String, NodeModel> = BTreeMap::new();
         for m in models {
-            if m.kind != ModelKind::SubTree && kinds::by_id(&m.id).is_some_and(|e| e.origin == Origin::BehaviorTreeCpp)
-            {
+            if m.kind != ModelKind::SubTree && kinds::is_builtin(&m.id) {
                 continue;
             }
-            if let Some(first) = by_id.get(&m.id) {
-                if !first.same_as(m) {
-                    return Err(ImportError::new(
-                        &m.at,
-                        Fault::ModelConflict { id: m.id.clone(), first: first.at.clone() },
-                    ));
-                }
-                continue;
-            }
-            by_id.insert(m.id.clone(), m.clone());
+            let merged = match by_id.get(&m.id) {
+                Some(first) => crate::xml::merge::merge(first, m, nodes_override)?,
+                None => m.clone(),
+            };
+            by_id.insert(m.id.clone(), merged);
         }
         Ok(Self { by_id })
     }

@@ -7,12 +7,18 @@
 //! `main_tree_to_execute` is taken from the first file, a `<BehaviorTree>` without `ID`
 //! is allowed when it is its file's only one, and `<TreeNodesModel>` entries are
 //! collected from every file.
+//!
+//! The first file's `BTCPP_format` says which BehaviorTree.CPP reads the document, and
+//! so by which version's rules ([`Version`]): `4` by BehaviorTree.CPP 4's, `3` or none
+//! by BehaviorTree.CPP 3's (as Nav2 humble and older ship their trees). A library reads
+//! the files it is given by its own rules; a tree defined in a file that declares the
+//! other version is refused when the main tree uses it (see `flatten`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Fault, ImportError, Location, Result, Source};
-use crate::xml::model::{self, NodeModel};
+use crate::xml::model::{self, NodeModel, Origin};
 
 /// An XML element: a node of a tree, or a model.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -52,6 +58,33 @@ impl Element {
     }
 }
 
+/// The BehaviorTree.CPP version whose rules a document is read by.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Version {
+    /// BehaviorTree.CPP 3 (3.8): `<root>` without `BTCPP_format`, or with `BTCPP_format="3"`.
+    V3,
+    /// BehaviorTree.CPP 4: `<root BTCPP_format="4">`.
+    #[default]
+    V4,
+}
+
+impl Version {
+    /// The version a `BTCPP_format` attribute (or its absence) names.
+    #[must_use]
+    pub fn of(format: Option<&str>) -> Self {
+        if format == Some("4") { Self::V4 } else { Self::V3 }
+    }
+
+    /// As people name it: `BehaviorTree.CPP 3` or `BehaviorTree.CPP 4`.
+    #[must_use]
+    pub const fn library(self) -> &'static str {
+        match self {
+            Self::V3 => "BehaviorTree.CPP 3",
+            Self::V4 => "BehaviorTree.CPP 4",
+        }
+    }
+}
+
 /// One `<BehaviorTree>`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TreeDef {
@@ -61,6 +94,8 @@ pub struct TreeDef {
     pub root: Element,
     /// Where the `<BehaviorTree>` element is.
     pub at: Location,
+    /// The `BTCPP_format` its file declares (`None` when the file has none), with where.
+    pub format: Option<(String, Location)>,
 }
 
 /// Everything read from a tree file, its includes and the model files.
@@ -80,6 +115,14 @@ pub struct Document {
     seen: Vec<PathBuf>,
 }
 
+impl Document {
+    /// The version the document is read by: its first file's ([`Version::of`]).
+    #[must_use]
+    pub fn version(&self) -> Version {
+        Version::of(self.format.as_deref())
+    }
+}
+
 /// Reads a tree file, the files it includes, and model files.
 ///
 /// # Errors
@@ -89,10 +132,10 @@ pub fn read(tree_file: &Path, model_files: &[PathBuf]) -> Result<Document> {
     let mut doc = Document::default();
     for m in model_files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     let mut stack = Vec::new();
-    read_file(tree_file, &mut doc, &mut stack, true)?;
+    read_file(tree_file, &mut doc, &mut stack, true, Origin::InFile)?;
     Ok(doc)
 }
 
@@ -104,7 +147,7 @@ pub fn read_models(files: &[PathBuf]) -> Result<Document> {
     let mut doc = Document::default();
     for m in files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     Ok(doc)
 }
@@ -117,14 +160,14 @@ pub fn read_text(path: &Path, text: &str, model_files: &[PathBuf]) -> Result<Doc
     let mut doc = Document::default();
     for m in model_files {
         let mut stack = Vec::new();
-        read_file(m, &mut doc, &mut stack, false)?;
+        read_file(m, &mut doc, &mut stack, false, Origin::Given)?;
     }
     let mut stack = vec![path.to_path_buf()];
-    read_source(&Source::new(path, text.to_string()), &mut doc, &mut stack, true)?;
+    read_source(&Source::new(path, text.to_string()), &mut doc, &mut stack, true, Origin::InFile)?;
     Ok(doc)
 }
 
-fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool, origin: Origin) -> Result<()> {
     let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
     if let Some(i) = stack.iter().position(|p| *p == key) {
         let cycle: Vec<String> =
@@ -137,7 +180,7 @@ fn read_file(path: &Path, doc: &mut Document, stack: &mut Vec<PathBuf>, first: b
     doc.seen.push(key.clone());
     let text = read_bounded(path)?;
     stack.push(key);
-    let r = read_source(&Source::new(path, text), doc, stack, first);
+    let r = read_source(&Source::new(path, text), doc, stack, first, origin);
     stack.pop();
     r
 }
@@ -187,7 +230,7 @@ fn element(src: &Source, node: roxmltree::Node<'_, '_>, depth: usize) -> Result<
     Ok(Element { tag: node.tag_name().name().to_string(), attrs, children, at })
 }
 
-fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool) -> Result<()> {
+fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first: bool, origin: Origin) -> Result<()> {
     let opts = roxmltree::ParsingOptions { allow_dtd: false, ..roxmltree::ParsingOptions::default() };
     let xml = roxmltree::Document::parse_with_options(&src.text, opts).map_err(|e| {
         let pos = e.pos();
@@ -199,6 +242,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         return Err(ImportError::new(&root.at, Fault::NotRoot(root.tag.clone())));
     }
     let format = root.attr("BTCPP_format").map(str::to_string);
+    let declared = root.attr_at("BTCPP_format").map(|a| (a.value.clone(), a.at.clone()));
     if let Some(f) = &format
         && f != "3"
         && f != "4"
@@ -222,7 +266,7 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         };
         let base = src.path.parent().unwrap_or_else(|| Path::new(""));
         let target = base.join(rel);
-        read_file(&target, doc, stack, false).map_err(|e| match e.at {
+        read_file(&target, doc, stack, false, origin).map_err(|e| match e.at {
             // A file that cannot be read is reported at the <include> naming it.
             None if matches!(*e.fault, Fault::Read { .. }) => ImportError::new(&child.at, *e.fault),
             _ => e,
@@ -261,10 +305,10 @@ fn read_source(src: &Source, doc: &mut Document, stack: &mut Vec<PathBuf>, first
         if first {
             doc.own.push(id.clone());
         }
-        doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone() });
+        doc.trees.insert(id.clone(), TreeDef { id, root: child.clone(), at: bt.at.clone(), format: declared.clone() });
     }
     for models in root.children.iter().filter(|c| c.tag == "TreeNodesModel") {
-        doc.models.extend(model::read_models(models)?);
+        doc.models.extend(model::read_models(models, origin)?);
     }
     Ok(())
 }

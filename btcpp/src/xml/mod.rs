@@ -13,8 +13,10 @@ pub mod catalog;
 pub mod document;
 pub mod flatten;
 pub mod lower;
+pub mod merge;
 pub mod model;
 pub mod script;
+pub mod stub;
 mod view;
 pub(crate) mod write;
 
@@ -51,6 +53,9 @@ pub struct ImportOptions<'k> {
     /// own (`registerNodeType<LoopNode<Pose2D>>("LoopPose")`): read as loops over a
     /// blackboard queue, with the ports of `LoopInt` and the others.
     pub loops: Vec<String>,
+    /// A model of `models` wins outright over the tree file's model of the same node
+    /// type, however they differ (see [`merge`]).
+    pub nodes_override: bool,
 }
 
 impl std::fmt::Debug for ImportOptions<'_> {
@@ -62,6 +67,7 @@ impl std::fmt::Debug for ImportOptions<'_> {
             .field("enums", &self.enums)
             .field("casts", &self.casts)
             .field("loops", &self.loops)
+            .field("nodes_override", &self.nodes_override)
             .finish()
     }
 }
@@ -89,9 +95,9 @@ pub fn import_text(path: &Path, text: &str, options: &ImportOptions<'_>) -> Resu
 /// # Errors
 /// As [`import`].
 pub fn import_document(doc: &document::Document, options: &ImportOptions<'_>) -> Result<Imported> {
-    let models = Models::new(&doc.models)?;
+    let models = Models::read(&doc.models, options.nodes_override)?;
     let main = flatten::main_tree(doc, options.main.as_deref())?;
-    let flat = flatten::flatten(doc, main, &models.subtree_models())?;
+    let flat = flatten::flatten(doc, main, &models)?;
     let target = options.known.map_or(Target::Models, Target::Known);
     lower::lower(&flat, &models, target, &options.enums, &options.casts, &options.loops)
 }

@@ -34,7 +34,9 @@ impl ModelKind {
         }
     }
 
-    fn from_tag(tag: &str) -> Option<Self> {
+    /// The kind a model tag (or an explicit node element: `<Action ID>`) names.
+    #[must_use]
+    pub fn from_tag(tag: &str) -> Option<Self> {
         Some(match tag {
             "Action" => Self::Action,
             "Condition" => Self::Condition,
@@ -67,6 +69,17 @@ impl PortModel {
     }
 }
 
+/// Where a model comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// A file given as models (`--nodes`): what the C++ program registers, which
+    /// BehaviorTree.CPP goes by.
+    Given,
+    /// The tree file or a file it includes: a copy, as Groot saves it, which
+    /// BehaviorTree.CPP itself ignores.
+    InFile,
+}
+
 /// One `<Action ID>`, `<Condition ID>`, ... entry.
 #[derive(Clone, Debug)]
 pub struct NodeModel {
@@ -78,15 +91,11 @@ pub struct NodeModel {
     pub ports: Vec<PortModel>,
     /// Where the entry is.
     pub at: Location,
+    /// Which file it comes from.
+    pub origin: Origin,
 }
 
 impl NodeModel {
-    /// Same kind and ports (the location does not count).
-    #[must_use]
-    pub fn same_as(&self, other: &Self) -> bool {
-        self.id == other.id && self.kind == other.kind && self.ports == other.ports
-    }
-
     /// The port named `name`.
     #[must_use]
     pub fn port(&self, name: &str) -> Option<&PortModel> {
@@ -94,8 +103,8 @@ impl NodeModel {
     }
 }
 
-/// The entries of one `<TreeNodesModel>` element.
-pub(crate) fn read_models(models: &Element) -> Result<Vec<NodeModel>> {
+/// The entries of one `<TreeNodesModel>` element of a file of that origin.
+pub(crate) fn read_models(models: &Element, origin: Origin) -> Result<Vec<NodeModel>> {
     let mut out = Vec::new();
     for entry in &models.children {
         let Some(kind) = ModelKind::from_tag(&entry.tag) else {
@@ -124,7 +133,12 @@ pub(crate) fn read_models(models: &Element) -> Result<Vec<NodeModel>> {
             if ports.iter().any(|q| q.name == name) {
                 return Err(ImportError::new(
                     &p.at,
-                    Fault::ModelConflict { id: format!("{id}'s port {name}"), first: entry.at.clone() },
+                    Fault::ModelConflict {
+                        id: id.to_string(),
+                        first: entry.at.clone(),
+                        difference: format!("port `{name}` is declared twice in it"),
+                        hint: String::new(),
+                    },
                 ));
             }
             ports.push(PortModel {
@@ -134,15 +148,15 @@ pub(crate) fn read_models(models: &Element) -> Result<Vec<NodeModel>> {
                 default: p.attr("default").map(str::to_string),
             });
         }
-        out.push(NodeModel { id: id.to_string(), kind, ports, at: entry.at.clone() });
+        out.push(NodeModel { id: id.to_string(), kind, ports, at: entry.at.clone(), origin });
     }
     Ok(out)
 }
 
 /// The type class of a declared C++ type name. Integers of every width (and
 /// `std::chrono::milliseconds`, which BehaviorTree.CPP reads as an integer), `double`
-/// and `float`, `bool`, `std::string`; no type or `AnyTypeAllowed` is any type; every
-/// other type (messages, vectors, enums) is opaque.
+/// and `float`, `bool`, `std::string`; no type, `AnyTypeAllowed` or `BT::Any` is any
+/// type; every other type (messages, vectors, enums) is opaque.
 #[must_use]
 pub fn classify(type_name: Option<&str>) -> PortType {
     let Some(t) = type_name else {
@@ -154,7 +168,8 @@ pub fn classify(type_name: Option<&str>) -> PortType {
         return PortType::Int;
     }
     match t {
-        "" | "AnyTypeAllowed" | "BT::AnyTypeAllowed" => PortType::Any,
+        // Not strongly typed in BehaviorTree.CPP (`PortInfo::isStronglyTyped`).
+        "" | "AnyTypeAllowed" | "BT::AnyTypeAllowed" | "Any" | "BT::Any" => PortType::Any,
         "double" | "float" => PortType::Double,
         "bool" => PortType::Bool,
         "string" | "__cxx11::basic_string<char, std::char_traits<char>, std::allocator<char> >" => PortType::String,
@@ -227,6 +242,7 @@ mod tests {
         assert_eq!(classify(Some("geometry_msgs::msg::PoseStamped")), PortType::Other);
         assert_eq!(classify(Some("vector<int>")), PortType::Other);
         assert_eq!(classify(None), PortType::Any);
+        assert_eq!(classify(Some("BT::Any")), PortType::Any);
     }
 
     #[test]

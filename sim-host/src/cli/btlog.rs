@@ -62,9 +62,15 @@ fn ran(list: &str) -> Option<Vec<(usize, u8)>> {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let bytes = input::read(&args.image, Limit::IMAGE)?;
+    let fail = |e: &dyn std::fmt::Display| anyhow!("{}: {e}", args.image.display());
     let log_tree = catalogs::load_image(&args.image, &bytes, &args.nodes, |known, _, tree| {
-        LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref())
-            .map_err(|e| anyhow!("{}: {e}", args.image.display()))
+        // An image `import` wrote is logged as its document numbers it (SubTree nodes,
+        // scripts, node names); others as `export --format xml` writes them.
+        match btcpp::xml::Imported::from_image(&bytes).map_err(|e| fail(&e))? {
+            Some(imported) => LogTree::of_imported(&imported),
+            None => LogTree::with_values(tree.nodes(), tree.values(), known.catalog.as_ref()),
+        }
+        .map_err(|e| fail(&e))
     })?;
     let text = input::read_text(&args.from_trace, Limit::TRACE)?;
     let mut period_usec: i64 = 100_000;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use bt_core::{Catalog, MAX_ARGS};
+use bt_core::Catalog;
 use bt_formats::{ascii, dot, image::Image, tokens};
 use btcpp::xml::{ImportOptions, Imported, import};
 
@@ -27,21 +27,27 @@ pub enum Format {
     Tokens,
 }
 
-pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with BTCPP_format=\"4\", or \
-    v3-style as Nav2 humble ships) and writes the image a controller loads, or the tree in another \
-    notation.\n\n\
+pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document and writes the image a \
+    controller loads, or the tree in another notation. A document with BTCPP_format=\"4\" is read \
+    by BehaviorTree.CPP 4's rules; one without it by BehaviorTree.CPP 3.8's, as Nav2 humble and \
+    older ship them (SubTree remapping by name, __shared_blackboard, SubTreePlus, ${key}, 3.8's \
+    SequenceStar, Parallel thresholds, Repeat, RetryUntilSuccessful and BlackboardCheck*).\n\n\
     The main tree is --main, else the document's main_tree_to_execute, else its only tree. \
     <include path> is read relative to the including file; <SubTree> nodes are expanded per \
     instance with their port remapping ({parent_key}, literals, _autoremap, {=}, {@root_key}).\n\n\
     Leaf types and their ports come from <TreeNodesModel> in the document and in the --nodes \
     files (Nav2's nav2_tree_nodes.xml, a Groot2 project): the behavior set is every Action and \
-    Condition model, sorted by ID, and its fingerprint covers every port. `sim-host catalog` \
+    Condition model, sorted by ID, and its fingerprint covers every port. Two models of one node \
+    type that differ only in a port's type or default are one, the --nodes one winning (as \
+    BehaviorTree.CPP goes by what the program registers); other differences are an error \
+    naming both. `sim-host catalog` \
     prints the same set as the Rust table a controller compiles in. Port values become image \
     data: literals are constants typed as the model declares the port, {key}s are blackboard \
     slot numbers, ports left out are unset (the behavior's default).\n\n\
     The image carries a names section that the controller never reads: the behavior set's \
     names and ports (name, direction, type, default), the blackboard keys, the scripting \
-    enums and a title naming the tree, so that `inspect`, `export` and `btlog` show the tree as it \
+    enums, each node as the document wrote it (ID, name, parameters, scripts, SubTree nodes) \
+    and a title naming the tree, so that `inspect`, `export` and `btlog` show the tree as it \
     is written here without the model files (`deploy --strip-names` sends the image \
     without it).\n\n\
     Script, ScriptCondition, Precondition and the scripted attributes (_skipIf, _while, \
@@ -57,9 +63,9 @@ pub const LONG_ABOUT: &str = "Imports a BehaviorTree.CPP XML document (v4 with B
     the controller's behavior set (BehaviorSet::select: a teleoperation command, a button) on \
     every tick which child to tick or which status to return.\n\n\
     What a controller cannot run is refused with file:line:column and the construct named, \
-    and nothing is written: Switch, blackboard writers, building strings in \
-    scripts, node types no model declares, ports a model does not declare, literals on \
-    output ports.\n\n\
+    and nothing is written: Switch, UnsetBlackboard, building strings in scripts, ports a \
+    model does not declare, literals on version 4 output ports. Node types no model declares \
+    are listed all at once; `sim-host catalog --stub TREE.xml` writes models for them.\n\n\
     --behaviors NAME reads XML that `sim-host plan/export --format xml` wrote for a built-in \
     behavior set (a brick task or PDDL domain) back into that set, giving the same image.";
 
@@ -79,6 +85,11 @@ pub struct Args {
     /// creates the tree (repeatable).
     #[arg(long = "nodes", value_name = "MODELS.xml")]
     pub nodes: Vec<PathBuf>,
+    /// A --nodes model wins over the tree file's model of the same node type, however
+    /// they differ (without it, models that differ in more than a port's type or default
+    /// are an error naming both).
+    #[arg(long)]
+    pub nodes_override: bool,
     /// The tree to import instead of main_tree_to_execute.
     #[arg(long, value_name = "ID")]
     pub main: Option<String>,
@@ -150,6 +161,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         enums: args.enums.clone(),
         casts: args.casts.clone(),
         loops: args.loops.clone(),
+        nodes_override: args.nodes_override,
     };
     let imported = import(&args.tree, &options)?;
     let bytes = match &known {
@@ -199,12 +211,10 @@ fn render(format: Format, imported: &Imported, title: &str) -> anyhow::Result<Ve
         Format::Ascii => lines(ascii::to_ascii_with(&imported.nodes, &imported.values, imported)?),
         Format::Dot => dot::to_dot_with(&imported.nodes, &imported.values, imported).into_bytes(),
         Format::Xml => imported.to_xml()?.into_bytes(),
-        Format::Tokens if !imported.values.is_empty() => anyhow::bail!(
-            "--format tokens cannot write leaves with more than {MAX_ARGS} arguments (this tree has some); \
-             write it with --format ascii, dot, xml or image"
-        ),
         Format::Tokens => {
-            let mut t = tokens::to_string(&imported.nodes, imported)?;
+            let ids: Vec<&str> = imported.meta.iter().map(|m| m.id.as_str()).collect();
+            let mut t = super::export::token_text(&imported.nodes, imported, &ids)
+                .map_err(|e| anyhow::anyhow!("{e}; write it with --format ascii, dot, xml or image"))?;
             t.push('\n');
             t.into_bytes()
         }

@@ -67,6 +67,23 @@ pub struct Tick {
     pub statuses: String,
 }
 
+impl Tick {
+    /// A harness's `tick` line after the word: `N ROOT | EVENTS | STATUSES`.
+    ///
+    /// # Errors
+    /// What is missing.
+    pub fn parse(rest: &str) -> Result<Self, &'static str> {
+        let parts: Vec<&str> = rest.splitn(3, " | ").collect();
+        let [head, events, statuses] = parts[..] else { return Err("bad tick line") };
+        let root = head.split(' ').nth(1).and_then(|s| s.chars().next()).ok_or("no root status")?;
+        Ok(Self {
+            root,
+            events: events.split(' ').filter(|e| !e.is_empty()).map(str::to_string).collect(),
+            statuses: statuses.to_string(),
+        })
+    }
+}
+
 /// A case with what BehaviorTree.CPP did.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Recorded {
@@ -129,16 +146,7 @@ pub fn parse_fixtures(text: &str) -> Result<Vec<Recorded>, String> {
                 });
             }
             "xml" => c.xml = rest.to_string(),
-            "tick" => {
-                let parts: Vec<&str> = rest.splitn(3, " | ").collect();
-                let [head, events, statuses] = parts[..] else { return Err(at("bad tick line")) };
-                let root = head.split(' ').nth(1).and_then(|s| s.chars().next()).ok_or_else(|| at("no root status"))?;
-                c.recorded.push(Tick {
-                    root,
-                    events: events.split(' ').filter(|e| !e.is_empty()).map(str::to_string).collect(),
-                    statuses: statuses.to_string(),
-                });
-            }
+            "tick" => c.recorded.push(Tick::parse(rest).map_err(at)?),
             "error" => c.error = Some(rest.to_string()),
             "runaway" => c.error = Some("runaway".to_string()),
             "end" => {

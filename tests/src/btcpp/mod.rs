@@ -6,3 +6,4 @@ pub mod case;
 pub mod generate;
 pub mod run;
 pub mod spec;
+pub mod v3;

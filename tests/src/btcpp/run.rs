@@ -485,88 +485,151 @@ pub fn compare(rec: &Recorded, ours: &[Tick]) -> Result<Comparison, String> {
         if want.events.iter().any(|e| e.starts_with('h')) {
             return Err(fail("BehaviorTree.CPP halted an action that was not Running"));
         }
-        // Walk both event lists. Where we halt and BehaviorTree.CPP does not, the halts
-        // must be followed by an action starting in both (halt before start); each such
-        // halt must come later in BehaviorTree.CPP's tick, or the run has diverged by
-        // design. Consecutive halts at the start of a tick (timers) may come in any order.
-        let mut theirs: Vec<&String> = want.events.iter().collect();
-        // Script runs are ours only (the harness does not list them).
-        let mine: Vec<&String> = got.events.iter().filter(|e| !e.starts_with('$')).collect();
-        let (mut i, mut j) = (0usize, 0usize);
-        if mine.first().is_some_and(|e| is_halt(e)) {
-            let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();
-            let (mut a, mut b) = (lead(&theirs), lead(&mine));
-            a.sort();
-            b.sort();
-            if a == b {
-                i = a.len();
-                j = b.len();
-            }
-        }
-        while j < mine.len() {
-            if i < theirs.len() && theirs[i] == mine[j] {
-                i += 1;
-                j += 1;
-                continue;
-            }
-            if !is_halt(mine[j]) {
-                return Err(fail("different events"));
-            }
-            let run_end = (j..mine.len()).find(|&t| !is_halt(mine[t])).unwrap_or(mine.len());
-            let start = mine.get(run_end);
-            let starts_action = start.is_some_and(|c| c.ends_with(['S', 'F', 'R']) && is_action(rec, c));
-            if !starts_action || theirs.get(i) != start {
-                return Err(fail("a halt that is not before a start"));
-            }
-            for h in &mine[j..run_end] {
-                // BehaviorTree.CPP halts it later in the tick, without ticking it in
-                // between: only the order differs. Otherwise it went on running it.
-                let node = &h[1..];
-                let continued = |e: &&String| e.strip_prefix(node).is_some_and(|s| s.len() == 1);
-                match theirs[i..].iter().position(|e| e == h) {
-                    Some(p) if !theirs[i..i + p].iter().any(continued) => {
-                        theirs.remove(i + p);
-                        cmp.halts_moved_earlier += 1;
-                    }
-                    _ => {
-                        cmp.restarted_at = Some(k);
-                        return Ok(cmp);
-                    }
-                }
-            }
-            j = run_end;
-        }
-        if i != theirs.len() {
-            return Err(fail("BehaviorTree.CPP did more"));
-        }
-        if want.root != got.root {
-            return Err(fail("root status differs"));
-        }
-        let running = |s: &str| s.chars().map(|c| c == 'R').collect::<Vec<_>>();
-        if running(&want.statuses) != running(&got.statuses) {
-            return Err(fail("different nodes Running after the tick"));
-        }
         let view = btcpp_view(&rec.case.spec, &got.statuses);
-        if want.statuses != view {
-            // The only difference allowed: a finished status BehaviorTree.CPP left
-            // behind under a node it had reset (it resets a node, not its subtree),
-            // where bt-core's node is Idle.
-            let theirs: Vec<char> = want.statuses.chars().collect();
-            let parents = parents(&rec.case.spec);
-            for (n, (w, g)) in theirs.iter().zip(view.chars()).enumerate() {
-                let stale = g == 'I' && matches!(w, 'S' | 'F') && parents[n].is_some_and(|p| theirs[p] != 'R');
-                if w != &g && !stale {
-                    return Err(fail(&format!("node {n} shows {w} in BehaviorTree.CPP, {g} here")));
-                }
+        let parents = parents(&rec.case.spec);
+        let ours = Ours { tick: got, running: &got.statuses, view: &view };
+        match compare_tick(want, &ours, &|n| parents.get(n).copied().flatten(), &|call| is_action(rec, call), &mut cmp)
+        {
+            Ok(Walked::Same) => {}
+            Ok(Walked::Restarted) => {
+                cmp.restarted_at = Some(k);
+                return Ok(cmp);
             }
-            cmp.ticks_with_other_statuses += 1;
+            Err(what) => return Err(fail(&what)),
         }
-        cmp.ticks += 1;
     }
     if rec.ticks.len() != ours.len() {
         return Err(format!("{}: {} ticks recorded, {} run", rec.case.name, rec.ticks.len(), ours.len()));
     }
     Ok(cmp)
+}
+
+/// Our tick, for [`compare_tick`]: the tick, the statuses whose Running nodes must be
+/// BehaviorTree.CPP's, and the statuses as BehaviorTree.CPP shows them.
+#[derive(Debug)]
+pub struct Ours<'a> {
+    /// Our tick.
+    pub tick: &'a Tick,
+    /// Statuses per recorded node, for the Running ones.
+    pub running: &'a str,
+    /// Statuses as BehaviorTree.CPP shows them.
+    pub view: &'a str,
+}
+
+/// Compares one tick of ours with BehaviorTree.CPP's `want`: the same leaf calls and
+/// halts ([`walk_events`]), root status and nodes Running, and the same statuses as
+/// BehaviorTree.CPP shows them but for a finished status it left behind under a node it
+/// had reset (it resets a node, not its subtree), where bt-core's node is Idle (counted
+/// in `cmp`). `parent` gives each recorded node's parent.
+///
+/// # Errors
+/// What differs.
+pub fn compare_tick(
+    want: &Tick,
+    ours: &Ours<'_>,
+    parent: &dyn Fn(usize) -> Option<usize>,
+    is_action: &dyn Fn(&str) -> bool,
+    cmp: &mut Comparison,
+) -> Result<Walked, String> {
+    if walk_events(&want.events, &ours.tick.events, is_action, cmp)? == Walked::Restarted {
+        return Ok(Walked::Restarted);
+    }
+    if want.root != ours.tick.root {
+        return Err("root status differs".into());
+    }
+    let running = |s: &str| s.chars().map(|c| c == 'R').collect::<Vec<_>>();
+    if running(&want.statuses) != running(ours.running) {
+        return Err("different nodes Running after the tick".into());
+    }
+    if want.statuses != ours.view {
+        let theirs: Vec<char> = want.statuses.chars().collect();
+        for (n, (w, g)) in theirs.iter().zip(ours.view.chars()).enumerate() {
+            let stale = g == 'I' && matches!(w, 'S' | 'F') && parent(n).is_some_and(|p| theirs[p] != 'R');
+            if *w != g && !stale {
+                return Err(format!("node {n} shows {w} in BehaviorTree.CPP, {g} here"));
+            }
+        }
+        cmp.ticks_with_other_statuses += 1;
+    }
+    cmp.ticks += 1;
+    Ok(Walked::Same)
+}
+
+/// How the events of one tick compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walked {
+    /// The same, but for halts moved earlier by halt before start.
+    Same,
+    /// Halt before start halted a branch that BehaviorTree.CPP went on running: the runs
+    /// differ by design from here.
+    Restarted,
+}
+
+/// Walks the events of one tick, BehaviorTree.CPP's (`want`) and ours (`got`, with our
+/// script runs, `$...`, left out). Where we halt and BehaviorTree.CPP does not, the
+/// halts must be followed by an action starting in both (halt before start,
+/// `starts_action` tells a call that does); each such halt must come later in
+/// BehaviorTree.CPP's tick, or the run has diverged by design. Consecutive halts at the
+/// start of a tick (timers) may come in any order. Counts the halts moved earlier.
+///
+/// # Errors
+/// What differs, in words.
+pub fn walk_events(
+    want: &[String],
+    got: &[String],
+    starts_action: &dyn Fn(&str) -> bool,
+    cmp: &mut Comparison,
+) -> Result<Walked, &'static str> {
+    if want.iter().any(|e| e.starts_with('h')) {
+        return Err("BehaviorTree.CPP halted an action that was not Running");
+    }
+    let mut theirs: Vec<&String> = want.iter().collect();
+    let mine: Vec<&String> = got.iter().filter(|e| !e.starts_with('$')).collect();
+    let (mut i, mut j) = (0usize, 0usize);
+    if mine.first().is_some_and(|e| is_halt(e)) {
+        let lead = |v: &[&String]| v.iter().take_while(|e| is_halt(e)).map(|e| e.to_string()).collect::<Vec<_>>();
+        let (mut a, mut b) = (lead(&theirs), lead(&mine));
+        a.sort();
+        b.sort();
+        if a == b {
+            i = a.len();
+            j = b.len();
+        }
+    }
+    while j < mine.len() {
+        if i < theirs.len() && theirs[i] == mine[j] {
+            i += 1;
+            j += 1;
+            continue;
+        }
+        if !is_halt(mine[j]) {
+            return Err("different events");
+        }
+        let run_end = (j..mine.len()).find(|&t| !is_halt(mine[t])).unwrap_or(mine.len());
+        let start = mine.get(run_end);
+        if !start.is_some_and(|c| starts_action(c)) || theirs.get(i) != start {
+            return Err("a halt that is not before a start");
+        }
+        for h in &mine[j..run_end] {
+            // BehaviorTree.CPP halts it later in the tick, without ticking it in
+            // between: only the order differs. Otherwise it went on running it.
+            let node = &h[1..];
+            let continued =
+                |e: &&String| e.strip_prefix(node).is_some_and(|s| s.starts_with(['S', 'F', 'R', 's', 'f', 'r']));
+            match theirs[i..].iter().position(|e| e == h) {
+                Some(p) if !theirs[i..i + p].iter().any(continued) => {
+                    theirs.remove(i + p);
+                    cmp.halts_moved_earlier += 1;
+                }
+                _ => return Ok(Walked::Restarted),
+            }
+        }
+        j = run_end;
+    }
+    if i != theirs.len() {
+        return Err("BehaviorTree.CPP did more");
+    }
+    Ok(Walked::Same)
 }
 
 /// Each node's parent, pre-order.
@@ -584,7 +647,11 @@ fn parents(spec: &Spec) -> Vec<Option<usize>> {
     out
 }
 
+/// Whether `call` starts an action of the case (a call whose letter is upper case).
 fn is_action(rec: &Recorded, call: &str) -> bool {
+    if !call.ends_with(['S', 'F', 'R']) {
+        return false;
+    }
     let node: usize = call.trim_end_matches(|c: char| c.is_ascii_alphabetic()).parse().unwrap_or(usize::MAX);
     rec.case.scripts.iter().any(|s| s.node == node && s.action)
 }

@@ -89,6 +89,9 @@ impl Replay<'_> {
                 }
                 if s == FAILURE { FAILURE } else { RUNNING }
             }
+            Kind::SequenceStarV3 | Kind::ParallelV3 { .. } | Kind::Cycles { .. } | Kind::Check(_) | Kind::Gate => {
+                self.tick_v3(i, leaves)
+            }
             Kind::AlwaysSuccess => SUCCESS,
             Kind::AlwaysFailure => FAILURE,
             Kind::Sequence | Kind::SequenceWithMemory | Kind::Fallback => {

@@ -43,6 +43,7 @@
 //! the transitions are BehaviorTree.CPP's.
 
 mod kinds;
+mod v3;
 
 use bt_core::Selection;
 use bt_core::script::Hook;

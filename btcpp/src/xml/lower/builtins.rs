@@ -7,6 +7,7 @@ use bt_core::{Code, NodeKind};
 use super::Lowerer;
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::{Entry, Map, Params, Port, refuse};
+use crate::xml::document::Version;
 use crate::xml::flatten::{Inst, Value};
 
 impl Lowerer<'_> {
@@ -76,6 +77,18 @@ impl Params for NodeParams<'_, '_, '_> {
     fn script(&mut self, port: &'static str) -> Result<Code> {
         self.l.script_code(self.n, port)
     }
+
+    fn set_blackboard(&mut self) -> Result<Code> {
+        self.l.set_blackboard(self.n)
+    }
+
+    fn count_slot(&mut self, port: &'static str) -> Result<Option<u16>> {
+        self.l.count_slot(self.n, port)
+    }
+
+    fn comparison(&mut self, ty: crate::kinds::Compared) -> Result<Code> {
+        self.l.comparison(self.n, ty)
+    }
 }
 
 /// Refuses a port the node type does not have.
@@ -93,6 +106,31 @@ pub(super) fn check_ports(n: &Inst, ports: &[Port]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The refusal of a node no model declares that is a built-in of the other
+/// BehaviorTree.CPP version than the document's.
+pub(super) fn of_the_other_version(n: &Inst, version: Version) -> Option<ImportError> {
+    let other = match version {
+        Version::V3 => Version::V4,
+        Version::V4 => Version::V3,
+    };
+    crate::kinds::by_id_in(&n.id, other)?;
+    let how = match version {
+        Version::V3 => "it has no BTCPP_format=\"4\"; add it if the document is written for BehaviorTree.CPP 4",
+        Version::V4 => {
+            "it has BTCPP_format=\"4\"; leave the attribute out if the document is written for BehaviorTree.CPP 3"
+        }
+    };
+    Some(unsupported(
+        &n.at,
+        &n.id,
+        &format!(
+            "it is a node type of {}, and the document is read as {} ({how}); or declare it in a <TreeNodesModel> if the program registers a node of its own under that ID",
+            other.library(),
+            version.library(),
+        ),
+    ))
 }
 
 /// Refuses node type `id`.

@@ -19,6 +19,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+mod blackboard;
 mod builtins;
 mod leaves;
 mod loops;
@@ -31,10 +32,13 @@ use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortDirection
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::{self, Shape};
 use crate::xml::catalog::{Models, XmlCatalog};
-use crate::xml::flatten::{Bound, Flat, Inst, Key, Value, blackboard_key, resolve};
+use crate::xml::document::Version;
+use crate::xml::flatten::{Bound, Flat, Inst, Key, Value};
 use crate::xml::model::{Literal, ModelKind};
 use crate::xml::script;
 
+pub use blackboard::stoi;
+pub use bt_formats::names::{NodeSource, SubtreeSource};
 pub use scripts::script_name;
 
 /// A blackboard slot of an imported tree.
@@ -46,47 +50,6 @@ pub struct Slot {
     pub info: SlotInfo,
     /// The C++ type of the first port that uses it.
     pub type_name: Option<String>,
-}
-
-/// What BehaviorTree.CPP knows about a node that the bt-core node does not keep.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct NodeMeta {
-    /// Registration ID (`Sequence`, `ComputePathToPose`).
-    pub id: String,
-    /// The `name` attribute.
-    pub name: Option<String>,
-    /// BehaviorTree.CPP's node id.
-    pub uid: u16,
-    /// A built-in node's parameters as written (`num_cycles="-1"`), in document order:
-    /// what BehaviorTree.CPP writes back into its logs, where bt-core keeps only the
-    /// resolved value. Empty for leaves and plugin decorators (their ports are values).
-    pub params: Vec<(String, String)>,
-    /// For a script node or a guard: its attributes as the XML of the flattened tree
-    /// writes them, each script with every key as that tree names it (a key a SubTree
-    /// remaps becomes its parent's, a SubTree's local key its [`script_name`]; a
-    /// guard's attributes go on the node it guards). `None` for other nodes, whose
-    /// `params` are written as they are.
-    pub flat: Option<Vec<(String, String)>>,
-}
-
-/// A `<SubTree>` node of the document: BehaviorTree.CPP keeps it as a node (with a uid
-/// and status), bt-core does not.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct SubtreeMeta {
-    /// The bt-core node its subtree's root became.
-    pub node: usize,
-    /// BehaviorTree.CPP's node id.
-    pub uid: u16,
-    /// The subtree's ID.
-    pub id: String,
-    /// The `name` attribute.
-    pub name: Option<String>,
-    /// The node's `_fullpath`.
-    pub path: String,
-    /// The instance's path (the `_fullpath` of its `<BehaviorTree>`).
-    pub instance: String,
-    /// Its port attributes as written.
-    pub attrs: Vec<(String, String)>,
 }
 
 /// Which behavior set leaves resolve against.
@@ -129,12 +92,14 @@ pub struct Imported {
     pub slots: Vec<Slot>,
     /// Constants.
     pub constants: Vec<Literal>,
-    /// Per node, parallel to `nodes`.
-    pub meta: Vec<NodeMeta>,
+    /// What the document says of each node, parallel to `nodes`.
+    pub meta: Vec<NodeSource>,
     /// The SubTree nodes, in uid order.
-    pub subtrees: Vec<SubtreeMeta>,
+    pub subtrees: Vec<SubtreeSource>,
     /// The scripting enums the scripts were compiled with, as given.
     pub enums: Vec<(String, i64)>,
+    /// The rules the document was read by, which [`Imported::to_xml`] writes it for.
+    pub version: Version,
 }
 
 impl Imported {
@@ -192,12 +157,14 @@ pub fn lower(
             meta: Vec::new(),
             subtrees: Vec::new(),
             enums: enums.to_vec(),
+            version: flat.version,
         },
         slot_ids: BTreeMap::new(),
         slot_first: Vec::new(),
         constant_ids: BTreeMap::new(),
     };
     l.collect_written(&flat.root);
+    l.check_declared(&flat.root)?;
     l.node(&flat.root)?;
     l.out.subtrees.sort_by_key(|s| s.uid);
     let mut out = l.out;
@@ -229,6 +196,40 @@ struct Lowerer<'a> {
 }
 
 impl Lowerer<'_> {
+    /// Refuses, at once, every node type the tree uses that is neither a built-in (of
+    /// either version: the other version's are refused by name where they are lowered)
+    /// nor declared by a model nor registered as a loop, with where each is first used.
+    fn check_declared(&self, root: &Inst) -> Result<()> {
+        let mut undeclared: Vec<(String, Location)> = Vec::new();
+        let mut stack = vec![root];
+        while let Some(n) = stack.pop() {
+            stack.extend(n.children.iter().rev());
+            if n.is_subtree || undeclared.iter().any(|(id, _)| *id == n.id) {
+                continue;
+            }
+            let known = match &self.known {
+                Some((_, names)) => {
+                    names.contains_key(&n.id) || n.name.as_deref().is_some_and(|m| names.contains_key(m))
+                }
+                None => self.models.get(&n.id).is_some(),
+            };
+            let other_builtin = kinds::is_builtin(&n.id);
+            let a_loop = n.id.starts_with("Loop") && n.ports.iter().any(|b| b.port == "queue");
+            if !(known
+                || other_builtin
+                || a_loop
+                || self.loops.contains(&n.id)
+                || kinds::by_id_in(&n.id, self.flat.version).is_some())
+            {
+                undeclared.push((n.id.clone(), n.at.clone()));
+            }
+        }
+        match undeclared.first() {
+            None => Ok(()),
+            Some((_, at)) => Err(ImportError::new(at, Fault::Undeclared { nodes: undeclared.clone() })),
+        }
+    }
+
     fn collect_written(&mut self, root: &Inst) {
         let mut stack = vec![root];
         while let Some(n) = stack.pop() {
@@ -236,17 +237,21 @@ impl Lowerer<'_> {
             for hook in &n.hooks {
                 if let Ok(script) = script::parse(&hook.raw) {
                     for name in script.assigned() {
-                        self.written.insert(resolve(&self.flat.scopes, n.hook_scope, name));
+                        self.written.insert(self.flat.resolve(n.hook_scope, name));
                     }
                 }
             }
-            if kinds::by_id(&n.id).is_some_and(kinds::Entry::takes_scripts)
+            if kinds::by_id_in(&n.id, self.flat.version).is_some_and(kinds::Entry::takes_scripts)
                 && let Some(code) = n.ports.iter().find(|b| b.port == "code" || b.port == "if")
                 && let Ok(script) = script::parse(&code.raw)
             {
                 for name in script.assigned() {
-                    self.written.insert(resolve(&self.flat.scopes, n.scope, name));
+                    self.written.insert(self.flat.resolve(n.scope, name));
                 }
+            }
+            if n.id == "SetBlackboard" && kinds::by_id_in(&n.id, self.flat.version).is_some() {
+                self.written.extend(blackboard::set_blackboard_key(self, n));
+                continue;
             }
             if kinds::loop_element(&n.id).is_some() || self.loops.contains(&n.id) {
                 // A loop writes its `value`. Its `{queue}` it pops in place only when a
@@ -270,9 +275,11 @@ impl Lowerer<'_> {
                 let key = match n.ports.iter().find(|x| x.port == p.name) {
                     Some(Bound { value: Value::Key(k), .. }) => Some(k.clone()),
                     Some(_) => None,
-                    None => {
-                        p.default.as_deref().and_then(blackboard_key).map(|k| resolve(&self.flat.scopes, n.scope, k))
-                    }
+                    None => p
+                        .default
+                        .as_deref()
+                        .and_then(|d| self.flat.port_key(&p.name, d))
+                        .map(|k| self.flat.resolve(n.scope, k)),
                 };
                 if let Some(k) = &key {
                     self.ported.insert(k.clone());
@@ -292,7 +299,13 @@ impl Lowerer<'_> {
                 return Err(ImportError::new(&n.at, Fault::TooLarge(format!("more than {} nodes", u16::MAX))));
             }
             self.out.nodes.push(Node::EMPTY);
-            self.out.meta.push(NodeMeta { id: "Guard".into(), name: None, uid: n.uid, params: Vec::new(), flat: None });
+            self.out.meta.push(NodeSource {
+                id: "Guard".into(),
+                name: None,
+                uid: n.uid,
+                params: Vec::new(),
+                flat: None,
+            });
             let kind = self.guard(n)?;
             self.node_unguarded(n)?;
             let size = u16::try_from(self.out.nodes.len() - index)
@@ -306,8 +319,9 @@ impl Lowerer<'_> {
     fn node_unguarded(&mut self, n: &Inst) -> Result<()> {
         if n.is_subtree {
             let attrs = n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect();
-            self.out.subtrees.push(SubtreeMeta {
-                node: self.out.nodes.len(),
+            self.out.subtrees.push(SubtreeSource {
+                // Trees of more nodes than a u16 counts are refused later.
+                node: u16::try_from(self.out.nodes.len()).unwrap_or(u16::MAX),
                 uid: n.uid,
                 id: n.id.clone(),
                 name: n.name.clone(),
@@ -326,12 +340,12 @@ impl Lowerer<'_> {
         }
         self.out.nodes.push(Node::EMPTY);
         // A built-in's parameters as written (a leaf's or a gate's ports are its values).
-        let params = if kinds::by_id(&n.id).is_some() || self.loops.contains(&n.id) {
+        let params = if kinds::by_id_in(&n.id, self.flat.version).is_some() || self.loops.contains(&n.id) {
             n.ports.iter().map(|b| (b.port.clone(), b.raw.clone())).collect()
         } else {
             Vec::new()
         };
-        self.out.meta.push(NodeMeta { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat: None });
+        self.out.meta.push(NodeSource { id: n.id.clone(), name: n.name.clone(), uid: n.uid, params, flat: None });
         let (kind, shape) = self.kind(n)?;
         if !shape.fits(n.children.len()) {
             return Err(ImportError::new(
@@ -350,7 +364,7 @@ impl Lowerer<'_> {
 
     /// The bt-core kind of a node and how many children it takes.
     fn kind(&mut self, n: &Inst) -> Result<(NodeKind, Shape)> {
-        if let Some(entry) = kinds::by_id(&n.id) {
+        if let Some(entry) = kinds::by_id_in(&n.id, self.flat.version) {
             return Ok((self.builtin(n, entry)?, entry.shape));
         }
         if self.loops.contains(&n.id) {
@@ -391,6 +405,7 @@ impl Lowerer<'_> {
         if n.id.starts_with("Loop") && n.ports.iter().any(|b| b.port == "queue") {
             return Err(ImportError::new(&n.at, Fault::UnknownLoop(n.id.clone())));
         }
-        Err(ImportError::new(&n.at, Fault::UnknownNode(n.id.clone())))
+        Err(builtins::of_the_other_version(n, self.flat.version)
+            .unwrap_or_else(|| ImportError::new(&n.at, Fault::UnknownNode(n.id.clone()))))
     }
 }

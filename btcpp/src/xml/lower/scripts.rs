@@ -6,7 +6,7 @@ use bt_core::{Code, NodeKind, PortDirection, PortType, PortValue};
 use super::Lowerer;
 use crate::error::{Fault, ImportError, Location, Result};
 use crate::kinds::SCRIPT_ATTRIBUTES;
-use crate::xml::flatten::{Bound, Inst, resolve};
+use crate::xml::flatten::{Bound, Inst};
 use crate::xml::model::Literal;
 use crate::xml::script;
 
@@ -149,7 +149,7 @@ struct ScriptSymbols<'l, 'a, 'n> {
 
 impl script::Symbols for ScriptSymbols<'_, '_, '_> {
     fn slot(&mut self, name: &str, offset: usize) -> std::result::Result<(u16, bool), script::ScriptError> {
-        let key = resolve(&self.l.flat.scopes, self.scope, name);
+        let key = self.l.flat.resolve(self.scope, name);
         let declared = self.l.ported.contains(&key)
             || self.l.flat.scopes.get(key.scope).is_some_and(|s| s.initial.contains_key(&key.name));
         match self.l.slot_value(&key, (PortType::Any, PortDirection::InOut), None, self.at, self.n, SCRIPT_PORT) {

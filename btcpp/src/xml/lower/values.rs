@@ -8,7 +8,7 @@ use bt_core::{Catalog, PortDirection, PortType, PortValue};
 use super::scripts::SCRIPT_PORT;
 use super::{Lowerer, Slot};
 use crate::error::{Fault, ImportError, Location, Result};
-use crate::xml::flatten::{Bound, Inst, Key, Value, blackboard_key, resolve};
+use crate::xml::flatten::{Bound, Inst, Key, Value};
 use crate::xml::model::{Literal, convert};
 
 /// What a port of a node reads: the attribute, or the model's default.
@@ -25,6 +25,34 @@ impl Lowerer<'_> {
             return None;
         }
         self.flat.scopes.get(k.scope)?.initial.get(&k.name).map(|(v, _)| v.clone())
+    }
+
+    /// The literal a SubTree instance starts key `k` at, and where it is written.
+    fn start_literal(&self, k: &Key) -> Option<(String, Location)> {
+        self.flat.scopes.get(k.scope)?.initial.get(&k.name).cloned()
+    }
+
+    /// A slot's start value: `text` converted for `type_name`, interned.
+    fn typed_constant(
+        &mut self,
+        text: &str,
+        type_name: Option<&str>,
+        at: &Location,
+        n: &Inst,
+        key: &str,
+    ) -> Result<u16> {
+        let Some(lit) = convert(type_name, text) else {
+            return Err(ImportError::new(
+                at,
+                Fault::BadLiteral {
+                    node: n.id.clone(),
+                    port: key.into(),
+                    value: text.into(),
+                    ty: type_name.unwrap_or("any").into(),
+                },
+            ));
+        };
+        self.intern(lit, at)
     }
 
     pub(super) fn leaf_values(&mut self, n: &Inst, behavior: u16) -> Result<Vec<u16>> {
@@ -54,9 +82,9 @@ impl Lowerer<'_> {
             };
             let v = match given {
                 Given::Unset => UNSET,
-                Given::Default(d) => match blackboard_key(&d) {
+                Given::Default(d) => match self.flat.port_key(&p.name, &d) {
                     Some(k) => {
-                        let key = resolve(&self.flat.scopes, n.scope, k);
+                        let key = self.flat.resolve(n.scope, k);
                         self.slot_value(&key, (ty, direction), p.type_name.as_deref(), &n.at, n, &p.name)?
                     }
                     // The behavior applies a literal default itself.
@@ -129,8 +157,14 @@ impl Lowerer<'_> {
             // A slot a script named first takes the type of the first port that names it.
             if self.script_slots.contains(&id) && port != SCRIPT_PORT {
                 self.script_slots.remove(&id);
+                // The literal a SubTree starts it at, read again by the port's type.
+                let initial = match self.start_literal(key) {
+                    Some((text, lit_at)) => Some(self.typed_constant(&text, type_name, &lit_at, n, &key.name)?),
+                    None => None,
+                };
                 let slot = &mut self.out.slots[usize::from(id)];
                 slot.info.ty = ty;
+                slot.info.initial = initial;
                 slot.type_name = type_name.map(str::to_string);
                 return Ok(PortValue::Slot(id).to_u16().unwrap_or(UNSET));
             }
@@ -163,21 +197,8 @@ impl Lowerer<'_> {
                 ImportError::new(at, Fault::TooLarge("more blackboard keys than a ports section holds".into()))
             })?;
         let scope = self.flat.scopes.get(key.scope);
-        let initial = match scope.and_then(|s| s.initial.get(&key.name)) {
-            Some((text, lit_at)) => {
-                let Some(lit) = convert(type_name, text) else {
-                    return Err(ImportError::new(
-                        lit_at,
-                        Fault::BadLiteral {
-                            node: n.id.clone(),
-                            port: key.name.clone(),
-                            value: text.clone(),
-                            ty: type_name.unwrap_or("any").into(),
-                        },
-                    ));
-                };
-                Some(self.intern(lit, lit_at)?)
-            }
+        let initial = match self.start_literal(key) {
+            Some((text, lit_at)) => Some(self.typed_constant(&text, type_name, &lit_at, n, &key.name)?),
             None => None,
         };
         let name = match scope {

@@ -30,6 +30,7 @@ use bt_core::{BehaviorId, Catalog, Leaf, LeafKind, Node, NodeKind, PortValue};
 pub(crate) use names::{arg_text, escape, port_name, type_id};
 
 use crate::kinds::{self, Attrs, Shape};
+use crate::xml::document::Version;
 use models::Declared;
 use names::{attr_text, behavior_name};
 
@@ -60,11 +61,11 @@ pub enum XmlError {
         /// Why.
         why: String,
     },
-    /// A key a SubTree instance starts at a literal, which a tree without that SubTree
-    /// cannot write.
+    /// A key a SubTree instance starts at a literal that a SubTree attribute cannot
+    /// give (`{x}` reads as a key, an empty one as nothing).
     #[error(
-        "blackboard key `{key}` (slot {slot}) starts at {value}, given by its SubTree; \
-         the flattened tree has no SubTree to give it"
+        "blackboard key `{key}` (slot {slot}) starts at `{value}`, given by its SubTree, \
+         which a SubTree attribute would read as a key"
     )]
     StartValue {
         /// Its slot.
@@ -119,6 +120,15 @@ pub struct XmlOptions<'a> {
     /// Per node, its registration ID as the document wrote it: the tag of a loop over a
     /// type the program registers (`LoopPose`).
     pub ids: &'a [&'a str],
+    /// The rules the document is written for: version 4's (`BTCPP_format="4"`), or
+    /// version 3's for a tree imported from a version 3 document (no `BTCPP_format`, no
+    /// `_uid`s, which BehaviorTree.CPP 3 would read as ports).
+    pub version: Version,
+    /// Keys the tree starts at a literal, as `(key, text)`: a SubTree gave them, so
+    /// the tree is written as the subtree `ID.body` of a main tree whose one SubTree
+    /// node gives them (with `_autoremap`; in version 3 a `SubTreePlus` with
+    /// `__autoremap`), every other key shared.
+    pub starting: &'a [(String, String)],
 }
 
 /// The tree as a BehaviorTree.CPP v4 document with one tree, `MainTree`.
@@ -141,9 +151,19 @@ pub fn to_xml_with<C: Catalog + ?Sized>(
 ) -> Result<String, XmlError> {
     let tree_id = if options.tree_id.is_empty() { "MainTree" } else { options.tree_id };
     let tree_id = escape(tree_id);
-    let out = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root BTCPP_format=\"4\" main_tree_to_execute=\"{tree_id}\">\n  <BehaviorTree ID=\"{tree_id}\">\n",
+    let format = if options.version == Version::V4 { " BTCPP_format=\"4\"" } else { "" };
+    let mut out = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<root{format} main_tree_to_execute=\"{tree_id}\">\n  <BehaviorTree ID=\"{tree_id}\">\n",
     );
+    if !options.starting.is_empty() {
+        let (tag, autoremap) =
+            if options.version == Version::V4 { ("SubTree", "_autoremap") } else { ("SubTreePlus", "__autoremap") };
+        let _ = write!(out, "    <{tag} ID=\"{tree_id}.body\" {autoremap}=\"true\"");
+        for (key, text) in options.starting {
+            let _ = write!(out, " {}=\"{}\"", escape(key), escape(text));
+        }
+        let _ = write!(out, "/>\n  </BehaviorTree>\n  <BehaviorTree ID=\"{tree_id}.body\">\n");
+    }
     let mut w = Writer { nodes, catalog, options, out, open: Vec::new(), declared: Declared::default(), carried: None };
     if options.all_behaviors {
         w.declared.declare_all(catalog);
@@ -211,6 +231,7 @@ impl<C: Catalog + ?Sized> Writer<'_, C> {
         // BehaviorTree.CPP numbers the nodes of a document with one tree and no SubTree
         // nodes in pre-order from 1: the uids its logs (and ours) show.
         match self.options.uids.get(i) {
+            _ if self.options.version == Version::V3 => {}
             Some(uid) => {
                 let _ = write!(meta, " _uid=\"{uid}\"");
             }
@@ -291,7 +312,8 @@ impl<C: Catalog + ?Sized> Writer<'_, C> {
     /// A node of a BehaviorTree.CPP or Nav2 type, as [`kinds::written`] names it.
     fn builtin(&mut self, i: usize, n: &Node, kind: &NodeKind, meta: &str, end: usize) -> Result<(), XmlError> {
         let children = bt_core::children(self.nodes, u16::try_from(i).unwrap_or(u16::MAX)).count();
-        let Some((entry, written)) = kinds::written(kind, children) else {
+        let id = self.options.ids.get(i).copied();
+        let Some((entry, written)) = kinds::written_as(kind, children, id) else {
             return Err(XmlError::NotExpressible { node: i, kind: kind.name() });
         };
         let attrs = match entry.map {

@@ -1,0 +1,69 @@
+//! The differential test against BehaviorTree.CPP 3.8: every case recorded by
+//! `tests/btcpp/v3/record.sh` (random version 3 documents, and the hand-made ones of
+//! `tests/btcpp/v3/cases/`) is imported as `sim-host import` imports it and run on
+//! bt-core with the same leaf scripts, and must agree on every tick: the same leaf
+//! calls with the same values read, the same halts (earlier only by halt before start),
+//! root status, nodes Running and statuses as BehaviorTree.CPP shows them (see
+//! `integration_tests::btcpp::v3::run::compare` and `docs/behaviortree-cpp.md`).
+
+use std::path::PathBuf;
+
+use integration_tests::btcpp::run::Comparison;
+use integration_tests::btcpp::v3::{Recorded, parse_fixtures, run};
+
+fn fixtures() -> Vec<(String, Recorded)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("btcpp/v3/fixtures");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "txt"))
+        .collect();
+    files.sort();
+    let mut out = vec![];
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        for rec in parse_fixtures(&text).unwrap_or_else(|e| panic!("{}: {e}", f.display())) {
+            out.push((name.clone(), rec));
+        }
+    }
+    out
+}
+
+#[test]
+fn version_3_documents_run_as_behaviortree_cpp_3_8_runs_them() {
+    let all = fixtures();
+    let (mut random, mut handmade, mut restarted) = (0usize, 0usize, 0usize);
+    let mut total = Comparison::default();
+    let mut failures = vec![];
+    for (file, rec) in &all {
+        if file.starts_with("random-") {
+            random += 1;
+            assert!(rec.error.is_none(), "{file}: {}: a case BehaviorTree.CPP refused was kept", rec.case.name);
+        } else {
+            handmade += 1;
+            assert!(rec.error.is_none(), "{file}: {}: BehaviorTree.CPP 3.8 refused it: {:?}", rec.case.name, rec.error);
+        }
+        match run::run(&rec.case).and_then(|ours| run::compare(rec, &ours)) {
+            Ok(c) => {
+                total.ticks += c.ticks;
+                total.halts_moved_earlier += c.halts_moved_earlier;
+                total.ticks_with_other_statuses += c.ticks_with_other_statuses;
+                restarted += usize::from(c.restarted_at.is_some());
+            }
+            Err(e) => failures.push(format!("{file}: {e}")),
+        }
+    }
+    eprintln!(
+        "{} cases ({random} random, {handmade} hand-made), {} ticks compared; {} halts earlier by halt before \
+         start; {restarted} cases compared up to a branch halt before start restarted; {} ticks with stale statuses",
+        all.len(),
+        total.ticks,
+        total.halts_moved_earlier,
+        total.ticks_with_other_statuses
+    );
+    assert!(failures.is_empty(), "{} of {} cases disagree:\n{}", failures.len(), all.len(), failures.join("\n"));
+    assert!(random >= 500, "only {random} random cases recorded");
+    assert!(handmade >= 20, "only {handmade} hand-made cases recorded");
+}
