@@ -4,28 +4,10 @@
 //! agree on every tick (see `integration_tests::btcpp::run::compare` and
 //! `docs/behaviortree-cpp.md`).
 
-use std::path::PathBuf;
-
 use integration_tests::btcpp::{btlog, case, run};
 
 fn fixtures() -> Vec<(String, case::Recorded)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("btcpp/fixtures");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "txt"))
-        .collect();
-    files.sort();
-    let mut out = vec![];
-    for f in files {
-        let text = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        for rec in case::parse_fixtures(&text).unwrap_or_else(|e| panic!("{}: {e}", f.display())) {
-            out.push((name.clone(), rec));
-        }
-    }
-    out
+    integration_tests::btcpp::fixtures("btcpp/fixtures", case::parse_fixtures)
 }
 
 #[test]
@@ -80,7 +62,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
 /// tick (see `integration_tests::btcpp::btlog::compare`).
 #[test]
 fn our_btlogs_are_behaviortree_cpps_but_for_timestamps() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("btcpp/fixtures/btlog");
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("btcpp/fixtures/btlog");
     let files = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .filter_map(Result::ok)

@@ -6,29 +6,11 @@
 //! root status, nodes Running and statuses as BehaviorTree.CPP shows them (see
 //! `integration_tests::btcpp::v3::run::compare` and `docs/behaviortree-cpp.md`).
 
-use std::path::PathBuf;
-
 use integration_tests::btcpp::run::Comparison;
 use integration_tests::btcpp::v3::{Recorded, parse_fixtures, run};
 
 fn fixtures() -> Vec<(String, Recorded)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("btcpp/v3/fixtures");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "txt"))
-        .collect();
-    files.sort();
-    let mut out = vec![];
-    for f in files {
-        let text = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        for rec in parse_fixtures(&text).unwrap_or_else(|e| panic!("{}: {e}", f.display())) {
-            out.push((name.clone(), rec));
-        }
-    }
-    out
+    integration_tests::btcpp::fixtures("btcpp/v3/fixtures", parse_fixtures)
 }
 
 #[test]
