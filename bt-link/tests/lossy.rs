@@ -22,8 +22,8 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use bt_core::{BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, Status, fingerprint};
-use bt_link::host::{Client, LinkError, Verdict};
 use bt_link::frame::{self, MAX_FRAME};
+use bt_link::host::{Client, LinkError, Verdict};
 use bt_link::{App, Clock, Controller, Decoder, Feed, ImageInfo, Reply, Request, Storage, image_crc};
 
 const SET: [BehaviorInfo<'static>; 3] =
@@ -345,14 +345,13 @@ struct Tally {
     bytes: u64,
 }
 
-/// `n` deployments at `rate`; the frames of deployment `traced` are printed.
-fn run(rate: f64, n: u32, seed: u64, traced: Option<u32>) -> (Tally, Faults, u64) {
+/// A controller booted with `boot`, on a line faulting bytes at `rate`.
+fn line(boot: &[u8], rate: f64, seed: u64) -> (Rc<RefCell<Line>>, SimClock) {
     let storage: &'static mut Storage<NODES, BYTES, VALUES> = Box::leak(Box::new(Storage::new()));
     let clock = SimClock { base: Instant::now(), ns: Arc::new(Mutex::new(0)) };
     let mut controller = Ctl::new(storage, &SET);
     let mut world = World::default();
-    let images: Vec<Vec<u8>> = (0..6).map(|i| image(100 * i, 1 + i * 2)).collect();
-    controller.boot(&images[0], &mut world).unwrap();
+    controller.boot(boot, &mut world).unwrap();
     let line = Rc::new(RefCell::new(Line {
         controller,
         world,
@@ -366,9 +365,31 @@ fn run(rate: f64, n: u32, seed: u64, traced: Option<u32>) -> (Tally, Faults, u64
         overruns: 0,
         trace: None,
     }));
-    let host = HostEnd(line.clone());
+    (line, clock)
+}
+
+/// A client at the host's end of `line`, on the simulated clock.
+fn client(line: &Rc<RefCell<Line>>, clock: &SimClock) -> Client<HostEnd> {
     let sim = clock.clone();
-    let mut client = Client::new(host).with_clock(Box::new(move || sim.now()));
+    Client::new(HostEnd(line.clone())).with_clock(Box::new(move || sim.now()))
+}
+
+/// Lets the line settle: answers in flight arrive, a swap due happens.
+fn settle(line: &Rc<RefCell<Line>>) {
+    for _ in 0..20_000 {
+        let mut l = line.borrow_mut();
+        if l.up.queue.is_empty() && l.up.stall == 0 && l.rx.is_empty() {
+            break;
+        }
+        l.step();
+    }
+}
+
+/// `n` deployments at `rate`; the frames of deployment `traced` are printed.
+fn run(rate: f64, n: u32, seed: u64, traced: Option<u32>) -> (Tally, Faults, u64) {
+    let images: Vec<Vec<u8>> = (0..6).map(|i| image(100 * i, 1 + i * 2)).collect();
+    let (line, clock) = line(&images[0], rate, seed);
+    let mut client = client(&line, &clock);
     // Ticking every 10 ms while the deployments arrive, on a line without faults at first.
     line.borrow_mut().rate = 0.0;
     client.hello().unwrap();
@@ -382,7 +403,11 @@ fn run(rate: f64, n: u32, seed: u64, traced: Option<u32>) -> (Tally, Faults, u64
         if traced == Some(k) {
             let ns = *clock.ns.lock().unwrap();
             let mut t = Trace { lines: Vec::new(), taps: std::array::from_fn(|_| Decoder::new()), ns };
-            t.note(format_args!("deployment {k} at rate {rate}: image {:08x}, {} bytes", image_crc(image), image.len()));
+            t.note(format_args!(
+                "deployment {k} at rate {rate}: image {:08x}, {} bytes",
+                image_crc(image),
+                image.len()
+            ));
             line.borrow_mut().trace = Some(t);
         }
         let before = *clock.ns.lock().unwrap();
@@ -390,14 +415,7 @@ fn run(rate: f64, n: u32, seed: u64, traced: Option<u32>) -> (Tally, Faults, u64
         let swaps_before = line.borrow().world.swaps;
         let verdict = client.deploy(image, None, &mut |_| {});
         let after = *clock.ns.lock().unwrap();
-        // Let the line settle (answers in flight arrive, the swap happens), then look.
-        for _ in 0..20_000 {
-            let mut l = line.borrow_mut();
-            if l.up.queue.is_empty() && l.up.stall == 0 && l.rx.is_empty() {
-                break;
-            }
-            l.step();
-        }
+        settle(&line);
         if let Some(t) = line.borrow_mut().trace.take() {
             println!("{}\nverdict: {verdict:?}", t.lines.join("\n"));
         }
@@ -464,4 +482,23 @@ fn deployments_over_a_faulty_line_end_with_the_sent_tree_or_the_old_one() {
         assert_eq!(t.refused, 0, "a faithful transfer was refused at rate {rate}");
         assert!(t.accepted * 10 >= u64::from(per_rate) * 9, "fewer than 90 % accepted at rate {rate}");
     }
+}
+
+/// Every client numbers its transfers from 1: the `Hello` it says first (itself, before
+/// its first deployment, if the caller did not) starts a new session on the controller,
+/// so a second client's transfer 1 is a new deployment, not a repeat of the first's.
+#[test]
+fn a_second_client_deploying_the_running_image_restarts_it() {
+    let (a, b) = (image(0, 1), image(100, 3));
+    let (line, clock) = line(&a, 0.0, 1);
+    for said_hello in [true, false] {
+        let mut client = client(&line, &clock);
+        if said_hello {
+            client.hello().unwrap();
+        }
+        let verdict = client.deploy(&b, None, &mut |_| {}).unwrap();
+        assert!(matches!(verdict, Verdict::Accepted { crc, .. } if crc == image_crc(&b)), "{verdict:?}");
+        settle(&line);
+    }
+    assert_eq!(line.borrow().world.swaps, 2, "swapped in, then restarted");
 }
