@@ -401,16 +401,16 @@ impl Session {
         C: Catalog + ?Sized,
         K: Clock,
     {
+        // A transfer this request drops, reported before its answer.
+        let mut dropped = None;
         let reply = match request {
             Request::Hello { .. } => {
                 // A new session, whose transfer ids are its own: the last transfer's
                 // verdict is forgotten, and a transfer under way, which the new host
                 // cannot name, is dropped. An accepted image still swaps at its tick.
                 self.verdict = None;
-                if matches!(self.incoming, Incoming::Receiving { .. })
-                    && let Some(fault) = self.drop_incoming(spare)
-                {
-                    tx.push(&Reply::Rejected { fault });
+                if matches!(self.incoming, Incoming::Receiving { .. }) {
+                    dropped = self.drop_incoming(spare);
                 }
                 Reply::Hello {
                     version: PROTOCOL_VERSION,
@@ -424,9 +424,7 @@ impl Session {
                 Some(state) => state,
                 None => {
                     self.verdict = None;
-                    if let Some(fault) = self.drop_incoming(spare) {
-                        tx.push(&Reply::Rejected { fault });
-                    }
+                    dropped = self.drop_incoming(spare);
                     if len as usize > BYTES || len == 0 {
                         self.refuse(id, Fault::TooLarge { len, capacity: BYTES as u32 })
                     } else {
@@ -461,6 +459,9 @@ impl Session {
                 None => Reply::Rejected { fault: Fault::NoTree },
             },
         };
+        if let Some(fault) = dropped {
+            tx.push(&Reply::Rejected { fault });
+        }
         tx.push(&reply);
         Action::None
     }
