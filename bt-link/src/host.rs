@@ -178,6 +178,10 @@ pub struct Client<T> {
     stale: bool,
     /// The last token of a resynchronizing `Ping`.
     token: u32,
+    /// The id of the last transfer (`Deploy`'s id); each deployment takes the next.
+    transfer_id: u16,
+    /// A `Hello` was answered: the controller's session, whose transfer ids are ours.
+    greeted: bool,
     /// Where deadlines are measured: the system's clock, or a simulation's.
     clock: Option<ClockFn>,
 }
@@ -208,6 +212,8 @@ impl<T: Read + Write> Client<T> {
             window: WINDOW,
             stale: false,
             token: 0,
+            transfer_id: 0,
+            greeted: false,
             clock: None,
         }
     }
@@ -331,25 +337,51 @@ impl<T: Read + Write> Client<T> {
         }
     }
 
-    /// Asks who the controller is; fails on another protocol version.
+    /// Asks who the controller is; fails on another protocol version. Starts the
+    /// controller's session: transfer ids from here on are this client's. Asked up to
+    /// four times within [`ANSWER_TIMEOUT`], as a line may lose a request or its answer.
     ///
     /// # Errors
     /// [`LinkError::Version`], a timeout, or a link error.
     pub fn hello(&mut self) -> Result<ControllerInfo, LinkError> {
-        self.send(&Request::Hello { version: PROTOCOL_VERSION })?;
-        let info = self.wait("Hello", ANSWER_TIMEOUT, &mut |_| {}, |r| match *r {
-            Reply::Hello { version, fingerprint, node_capacity, image_capacity, running } => {
-                Some(ControllerInfo { version, fingerprint, node_capacity, image_capacity, running })
+        self.greet(&mut |_| {})
+    }
+
+    /// [`Client::hello`], passing every other reply to `watch`.
+    fn greet(&mut self, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<ControllerInfo, LinkError> {
+        const TRIES: u32 = 4;
+        let mut answer = None;
+        for _ in 0..TRIES {
+            self.send(&Request::Hello { version: PROTOCOL_VERSION })?;
+            match self.wait("Hello", ANSWER_TIMEOUT / TRIES, watch, |r| match *r {
+                Reply::Hello { version, fingerprint, node_capacity, image_capacity, running } => {
+                    Some(ControllerInfo { version, fingerprint, node_capacity, image_capacity, running })
+                }
+                _ => None,
+            }) {
+                Ok(info) => {
+                    answer = Some(info);
+                    break;
+                }
+                Err(LinkError::Timeout { .. }) => {}
+                Err(e) => return Err(e),
             }
-            _ => None,
-        })?;
+        }
+        let info = answer.ok_or(LinkError::Timeout { waiting_for: "Hello", after: ANSWER_TIMEOUT })?;
         if info.version != PROTOCOL_VERSION {
             return Err(LinkError::Version { controller: info.version, host: PROTOCOL_VERSION });
         }
+        self.greeted = true;
         Ok(info)
     }
 
     /// Sends `image` and waits for the verdict; every other reply goes to `watch`.
+    ///
+    /// Each call is one deployment, under a new transfer id: it swaps in at most once,
+    /// however often the line makes the client repeat its requests, and deploying the
+    /// image that runs already swaps it in again (restarting it). A client that has not
+    /// said [`hello`](Client::hello) says it first: the `Hello` starts the controller's
+    /// session, in which the transfer ids are this client's.
     ///
     /// # Errors
     /// A timeout or a link error; a refusal is a [`Verdict::Rejected`], not an error.
@@ -370,14 +402,19 @@ impl<T: Read + Write> Client<T> {
     /// last chunk sent, so a deployment takes one round trip plus its time on the
     /// line. A gap (a chunk lost or garbled on the way) is resent from its start once
     /// the acknowledgements show it, or after [`ANSWER_TIMEOUT`] / 4 without progress; a
-    /// lost `Deploy` or `Commit` is sent again. After [`CHUNK_TRIES`] such timeouts in a
-    /// row the deployment gives up with [`LinkError::Timeout`].
+    /// lost `Deploy` or `Commit` is sent again (the controller answers a repeat with
+    /// where the transfer stands or its verdict, and never swaps it in twice). After
+    /// [`CHUNK_TRIES`] such timeouts in a row the deployment gives up with
+    /// [`LinkError::Timeout`].
     ///
     /// # Errors
-    /// As [`Client::deploy`].
+    /// As [`Client::deploy`], and [`LinkError::Version`] from the first `Hello`.
     pub fn transfer(&mut self, t: &Transfer<'_>, watch: &mut dyn FnMut(&Reply<'_>)) -> Result<Verdict, LinkError> {
         if self.stale {
             self.resync(watch)?;
+        }
+        if !self.greeted {
+            self.greet(watch)?;
         }
         self.stale = true;
         let verdict = self.pipelined(t, watch)?;

@@ -131,12 +131,14 @@ pub(crate) fn encode(reply: &Reply<'_>, buf: &mut [u8]) -> Option<usize> {
                 None => o.byte(0),
             }
         }
-        Reply::ChunkAck { received } => {
+        Reply::ChunkAck { id, received } => {
             o.byte(1);
+            o.u16(id);
             o.u32(received);
         }
-        Reply::Accepted { crc, nodes, swap_at } => {
+        Reply::Accepted { id, crc, nodes, swap_at } => {
             o.byte(2);
+            o.u16(id);
             o.u32(crc);
             o.u16(nodes);
             o.option_u32(swap_at);
@@ -256,8 +258,8 @@ mod tests {
                 [FrameFault::Cobs, FrameFault::TooLong, FrameFault::TooShort, FrameFault::Crc, FrameFault::Message];
             for reply in [
                 Reply::Hello { version: c, fingerprint: d, node_capacity: c, image_capacity: a, running: run },
-                Reply::ChunkAck { received: a },
-                Reply::Accepted { crc: a, nodes: c, swap_at: opt },
+                Reply::ChunkAck { id: c, received: a },
+                Reply::Accepted { id: c, crc: a, nodes: c, swap_at: opt },
                 Reply::Rejected { fault: f },
                 Reply::Swapped { tick: a, image: img, halted: c },
                 Reply::Status { tick: a, node: c, status: st },
@@ -275,7 +277,7 @@ mod tests {
     #[test]
     fn a_buffer_too_small_is_refused() {
         let mut buf = [0u8; 3];
-        assert_eq!(encode(&Reply::ChunkAck { received: 1 }, &mut buf), None);
+        assert_eq!(encode(&Reply::ChunkAck { id: 1, received: 1 }, &mut buf), None);
         assert_eq!(encode(&Reply::Garbled { fault: FrameFault::Crc }, &mut buf), Some(2));
     }
 }

@@ -6,7 +6,7 @@ use bt_core::{LoadError, NodeStatus, Status};
 use serde::{Deserialize, Serialize};
 
 /// The protocol version both ends announce in `Hello`.
-pub const PROTOCOL_VERSION: u16 = 2;
+pub const PROTOCOL_VERSION: u16 = 3;
 
 /// Most image bytes one `Chunk` (host to controller) or `Image` (controller to host)
 /// frame carries.
@@ -24,7 +24,16 @@ pub enum Request<'a> {
     /// in at the first tick boundary at or after tick `swap_at` once validated (at the
     /// next boundary when `None`). A transfer or an image waiting for its tick that was
     /// not finished is dropped, and reported as [`Fault::Superseded`].
+    ///
+    /// A `Deploy` with the `id` of the controller's transfer (under way, accepted, or
+    /// refused since the last `Hello`) is a repeat: it is answered with where that
+    /// transfer stands ([`Reply::ChunkAck`]) or its verdict, and changes nothing, so a
+    /// deployment swaps in at most once however often its `Deploy` is sent.
     Deploy {
+        /// Names the transfer: a host gives each deployment of a session (from its
+        /// `Hello` on) a new one. The same image under a new id is a new deployment,
+        /// swapped in again.
+        id: u16,
         /// Image length in bytes.
         len: u32,
         /// CRC-32 (ISO-HDLC) of the whole image.
@@ -43,7 +52,9 @@ pub enum Request<'a> {
         bytes: &'a [u8],
     },
     /// Every chunk was sent: check length and CRC, validate, answer
-    /// [`Reply::Accepted`] or [`Reply::Rejected`].
+    /// [`Reply::Accepted`] or [`Reply::Rejected`]. Fewer bytes than announced leave the
+    /// transfer open ([`Fault::Incomplete`]). A `Commit` after the transfer's verdict
+    /// is answered with the verdict again, and changes nothing.
     Commit,
     /// Tick (from the current tick number) every `period_ms`, up to but not including
     /// tick `until` when given. Answered by [`Reply::State`].
@@ -87,14 +98,21 @@ pub enum Reply<'a> {
         /// The running tree's image, if any.
         running: Option<ImageInfo>,
     },
-    /// `received` bytes of the transfer are held (every byte before that offset).
+    /// `received` bytes of the transfer `id` are held (every byte before that offset).
     ChunkAck {
+        /// The transfer, as its `Deploy` named it.
+        #[serde(with = "postcard::fixint::le")]
+        id: u16,
         /// Bytes held so far: the offset of the next chunk.
         #[serde(with = "postcard::fixint::le")]
         received: u32,
     },
-    /// The image passed every check and waits for its tick boundary.
+    /// The image of transfer `id` passed every check and waits for its tick boundary
+    /// (or was swapped in already, when this answers a repeated request).
     Accepted {
+        /// The transfer, as its `Deploy` named it.
+        #[serde(with = "postcard::fixint::le")]
+        id: u16,
         /// Its CRC-32.
         #[serde(with = "postcard::fixint::le")]
         crc: u32,
@@ -320,7 +338,8 @@ pub enum Fault {
         #[serde(with = "postcard::fixint::le")]
         len: u32,
     },
-    /// `Chunk` or `Commit` without a transfer under way.
+    /// `Chunk` without a transfer under way, or `Commit` with none since the last
+    /// `Hello`.
     NoTransfer,
     /// A transfer, or an accepted image waiting for its tick, was dropped by a new
     /// `Deploy`.

@@ -47,10 +47,23 @@ impl Read for OldController {
 }
 
 #[test]
-fn a_controller_of_version_1_is_refused_with_the_version_error() {
-    let mut client = Client::new(OldController { version: 1, out: VecDeque::new() });
-    match client.hello() {
-        Err(LinkError::Version { controller: 1, host }) => assert_eq!(host, PROTOCOL_VERSION),
+fn controllers_of_versions_1_and_2_are_refused_with_the_version_error() {
+    for old in [1, 2] {
+        let mut client = Client::new(OldController { version: old, out: VecDeque::new() });
+        match client.hello() {
+            Err(LinkError::Version { controller, host }) => assert_eq!((controller, host), (old, PROTOCOL_VERSION)),
+            other => panic!("expected the version error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn a_deployment_to_a_version_2_controller_is_refused_at_its_hello() {
+    // A client that has not said Hello says it before its first deployment, and so
+    // never sends a version-2 controller a `Deploy` it would misread.
+    let mut client = Client::new(OldController { version: 2, out: VecDeque::new() });
+    match client.deploy(&[1, 2, 3], None, &mut |_| {}) {
+        Err(LinkError::Version { controller: 2, .. }) => {}
         other => panic!("expected the version error, got {other:?}"),
     }
 }
@@ -75,5 +88,5 @@ fn the_hello_reply_keeps_the_layout_a_version_1_host_reads() {
     expected.extend(640u32.to_le_bytes());
     expected.push(0);
     assert_eq!(bytes, &expected[..]);
-    assert_eq!(PROTOCOL_VERSION, 2, "a new version: say in the spec what changed");
+    assert_eq!(PROTOCOL_VERSION, 3, "a new version: say in the spec what changed");
 }

@@ -255,7 +255,7 @@ mod tests {
             status(4, 0, WireStatus::Running),
             status(4, 2, WireStatus::Running),
             Reply::Tick { tick: 4, status: WireStatus::Running, changes: 2, micros: 9 },
-            Reply::ChunkAck { received: 64 },
+            Reply::ChunkAck { id: 1, received: 64 },
             status(5, 2, WireStatus::Idle),
             Reply::Swapped { tick: 5, image, halted: 1 },
             Reply::Garbled { fault: FrameFault::Crc },

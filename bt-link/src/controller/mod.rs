@@ -13,6 +13,12 @@
 //! the slots change roles: the next tick is the new tree's first. Nothing a transfer
 //! does touches the running slot, so a refused, truncated or corrupted transfer leaves
 //! the running tree exactly as it was.
+//!
+//! A deployment swaps in at most once: every transfer is named by its `Deploy`'s id, and
+//! a `Deploy` or `Commit` that repeats a transfer the controller has (its first answer
+//! lost on the line) is answered with where that transfer stands or its verdict, never
+//! started or swapped again. Deploying the running image once more under a new id is a
+//! new deployment: it swaps in again (a restart).
 
 use bt_core::{BehaviorSet, Catalog, LoadError, Node, Status, TickError};
 

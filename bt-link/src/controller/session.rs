@@ -12,7 +12,7 @@ use crate::frame::{self, Decoder, Feed, MAX_ENCODED, MAX_FRAME, crc32};
 use crate::wire::{Fault, ImageInfo, PROTOCOL_VERSION, Reply, Request, WireStatus, load_fault};
 
 /// Room the transmit queue must have before another received byte is taken: the
-/// replies one request can cause (a `Deploy` answers with up to two frames).
+/// replies one request can cause (a `Deploy` or `Hello` answers with up to two frames).
 const INPUT_RESERVE: usize = 2 * MAX_ENCODED;
 
 /// The smallest transmit queue a [`Controller`] takes (a smaller `TX` does not
@@ -64,12 +64,28 @@ pub struct Controller<
     carry: Carry,
 }
 
-/// A transfer under way, or an image waiting for its tick.
+/// A transfer under way (named by its `Deploy`'s id), or an image waiting for its tick.
 #[derive(Clone, Copy, Debug)]
 enum Incoming {
     None,
-    Receiving { len: u32, crc: u32, swap_at: Option<u32>, received: u32 },
+    Receiving { id: u16, len: u32, crc: u32, swap_at: Option<u32>, received: u32 },
     Ready { swap_at: Option<u32> },
+}
+
+/// How a transfer ended: what every repeat of its `Deploy` or `Commit` is answered.
+#[derive(Clone, Copy, Debug)]
+enum Verdict {
+    Accepted { info: ImageInfo, swap_at: Option<u32> },
+    Refused(Fault),
+}
+
+impl Verdict {
+    fn reply(self, id: u16) -> Reply<'static> {
+        match self {
+            Self::Accepted { info, swap_at } => Reply::Accepted { id, crc: info.crc, nodes: info.nodes, swap_at },
+            Self::Refused(fault) => Reply::Rejected { fault },
+        }
+    }
 }
 
 /// What a request asks beyond an answer.
@@ -84,9 +100,10 @@ enum Action {
 pub(super) struct Session {
     fingerprint: u64,
     incoming: Incoming,
-    /// The image the last transfer delivered, and its swap tick: a repeated `Commit`
-    /// (its first answer lost) is answered `Accepted` again. Cleared by `Deploy`.
-    accepted: Option<(ImageInfo, Option<u32>)>,
+    /// The last transfer's id and verdict, once it has one: a repeated `Deploy` or
+    /// `Commit` of it (its first answer lost) is answered with the verdict again, and
+    /// swaps nothing. Cleared by a new `Deploy` and by `Hello`.
+    verdict: Option<(u16, Verdict)>,
     /// The next tick to run.
     tick: u32,
     ticking: bool,
@@ -340,7 +357,7 @@ impl Session {
         Self {
             fingerprint,
             incoming: Incoming::None,
-            accepted: None,
+            verdict: None,
             tick: 0,
             ticking: false,
             until: None,
@@ -384,26 +401,38 @@ impl Session {
         C: Catalog + ?Sized,
         K: Clock,
     {
+        // A transfer this request drops, reported before its answer.
+        let mut dropped = None;
         let reply = match request {
-            Request::Hello { .. } => Reply::Hello {
-                version: PROTOCOL_VERSION,
-                fingerprint: self.fingerprint,
-                node_capacity: NODES.min(usize::from(u16::MAX)) as u16,
-                image_capacity: BYTES.min(u32::MAX as usize) as u32,
-                running: run.image,
-            },
-            Request::Deploy { len, crc, swap_at } => {
-                self.accepted = None;
-                if let Some(fault) = self.drop_incoming(spare) {
-                    tx.push(&Reply::Rejected { fault });
+            Request::Hello { .. } => {
+                // A new session, whose transfer ids are its own: the last transfer's
+                // verdict is forgotten, and a transfer under way, which the new host
+                // cannot name, is dropped. An accepted image still swaps at its tick.
+                self.verdict = None;
+                if matches!(self.incoming, Incoming::Receiving { .. }) {
+                    dropped = self.drop_incoming(spare);
                 }
-                if len as usize > BYTES || len == 0 {
-                    Reply::Rejected { fault: Fault::TooLarge { len, capacity: BYTES as u32 } }
-                } else {
-                    self.incoming = Incoming::Receiving { len, crc, swap_at, received: 0 };
-                    Reply::ChunkAck { received: 0 }
+                Reply::Hello {
+                    version: PROTOCOL_VERSION,
+                    fingerprint: self.fingerprint,
+                    node_capacity: NODES.min(usize::from(u16::MAX)) as u16,
+                    image_capacity: BYTES.min(u32::MAX as usize) as u32,
+                    running: run.image,
                 }
             }
+            Request::Deploy { id, len, crc, swap_at } => match self.repeat(id) {
+                Some(state) => state,
+                None => {
+                    self.verdict = None;
+                    dropped = self.drop_incoming(spare);
+                    if len as usize > BYTES || len == 0 {
+                        self.refuse(id, Fault::TooLarge { len, capacity: BYTES as u32 })
+                    } else {
+                        self.incoming = Incoming::Receiving { id, len, crc, swap_at, received: 0 };
+                        Reply::ChunkAck { id, received: 0 }
+                    }
+                }
+            },
             Request::Chunk { offset, bytes } => self.chunk(offset, bytes, spare),
             Request::Commit => self.commit::<C, NODES, BYTES, VALUES, DEPTH>(spare, catalog),
             Request::Start { until, period_ms } => {
@@ -430,8 +459,27 @@ impl Session {
                 None => Reply::Rejected { fault: Fault::NoTree },
             },
         };
+        if let Some(fault) = dropped {
+            tx.push(&Reply::Rejected { fault });
+        }
         tx.push(&reply);
         Action::None
+    }
+
+    /// The answer to a `Deploy` of transfer `id` if it is a repeat: where the transfer
+    /// under way stands, or the verdict of the last one; `None` for a new transfer.
+    fn repeat(&self, id: u16) -> Option<Reply<'static>> {
+        if let Incoming::Receiving { id: open, received, .. } = self.incoming {
+            return (open == id).then_some(Reply::ChunkAck { id, received });
+        }
+        let (last, verdict) = self.verdict?;
+        (last == id).then(|| verdict.reply(id))
+    }
+
+    /// Closes transfer `id` with a refusal, remembered for its repeats.
+    fn refuse(&mut self, id: u16, fault: Fault) -> Reply<'static> {
+        self.verdict = Some((id, Verdict::Refused(fault)));
+        Reply::Rejected { fault }
     }
 
     /// Drops a transfer under way or an image waiting for its tick.
@@ -455,7 +503,7 @@ impl Session {
         bytes: &[u8],
         spare: &mut Slot<NODES, BYTES, VALUES>,
     ) -> Reply<'static> {
-        let Incoming::Receiving { len, crc, swap_at, received } = self.incoming else {
+        let Incoming::Receiving { id, len, crc, swap_at, received } = self.incoming else {
             return Reply::Rejected { fault: Fault::NoTransfer };
         };
         let n = bytes.len() as u32;
@@ -469,10 +517,10 @@ impl Session {
             && let Some(dst) = spare.bytes.get_mut(offset as usize..end as usize)
         {
             super::copy(dst, bytes);
-            self.incoming = Incoming::Receiving { len, crc, swap_at, received: end };
-            return Reply::ChunkAck { received: end };
+            self.incoming = Incoming::Receiving { id, len, crc, swap_at, received: end };
+            return Reply::ChunkAck { id, received: end };
         }
-        Reply::ChunkAck { received }
+        Reply::ChunkAck { id, received }
     }
 
     fn commit<C, const NODES: usize, const BYTES: usize, const VALUES: usize, const DEPTH: usize>(
@@ -483,9 +531,10 @@ impl Session {
     where
         C: Catalog + ?Sized,
     {
-        let Incoming::Receiving { len, crc, swap_at, received } = self.incoming else {
-            return match self.accepted {
-                Some((info, swap_at)) => Reply::Accepted { crc: info.crc, nodes: info.nodes, swap_at },
+        let Incoming::Receiving { id, len, crc, swap_at, received } = self.incoming else {
+            // A repeated `Commit` (its answer lost): the verdict again.
+            return match self.verdict {
+                Some((id, verdict)) => verdict.reply(id),
                 None => Reply::Rejected { fault: Fault::NoTransfer },
             };
         };
@@ -496,15 +545,16 @@ impl Session {
         self.incoming = Incoming::None;
         let computed = crc32(spare.bytes.get(..len as usize).unwrap_or(&[]));
         if computed != crc {
-            return Reply::Rejected { fault: Fault::TransferCrc { expected: crc, computed } };
+            return self.refuse(id, Fault::TransferCrc { expected: crc, computed });
         }
         match spare.load::<C, DEPTH>(len as usize, catalog) {
             Ok(info) => {
                 self.incoming = Incoming::Ready { swap_at };
-                self.accepted = Some((info, swap_at));
-                Reply::Accepted { crc: info.crc, nodes: info.nodes, swap_at }
+                let verdict = Verdict::Accepted { info, swap_at };
+                self.verdict = Some((id, verdict));
+                verdict.reply(id)
             }
-            Err(e) => Reply::Rejected { fault: load_fault(&e) },
+            Err(e) => self.refuse(id, load_fault(&e)),
         }
     }
 }

@@ -6,6 +6,8 @@ use bt_core::{
     BehaviorInfo, BehaviorSet, Builder, Context, Leaf, Node, NodeId, Status, fingerprint, image::max_image_len,
 };
 
+mod repeats;
+
 use super::session::Session;
 use super::*;
 use crate::frame::{Decoder, Feed, MAX_ENCODED, MAX_FRAME, crc32, encode, message};
@@ -181,8 +183,8 @@ impl Board for Host {
                     Reply::Hello { version, fingerprint, node_capacity, image_capacity, running } => {
                         Reply::Hello { version, fingerprint, node_capacity, image_capacity, running }
                     }
-                    Reply::ChunkAck { received } => Reply::ChunkAck { received },
-                    Reply::Accepted { crc, nodes, swap_at } => Reply::Accepted { crc, nodes, swap_at },
+                    Reply::ChunkAck { id, received } => Reply::ChunkAck { id, received },
+                    Reply::Accepted { id, crc, nodes, swap_at } => Reply::Accepted { id, crc, nodes, swap_at },
                     Reply::Rejected { fault } => Reply::Rejected { fault },
                     Reply::Swapped { tick, image, halted } => Reply::Swapped { tick, image, halted },
                     Reply::Status { tick, node, status } => Reply::Status { tick, node, status },
@@ -207,6 +209,23 @@ impl Board for Host {
     }
 }
 
+/// A transfer id no other `Deploy` of the tests uses.
+fn transfer_id() -> u16 {
+    static NEXT: std::sync::atomic::AtomicU16 = std::sync::atomic::AtomicU16::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
+/// The id of the first `Accepted` reply.
+fn accepted_id(host: &Host) -> u16 {
+    host.replies
+        .iter()
+        .find_map(|r| match *r {
+            Reply::Accepted { id, .. } => Some(id),
+            _ => None,
+        })
+        .expect("an Accepted reply")
+}
+
 fn frame(req: &Request<'_>) -> Vec<u8> {
     let mut buf = [0u8; MAX_ENCODED];
     let mut out = vec![0];
@@ -217,7 +236,7 @@ fn frame(req: &Request<'_>) -> Vec<u8> {
 /// The frames of a whole deployment: `Deploy` with `len`/`crc` as announced, `sent`
 /// in chunks of 64 (or fewer), `Commit`.
 fn deploy(len: usize, crc: u32, sent: &[u8], swap_at: Option<u32>) -> Vec<Step> {
-    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: len as u32, crc, swap_at }))];
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { id: transfer_id(), len: len as u32, crc, swap_at }))];
     for (i, c) in sent.chunks(MAX_CHUNK).enumerate() {
         steps.push(Step::Bytes(frame(&Request::Chunk { offset: (i * MAX_CHUNK) as u32, bytes: c })));
     }
@@ -301,7 +320,12 @@ fn a_valid_image_swaps_in_at_its_tick_after_the_old_actions_are_halted() {
     // action (node 2 of B) started: halt before start, across trees.
     assert_eq!(log.seen, vec![Seen::Start(2), Seen::Halt(2), Seen::Swap(6, crate::image_crc(&b)), Seen::Start(2)]);
     assert_eq!(log.ticks.len(), 9);
-    assert!(host.replies.contains(&Reply::Accepted { crc: crate::image_crc(&b), nodes: 4, swap_at: Some(6) }));
+    assert!(host.replies.contains(&Reply::Accepted {
+        id: accepted_id(&host),
+        crc: crate::image_crc(&b),
+        nodes: 4,
+        swap_at: Some(6)
+    }));
     // On the wire: A's action goes Idle at the boundary before tick 6, then Swapped,
     // then B's changes during tick 6.
     let swapped = host.replies.iter().position(|r| matches!(r, Reply::Swapped { tick: 6, halted: 1, .. })).unwrap();
@@ -382,7 +406,8 @@ fn an_image_that_loads_but_breaks_the_behavior_set_is_refused_at_its_node() {
 
 #[test]
 fn an_image_larger_than_the_buffer_is_refused_before_any_byte() {
-    let host = refused(vec![Step::Bytes(frame(&Request::Deploy { len: 257, crc: 0, swap_at: None }))]);
+    let host =
+        refused(vec![Step::Bytes(frame(&Request::Deploy { id: transfer_id(), len: 257, crc: 0, swap_at: None }))]);
     assert_eq!(host.replies.iter().filter(|r| matches!(r, Reply::ChunkAck { .. })).count(), 0);
     assert!(host.replies.contains(&Reply::Rejected { fault: Fault::TooLarge { len: 257, capacity: 256 } }));
 }
@@ -390,7 +415,7 @@ fn an_image_larger_than_the_buffer_is_refused_before_any_byte() {
 #[test]
 fn a_chunk_past_the_announced_length_is_refused() {
     let host = refused(vec![
-        Step::Bytes(frame(&Request::Deploy { len: 10, crc: 0, swap_at: None })),
+        Step::Bytes(frame(&Request::Deploy { id: transfer_id(), len: 10, crc: 0, swap_at: None })),
         Step::Bytes(frame(&Request::Chunk { offset: 4, bytes: &[1; 8] })),
     ]);
     assert_eq!(host.rejections(), ["overrun"]);
@@ -408,7 +433,7 @@ fn chunks_and_commits_without_a_transfer_are_refused() {
 #[test]
 fn a_new_deploy_supersedes_an_unfinished_one() {
     let b = tree_b();
-    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: 40, crc: 77, swap_at: None }))];
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { id: transfer_id(), len: 40, crc: 77, swap_at: None }))];
     steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &[1; 20] })));
     steps.extend(deploy_image(&b, Some(1000)));
     steps.extend(deploy_image(&tree_a(), Some(1000)));
@@ -421,7 +446,12 @@ fn a_new_deploy_supersedes_an_unfinished_one() {
 #[test]
 fn repeated_and_early_chunks_are_acked_with_where_to_go_on() {
     let b = tree_b();
-    let mut steps = vec![Step::Bytes(frame(&Request::Deploy { len: b.len() as u32, crc: crc32(&b), swap_at: None }))];
+    let mut steps = vec![Step::Bytes(frame(&Request::Deploy {
+        id: transfer_id(),
+        len: b.len() as u32,
+        crc: crc32(&b),
+        swap_at: None,
+    }))];
     steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &b[..10] })));
     steps.push(Step::Bytes(frame(&Request::Chunk { offset: 0, bytes: &b[..10] })));
     steps.push(Step::Bytes(frame(&Request::Chunk { offset: 15, bytes: &b[15..20] })));
@@ -432,7 +462,7 @@ fn repeated_and_early_chunks_are_acked_with_where_to_go_on() {
         .replies
         .iter()
         .filter_map(|r| match *r {
-            Reply::ChunkAck { received } => Some(received),
+            Reply::ChunkAck { received, .. } => Some(received),
             _ => None,
         })
         .collect();
@@ -449,7 +479,7 @@ fn garbage_between_frames_is_skipped_and_reported() {
     let mut steps = vec![Step::Bytes(garbage)];
     steps.extend(deploy(b.len(), crc32(&b), &b, Some(1000)));
     steps.insert(3, Step::Bytes(vec![0x07, 1, 2, 3, 4, 5, 6, 0x00]));
-    steps.push(Step::Bytes(frame(&Request::Deploy { len: 4, crc: 0, swap_at: None })));
+    steps.push(Step::Bytes(frame(&Request::Deploy { id: transfer_id(), len: 4, crc: 0, swap_at: None })));
     let host = refused(steps);
     let garbled: Vec<FrameFault> = host
         .replies
@@ -573,7 +603,12 @@ fn an_image_with_a_value_table_swaps_in_with_its_values() {
     let mut steps = deploy_image(&v, None);
     steps.extend([start(2), Step::UntilTick(2)]);
     let (host, log) = run(steps);
-    assert!(host.replies.contains(&Reply::Accepted { crc: crate::image_crc(&v), nodes: 3, swap_at: None }));
+    assert!(host.replies.contains(&Reply::Accepted {
+        id: accepted_id(&host),
+        crc: crate::image_crc(&v),
+        nodes: 3,
+        swap_at: None
+    }));
     assert_eq!(log.seen, vec![Seen::Swap(0, crate::image_crc(&v)), Seen::Start(2)]);
 }
 

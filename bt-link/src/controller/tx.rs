@@ -121,10 +121,10 @@ mod tests {
     #[test]
     fn frames_queue_whole_and_the_buffer_compacts() {
         let mut tx = Tx::<30>::new();
-        let ping = Reply::ChunkAck { received: 7 };
+        let ping = Reply::ChunkAck { id: 1, received: 7 };
         tx.push(&ping);
         let one = tx.pending().len();
-        assert_eq!(one, 11);
+        assert_eq!(one, 13);
         tx.push(&ping);
         tx.push(&ping);
         assert_eq!(tx.pending().len(), 2 * one, "the third did not fit whole");

@@ -6,6 +6,15 @@ use std::io::{Read, Write};
 use super::{ANSWER_TIMEOUT, CHUNK_TRIES, Client, LinkError, Transfer, Verdict};
 use crate::wire::{Fault, MAX_CHUNK, Reply, Request};
 
+/// A reply, as it bears on the transfer under way.
+enum Step {
+    Ack(u32),
+    Accepted(Verdict),
+    Incomplete(u32),
+    NoTransfer,
+    Refused(Fault),
+}
+
 impl<T: Read + Write> Client<T> {
     /// [`Client::transfer`] without the resynchronization around it.
     pub(super) fn pipelined(
@@ -13,25 +22,17 @@ impl<T: Read + Write> Client<T> {
         t: &Transfer<'_>,
         watch: &mut dyn FnMut(&Reply<'_>),
     ) -> Result<Verdict, LinkError> {
-        enum Step {
-            Ack(u32),
-            Accepted(Verdict),
-            Incomplete(u32),
-            NoTransfer,
-            Refused(Fault),
-        }
-        let deploy = Request::Deploy { len: t.len, crc: t.crc, swap_at: t.swap_at };
-        let ours = (t.bytes.len() == t.len as usize).then(|| crate::image_crc(t.bytes));
+        self.transfer_id = self.transfer_id.wrapping_add(1);
+        let id = self.transfer_id;
+        let deploy = Request::Deploy { id, len: t.len, crc: t.crc, swap_at: t.swap_at };
         let total = t.bytes.len();
         let patience = ANSWER_TIMEOUT / 4;
         self.send(&deploy)?;
-        // `opened`: the controller acknowledged our `Deploy` (its `ChunkAck{0}`); acks
-        // and refusals before it belong to an earlier transfer.
+        // `opened`: the controller acknowledged our transfer (a `ChunkAck` naming it),
+        // so it has our `Deploy`, and a refusal from then on is ours (one before it is
+        // an earlier transfer's).
         let (mut opened, mut acked, mut next, mut committed) = (false, 0usize, 0usize, false);
         let mut rewound_at = None;
-        // A `Commit` sent to learn whether a transfer the controller no longer has
-        // went through.
-        let mut probing = false;
         let mut index = 0usize;
         let mut tries = 0;
         let mut deadline = self.now() + patience;
@@ -51,19 +52,21 @@ impl<T: Read + Write> Client<T> {
                 index += 1;
                 next = end;
             }
-            // `Commit` only once the controller has our `Deploy`: a commit that reached
-            // it without (our `Deploy` lost, an earlier transfer's ack taken for ours)
-            // could not swap in anything but an image it already holds.
+            // `Commit` only once the controller has our `Deploy`: before, it would be
+            // answered with an earlier transfer's verdict.
             if opened && next >= total && !committed {
                 self.send(&Request::Commit)?;
                 committed = true;
             }
             let step = match self.next(deadline, "ChunkAck") {
                 Ok(reply) => match reply {
-                    Reply::ChunkAck { received } => Some(Step::Ack(received)),
-                    Reply::Accepted { crc, nodes, swap_at } if ours.is_none_or(|c| c == crc) => {
+                    // Acknowledgements and verdicts name their transfer: an earlier
+                    // one's, still on the line, are not ours.
+                    Reply::ChunkAck { id: of, received } if of == id => Some(Step::Ack(received)),
+                    Reply::Accepted { id: of, crc, nodes, swap_at } if of == id => {
                         Some(Step::Accepted(Verdict::Accepted { crc, nodes, swap_at }))
                     }
+                    Reply::ChunkAck { .. } | Reply::Accepted { .. } => None,
                     Reply::Rejected { fault: Fault::Incomplete { received, .. } } => Some(Step::Incomplete(received)),
                     Reply::Rejected { fault: Fault::NoTransfer } => Some(Step::NoTransfer),
                     Reply::Rejected { fault: Fault::Superseded { .. } } => None,
@@ -78,21 +81,18 @@ impl<T: Read + Write> Client<T> {
                     if tries >= CHUNK_TRIES {
                         return Err(LinkError::Timeout { waiting_for: "ChunkAck", after: patience * CHUNK_TRIES });
                     }
-                    if probing {
-                        // No verdict to the probe: the controller never had our `Deploy`.
+                    // Ask again. The controller answers a repeated `Deploy` with where
+                    // our transfer stands (or opens it, if the first never arrived), a
+                    // repeated `Commit` with its verdict or `incomplete`: neither starts
+                    // or swaps it twice.
+                    if !opened {
                         self.send(&deploy)?;
-                        (opened, acked, next, committed, rewound_at, probing) = (false, 0, 0, false, None, false);
                     } else if committed {
-                        // The verdict was lost, or the commit: ask again (a controller
-                        // answers a repeated `Commit` as the first, and says `incomplete`
-                        // if chunks are missing).
                         self.send(&Request::Commit)?;
-                    } else if opened {
-                        // Resend what is not acknowledged.
-                        next = acked;
                     } else {
-                        self.send(&deploy)?;
+                        next = acked;
                     }
+                    rewound_at = None;
                     deadline = self.now() + patience;
                     continue;
                 }
@@ -100,18 +100,18 @@ impl<T: Read + Write> Client<T> {
             };
             match step {
                 None => {}
-                Some(Step::Accepted(verdict)) if opened => return Ok(verdict),
+                Some(Step::Accepted(verdict)) => return Ok(verdict),
                 Some(Step::Refused(fault)) if opened || matches!(fault, Fault::TooLarge { .. }) => {
                     return Ok(Verdict::Rejected(fault));
                 }
-                Some(Step::Ack(0)) if !opened => {
+                Some(Step::Ack(received)) => {
+                    // The first is the answer to our `Deploy`, sent before any chunk
+                    // arrived: not a sign of a gap.
+                    let first = !opened;
                     opened = true;
-                    deadline = self.now() + patience;
-                }
-                Some(Step::Ack(received)) if opened => {
                     let received = (received as usize).min(total);
-                    if received > acked {
-                        (acked, tries, rewound_at) = (received, 0, None);
+                    if received > acked || first {
+                        (acked, tries, rewound_at) = (acked.max(received), 0, None);
                         next = next.max(acked);
                         deadline = self.now() + patience;
                     } else if received == acked && next > acked && rewound_at != Some(acked) {
@@ -125,15 +125,15 @@ impl<T: Read + Write> Client<T> {
                         // Everything there was to send arrived: the transfer is short.
                         return Ok(Verdict::Rejected(Fault::Incomplete { received: received as u32, len: t.len }));
                     }
-                    (acked, next, committed, probing) = (acked.max(received), received, false, false);
+                    (acked, next, committed) = (acked.max(received), received, false);
                 }
-                Some(Step::NoTransfer) if opened && !probing => {
-                    // The controller has no transfer open: our commit went through and
-                    // its verdict was lost, or our `Deploy` never arrived (the ack taken
-                    // for it was an earlier one's). A repeated `Commit` tells: the
-                    // verdict again, or nothing (then a timeout starts again).
+                Some(Step::NoTransfer) if opened && !committed => {
+                    // A chunk came after the controller closed our transfer: it had
+                    // every byte and our `Commit`, whose verdict is on its way or was
+                    // lost. Ask for it; sending chunks is over.
+                    (acked, next) = (total, total);
                     self.send(&Request::Commit)?;
-                    probing = true;
+                    committed = true;
                     deadline = self.now() + patience;
                 }
                 Some(_) => {}
