@@ -15,8 +15,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
     let all = fixtures();
     let mut random = 0usize;
     let mut scripted = 0usize;
-    let mut total = run::Comparison::default();
-    let mut restarted = 0usize;
+    let mut total = run::Totals::default();
     let mut failures = vec![];
     for (file, rec) in &all {
         if rec.error.is_some() {
@@ -35,22 +34,12 @@ fn bt_core_does_what_behaviortree_cpp_does() {
         // catalog (`run::catalog()`) must give exactly `run::build(&rec.case.spec)`.
         match run::run(&rec.case).and_then(|ours| run::compare(rec, &ours)) {
             Ok(c) => {
-                total.ticks += c.ticks;
-                total.halts_moved_earlier += c.halts_moved_earlier;
-                total.ticks_with_other_statuses += c.ticks_with_other_statuses;
-                restarted += usize::from(c.restarted_at.is_some());
+                total.add(&c);
             }
             Err(e) => failures.push(format!("{file}: {e}")),
         }
     }
-    eprintln!(
-        "{} cases ({random} random, {scripted} with scripts), {} ticks compared; {} halts earlier by halt before start; \
-         {restarted} cases compared up to a branch halt before start restarted; {} ticks with stale statuses",
-        all.len(),
-        total.ticks,
-        total.halts_moved_earlier,
-        total.ticks_with_other_statuses
-    );
+    eprintln!("{} cases ({random} random, {scripted} with scripts), {total}", all.len());
     assert!(failures.is_empty(), "{} of {} cases disagree:\n{}", failures.len(), all.len(), failures.join("\n"));
     assert!(random >= 1000, "only {random} random cases recorded");
     assert!(scripted >= 300, "only {scripted} cases with scripts recorded");

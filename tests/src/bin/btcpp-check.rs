@@ -11,10 +11,9 @@ use integration_tests::btcpp::{case, run};
 
 fn main() -> ExitCode {
     let mut bad = 0usize;
-    let mut total = run::Comparison::default();
+    let mut total = run::Totals::default();
     let mut cases = 0usize;
     let mut refused = 0usize;
-    let mut restarted = 0usize;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let names_only = args.first().is_some_and(|a| a == "--restarted");
     for path in args.iter().skip(usize::from(names_only)) {
@@ -43,15 +42,10 @@ fn main() -> ExitCode {
                 .and_then(|ours| run::compare(rec, &ours))
             {
                 Ok(c) => {
-                    total.ticks += c.ticks;
-                    total.halts_moved_earlier += c.halts_moved_earlier;
-                    if c.restarted_at.is_some() {
-                        restarted += 1;
-                        if names_only {
-                            println!("{}", rec.case.name);
-                        }
+                    total.add(&c);
+                    if c.restarted_at.is_some() && names_only {
+                        println!("{}", rec.case.name);
                     }
-                    total.ticks_with_other_statuses += c.ticks_with_other_statuses;
                 }
                 Err(e) => {
                     bad += 1;
@@ -67,11 +61,6 @@ fn main() -> ExitCode {
     if names_only {
         return if bad == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE };
     }
-    println!(
-        "{cases} cases ({refused} refused by BehaviorTree.CPP not counted), {} ticks compared: {bad} disagree; \
-         {} halts earlier (halt before start); {restarted} cases compared up to a branch restarted by halt \
-         before start; {} ticks with other statuses as BehaviorTree.CPP shows them",
-        total.ticks, total.halts_moved_earlier, total.ticks_with_other_statuses
-    );
+    println!("{cases} cases ({refused} refused by BehaviorTree.CPP not counted), {bad} disagree; {total}");
     if bad == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE }
 }

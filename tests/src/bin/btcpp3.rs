@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use integration_tests::btcpp::run::Comparison;
+use integration_tests::btcpp::run::Totals;
 use integration_tests::btcpp::v3::{generate, parse_fixtures, run};
 
 fn cases(args: &[String]) -> ExitCode {
@@ -40,8 +40,8 @@ fn cases(args: &[String]) -> ExitCode {
 }
 
 fn check(files: &[String]) -> ExitCode {
-    let (mut cases, mut refused, mut bad, mut restarted) = (0usize, 0usize, 0usize, 0usize);
-    let mut total = Comparison::default();
+    let (mut cases, mut refused, mut bad) = (0usize, 0usize, 0usize);
+    let mut total = Totals::default();
     for path in files {
         let recorded = match std::fs::read_to_string(path).map_err(|e| e.to_string()).and_then(|t| parse_fixtures(&t)) {
             Ok(r) => r,
@@ -61,10 +61,7 @@ fn check(files: &[String]) -> ExitCode {
                 .and_then(|ours| run::compare(rec, &ours))
             {
                 Ok(c) => {
-                    total.ticks += c.ticks;
-                    total.halts_moved_earlier += c.halts_moved_earlier;
-                    total.ticks_with_other_statuses += c.ticks_with_other_statuses;
-                    restarted += usize::from(c.restarted_at.is_some());
+                    total.add(&c);
                 }
                 Err(e) => {
                     bad += 1;
@@ -73,12 +70,7 @@ fn check(files: &[String]) -> ExitCode {
             }
         }
     }
-    println!(
-        "{cases} cases ({refused} refused by BehaviorTree.CPP 3.8 not counted), {} ticks compared: {bad} disagree; \
-         {} halts earlier (halt before start); {restarted} cases compared up to a branch restarted by halt before \
-         start; {} ticks with other statuses as BehaviorTree.CPP shows them",
-        total.ticks, total.halts_moved_earlier, total.ticks_with_other_statuses
-    );
+    println!("{cases} cases ({refused} refused by BehaviorTree.CPP 3.8 not counted), {bad} disagree; {total}");
     if bad == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE }
 }
 

@@ -409,6 +409,41 @@ pub struct Comparison {
     pub ticks_with_other_statuses: usize,
 }
 
+/// Comparisons of many cases added up, for the differential tests' summary lines.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Totals {
+    /// Ticks compared.
+    pub ticks: usize,
+    /// Halts that came earlier by halt before start.
+    pub halts_moved_earlier: usize,
+    /// Cases compared only up to a branch that halt before start restarted.
+    pub restarted: usize,
+    /// Ticks whose statuses, as BehaviorTree.CPP shows them, differ in finished statuses
+    /// it leaves behind.
+    pub ticks_with_other_statuses: usize,
+}
+
+impl Totals {
+    /// Adds one case's comparison.
+    pub fn add(&mut self, c: &Comparison) {
+        self.ticks += c.ticks;
+        self.halts_moved_earlier += c.halts_moved_earlier;
+        self.restarted += usize::from(c.restarted_at.is_some());
+        self.ticks_with_other_statuses += c.ticks_with_other_statuses;
+    }
+}
+
+impl std::fmt::Display for Totals {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ticks compared; {} halts earlier (halt before start); {} cases compared up to a branch restarted \
+             by halt before start; {} ticks with other statuses as BehaviorTree.CPP shows them",
+            self.ticks, self.halts_moved_earlier, self.restarted, self.ticks_with_other_statuses
+        )
+    }
+}
+
 fn is_halt(e: &str) -> bool {
     e.starts_with('H') || e.starts_with('h')
 }
