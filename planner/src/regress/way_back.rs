@@ -3,13 +3,13 @@
 //! ([`Policy::rejoin`]), the rest of a plan already added ([`Policy::resume`]), or a
 //! new plan to the goal ([`way_back`] chooses).
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 use super::close::Budget;
 use super::{Closed, Policy, Rule, successor};
 use crate::PlanError;
-use crate::ground::{ActionId, Grounding};
+use crate::ground::{ActionId, AtomId, Grounding};
 use crate::guide::Trace;
 use crate::search::{self, SearchOptions};
 use crate::state::State;
@@ -87,26 +87,7 @@ impl Policy {
         // (a product made, a day gone) is out of reach: left out of the score.
         let within = |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || !g.achievers(l).is_empty());
         let near: Vec<&Rule> = std::iter::once(&goal).chain(self.rules.iter()).filter(within).collect();
-        let unmet = |s: &State| -> u64 {
-            let mut best = u64::MAX;
-            for &r in &near {
-                let mut n: u64 = 0;
-                for l in &r.when {
-                    if !l.holds(s) {
-                        n += 1;
-                        if n << 32 >= best {
-                            break;
-                        }
-                    }
-                }
-                let v = n << 32 | u64::from(r.distance);
-                best = best.min(v);
-                if n == 0 {
-                    break;
-                }
-            }
-            if best >> 32 == 0 { 0 } else { best }
-        };
+        let mut nearest = Nearest::new(&near, t);
         // The tree's own actions first, as in `repair`.
         let mut allowed = vec![false; g.actions().len()];
         for &a in own {
@@ -115,11 +96,111 @@ impl Policy {
             }
         }
         // One action costs as much as one unmet condition.
-        let plan = search::best_first_to(g, t, Some(&allowed), 1 << 32, REJOIN_STATES, deadline, unmet)
-            .or_else(|| search::best_first_to(g, t, None, 1 << 32, REJOIN_STATES, deadline, unmet))?;
+        let plan = search::best_first_to(g, t, Some(&allowed), 1 << 32, REJOIN_STATES, deadline, |s| nearest.score(s))
+            .or_else(|| search::best_first_to(g, t, None, 1 << 32, REJOIN_STATES, deadline, |s| nearest.score(s)))?;
         let end = Trace::from_state(g, t, &plan)?.state(plan.len())?.clone();
         let rule = if g.goal_holds(&end) { goal } else { self.first(&end)?.clone() };
         Some((plan, rule))
+    }
+}
+
+/// The score [`Policy::rejoin`] searches by: for a state, the fewest conditions of one
+/// of `rules` that do not hold there, and that rule's distance, as `unmet << 32 |
+/// distance` (0 where one holds). The searched states differ from the start `t` in a
+/// few atoms, and a rule's count changes only through those: the counts in `t` are
+/// taken once, and a state's score is found from the atoms where it differs from `t`
+/// (each with the rules that name it) and, for the rules none of those atoms touches,
+/// the best of them in `t`. The same score as counting every rule's conditions, in a
+/// fraction of the time where the tree has hundreds of rules.
+struct Nearest<'r> {
+    rules: Vec<&'r Rule>,
+    /// Unmet conditions of each rule in `t`.
+    base: Vec<u32>,
+    /// The rules by `(base, distance)`, best first.
+    by_score: Vec<u32>,
+    /// For each atom a rule names: the rules, and whether they need it true.
+    naming: HashMap<AtomId, Vec<(u32, bool)>>,
+    t: State,
+    /// Change of each rule's count in the state scored, for the rules in `touched`.
+    delta: Vec<i32>,
+    touched: Vec<u32>,
+    /// Which rules are in `touched` (`mark[r] == stamp`).
+    mark: Vec<u32>,
+    stamp: u32,
+}
+
+impl<'r> Nearest<'r> {
+    fn new(rules: &[&'r Rule], t: &State) -> Self {
+        let mut naming: HashMap<AtomId, Vec<(u32, bool)>> = HashMap::new();
+        let mut base = Vec::with_capacity(rules.len());
+        for (k, r) in rules.iter().enumerate() {
+            base.push(r.when.iter().filter(|l| !l.holds(t)).count() as u32);
+            for l in &r.when {
+                naming.entry(l.atom).or_default().push((k as u32, l.positive));
+            }
+        }
+        let key = |k: u32| {
+            let k = k as usize;
+            (u64::from(base.get(k).copied().unwrap_or(u32::MAX)) << 32)
+                | u64::from(rules.get(k).map_or(0, |r| r.distance))
+        };
+        let mut by_score: Vec<u32> = (0..rules.len() as u32).collect();
+        by_score.sort_by_key(|&k| key(k));
+        Self {
+            rules: rules.to_vec(),
+            base,
+            by_score,
+            naming,
+            t: t.clone(),
+            delta: vec![0; rules.len()],
+            touched: Vec::new(),
+            mark: vec![0; rules.len()],
+            stamp: 0,
+        }
+    }
+
+    fn score(&mut self, s: &State) -> u64 {
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.mark.fill(0);
+            self.stamp = 1;
+        }
+        self.touched.clear();
+        for (i, (&a, &b)) in s.words().iter().zip(self.t.words()).enumerate() {
+            let mut diff = a ^ b;
+            while diff != 0 {
+                let atom = (i as u32) * 64 + diff.trailing_zeros();
+                diff &= diff - 1;
+                let now = s.holds(atom);
+                for &(r, positive) in self.naming.get(&atom).map_or(&[][..], Vec::as_slice) {
+                    let k = r as usize;
+                    if let (Some(m), Some(d)) = (self.mark.get_mut(k), self.delta.get_mut(k)) {
+                        if *m != self.stamp {
+                            *m = self.stamp;
+                            *d = 0;
+                            self.touched.push(r);
+                        }
+                        // The literal holds now where it did not in `t`, or the other way.
+                        *d += if positive == now { -1 } else { 1 };
+                    }
+                }
+            }
+        }
+        let key = |k: usize, unmet: i64| -> u64 {
+            (u64::try_from(unmet).unwrap_or(0) << 32) | u64::from(self.rules.get(k).map_or(0, |r| r.distance))
+        };
+        let mut best = u64::MAX;
+        for &r in &self.touched {
+            let k = r as usize;
+            let unmet =
+                i64::from(self.base.get(k).copied().unwrap_or(0)) + i64::from(self.delta.get(k).copied().unwrap_or(0));
+            best = best.min(key(k, unmet));
+        }
+        if let Some(&r) = self.by_score.iter().find(|&&r| self.mark.get(r as usize) != Some(&self.stamp)) {
+            let k = r as usize;
+            best = best.min(key(k, i64::from(self.base.get(k).copied().unwrap_or(0))));
+        }
+        if best >> 32 == 0 { 0 } else { best }
     }
 }
 
@@ -253,4 +334,47 @@ fn repair_with(g: &Grounding, policy: &Policy, t: &State, actions: &[ActionId]) 
         layer = next;
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
+    use super::*;
+
+    /// The score counted the plain way: every rule's unmet conditions.
+    fn counted(rules: &[&Rule], s: &State) -> u64 {
+        let best = rules
+            .iter()
+            .map(|r| ((r.when.iter().filter(|l| !l.holds(s)).count() as u64) << 32) | u64::from(r.distance))
+            .min()
+            .unwrap_or(u64::MAX);
+        if best >> 32 == 0 { 0 } else { best }
+    }
+
+    /// [`Nearest`] scores every state of a walk away from its start as counting every
+    /// rule's conditions does.
+    #[test]
+    fn the_nearest_rule_is_found_from_the_atoms_that_changed() {
+        let g = crate::domains::blocks_world(6).unwrap();
+        let found = search::gbfs(&g, &SearchOptions::default()).unwrap();
+        let policy = Policy::of_trace(&g, &Trace::new(&g, &found.plan).unwrap());
+        let goal = Rule::goal(&g);
+        let rules: Vec<&Rule> = std::iter::once(&goal).chain(policy.rules()).collect();
+        assert!(rules.len() > 10, "{}", rules.len());
+        // Start halfway along the plan, then walk: each step the k-th applicable action.
+        let t = Trace::new(&g, &found.plan).unwrap().state(found.plan.len() / 2).unwrap().clone();
+        let mut nearest = Nearest::new(&rules, &t);
+        let mut s = t.clone();
+        let mut scores = std::collections::BTreeSet::new();
+        for step in 0..300_usize {
+            let got = nearest.score(&s);
+            assert_eq!(got, counted(&rules, &s), "step {step}");
+            scores.insert(got);
+            let applicable: Vec<ActionId> =
+                (0..g.actions().len() as ActionId).filter(|&a| g.action(a).unwrap().applicable(&s)).collect();
+            let a = applicable[(step * 7 + 3) % applicable.len()];
+            s = successor(&g, a, &s).unwrap();
+        }
+        assert!(scores.len() > 3, "the walk met too few scores: {scores:?}");
+    }
 }
