@@ -14,7 +14,7 @@ pub(super) fn close_budget(options: Options, until: Option<Instant>) -> crate::r
 /// The least time the closure over disturbances gets with a deadline
 /// ([`closure_deadline`]): a tree found at once is still closed over the disturbances
 /// of its first levels.
-const MIN_CLOSURE: std::time::Duration = std::time::Duration::from_millis(400);
+const MIN_CLOSURE: std::time::Duration = std::time::Duration::from_millis(600);
 
 /// When the closure over disturbances of a tree first ready at `first` must stop, with
 /// [`Options::deadline`] (`None` without one: the closure then stops only at its budget

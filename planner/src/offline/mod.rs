@@ -158,7 +158,7 @@ pub struct GaveUp {
 /// where none fits (unless the fit is strict).
 ///
 /// With [`Options::deadline`], the closure over disturbances gets as long as the
-/// first tree took (at least 0.4 s, at most half the time left), so that the closed
+/// first tree took (at least 0.6 s, at most half the time left), so that the closed
 /// tree comes at most about twice as late as the first; without one it stops only at
 /// its budget of states, plans and nodes, and the tree does not depend on the
 /// machine's speed.
