@@ -49,21 +49,36 @@ impl State {
 
     /// The atoms that hold, in increasing order.
     pub fn iter(&self) -> impl Iterator<Item = AtomId> + '_ {
-        self.words.iter().enumerate().flat_map(|(i, &w)| {
-            let mut rest = w;
-            std::iter::from_fn(move || {
-                if rest == 0 {
-                    return None;
-                }
-                let b = rest.trailing_zeros();
-                rest &= rest - 1;
-                Some((i as u32) * 64 + b)
-            })
-        })
+        self.words.iter().enumerate().flat_map(|(i, &w)| bits(i, w))
+    }
+
+    /// The bits, 64 atoms a word (atom `a` is bit `a % 64` of word `a / 64`).
+    #[must_use]
+    pub(crate) fn words(&self) -> &[u64] {
+        &self.words
+    }
+
+    /// The atoms set in both `words` and `mask`, in increasing order: the true atoms
+    /// among those `mask` selects, without visiting the others.
+    pub(crate) fn iter_masked<'a>(words: &'a [u64], mask: &'a [u64]) -> impl Iterator<Item = AtomId> + 'a {
+        words.iter().zip(mask).enumerate().flat_map(|(i, (&w, &m))| bits(i, w & m))
     }
 
     /// Makes every atom false.
     pub fn clear(&mut self) {
         self.words.fill(0);
     }
+}
+
+/// The atoms of the set bits of `word`, word `i` of a state, in increasing order.
+fn bits(i: usize, word: u64) -> impl Iterator<Item = AtomId> {
+    let mut rest = word;
+    std::iter::from_fn(move || {
+        if rest == 0 {
+            return None;
+        }
+        let b = rest.trailing_zeros();
+        rest &= rest - 1;
+        Some((i as u32) * 64 + b)
+    })
 }

@@ -8,7 +8,6 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
 use planner::coverage;
 use planner::ground::Grounding;
@@ -48,8 +47,10 @@ fn every_fixture_plans_as_recorded_and_validated() {
         };
         let g = Arc::new(Grounding::new(&problem).unwrap());
         let c = Arc::new(PddlCatalog::new(&problem));
-        let options = Options { deadline: Some(Instant::now() + Duration::from_secs(120)), ..Options::default() };
-        let plan = planner::plan(g.clone(), c, options);
+        // No deadline: with one, the closure over disturbances gets time in proportion
+        // to the first tree's, and the tree (its rules can shorten the plan) depends on
+        // the machine's speed.
+        let plan = planner::plan(g.clone(), c, Options::default());
         match (&plan, &recorded) {
             (Ok(p), Some(want)) => {
                 let got: Vec<String> = p.executed.iter().map(|&a| g.action_pddl(a)).collect();

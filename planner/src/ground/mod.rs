@@ -39,8 +39,9 @@ pub use action::{ActionId, AtomId, CondEffect, GroundAction, Lit};
 use crate::PlanError;
 use crate::model::{Atom, Condition, CostTerm, ObjectId, PredicateId, Problem, TemplateId, Term};
 use crate::state::State;
+use foldhash::fast::FixedState;
 use formula::{Dnf, Eval};
-use tables::{Objects, UNBOUND, key_into};
+use tables::{Objects, UNBOUND, key_into, with_key};
 
 /// Bounds on grounding, so that a large problem is refused instead of exhausting
 /// memory or time.
@@ -93,11 +94,11 @@ pub struct Grounding {
     statics: Vec<bool>,
     /// Per atom, its key `[predicate, args...]`; atoms are sorted by key.
     keys: Vec<Box<[u16]>>,
-    atom_index: HashMap<Box<[u16]>, AtomId>,
+    atom_index: HashMap<Box<[u16]>, AtomId, FixedState>,
     init: State,
     actions: Vec<GroundAction>,
     /// `[template, args...]` → the ground actions of that leaf.
-    action_index: HashMap<Box<[u16]>, Vec<ActionId>>,
+    action_index: HashMap<Box<[u16]>, Vec<ActionId>, FixedState>,
     /// Per literal index: the actions achieving it, in template then grounding order.
     achievers: Vec<Vec<ActionId>>,
     goal: Vec<Lit>,
@@ -254,9 +255,7 @@ impl Grounding {
     /// true by some reachable action, or named by the goal).
     #[must_use]
     pub fn atom_id(&self, predicate: PredicateId, args: &[ObjectId]) -> Option<AtomId> {
-        let mut key = Vec::with_capacity(args.len() + 1);
-        key_into(&mut key, predicate, args.iter().copied());
-        self.atom_index.get(&key[..]).copied()
+        with_key(predicate, args, |key| self.atom_index.get(key).copied())
     }
 
     /// The atom `name(objects...)` by names.
@@ -397,9 +396,7 @@ impl Grounding {
         match &self.leaves {
             Leaves::Pddl => {
                 let Some(t) = leaf.behavior().checked_sub(self.problem.domain.predicates.len() as u16) else { return };
-                let mut key = Vec::with_capacity(args.len() + 1);
-                key_into(&mut key, t, args.iter().copied());
-                if let Some(v) = self.action_index.get(&key[..]) {
+                if let Some(v) = with_key(t, args, |key| self.action_index.get(key)) {
                     out.extend_from_slice(v);
                 }
             }
@@ -634,7 +631,7 @@ fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, PlanError> {
     let goal: Vec<Lit> =
         choose_goal(problem, &atoms, &statics, &goal_alternatives, &unreached)?.into_iter().map(remap).collect();
     let atom_index = keys.iter().enumerate().map(|(i, k)| (k.clone(), i as AtomId)).collect();
-    let mut action_index: HashMap<Box<[u16]>, Vec<ActionId>> = HashMap::new();
+    let mut action_index: HashMap<Box<[u16]>, Vec<ActionId>, FixedState> = HashMap::default();
     for (i, a) in actions.iter().enumerate() {
         let mut k = vec![a.template];
         k.extend_from_slice(&a.args);

@@ -128,6 +128,22 @@ impl Atoms {
     }
 }
 
+/// `f` of the key `[head, args...]`, built on the stack where it is short (a lookup
+/// per condition a tree ticks: no allocation).
+pub(super) fn with_key<R>(head: u16, args: &[ObjectId], f: impl FnOnce(&[u16]) -> R) -> R {
+    const SHORT: usize = 8;
+    if args.len() < SHORT {
+        let mut buf = [0u16; SHORT];
+        buf[0] = head;
+        buf[1..=args.len()].copy_from_slice(args);
+        f(&buf[..=args.len()])
+    } else {
+        let mut buf = Vec::with_capacity(args.len() + 1);
+        key_into(&mut buf, head, args.iter().copied());
+        f(&buf)
+    }
+}
+
 /// A key `[head, args...]` in a reusable buffer.
 pub(super) fn key_into(buf: &mut Vec<u16>, head: u16, args: impl IntoIterator<Item = ObjectId>) {
     buf.clear();

@@ -16,9 +16,11 @@ use crate::strips::{self, StripsWorld, Verdict};
 use crate::tree::PlanTree;
 
 mod behind;
+mod closure_time;
 pub(crate) mod fit;
 mod portfolio;
 use behind::Behind;
+use closure_time::{close_budget, closure_deadline};
 
 /// Where offline runs start ([`PlanError::GoalNotReached`]).
 const INITIAL: &str = "the initial state";
@@ -155,6 +157,12 @@ pub struct GaveUp {
 /// not fit even without it gives way to the next method, and the smallest is returned
 /// where none fits (unless the fit is strict).
 ///
+/// With [`Options::deadline`], the closure over disturbances gets as long as the
+/// first tree took (at least 0.6 s, at most half the time left), so that the closed
+/// tree comes at most about twice as late as the first; without one it stops only at
+/// its budget of states, plans and nodes, and the tree does not depend on the
+/// machine's speed.
+///
 /// Guided backchaining with state variables not pinned ([`crate::variables`]) is tried
 /// only where plain guided backchaining fails. Where its tree's closure over
 /// disturbances does not cover every disturbed state it looked at, the plan's
@@ -172,6 +180,7 @@ pub struct GaveUp {
 /// actions; [`PlanError::NoPlan`] and [`PlanError::Timeout`] from
 /// search; [`PlanError::TooBig`] when a strict [`Options::fit`] cannot be met.
 pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) -> Result<Plan<C>, PlanError> {
+    let started = Instant::now();
     let mut gave_up = Vec::new();
     // The smallest tree made so far that does not fit `options.fit`: kept unless a later
     // method's tree fits.
@@ -194,7 +203,8 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
         }
         let made = algorithm1(g.clone(), catalog.clone(), a1, budget).and_then(|p| {
             if options.close_backchained {
-                fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))
+                let until = closure_deadline(options, started, p.first);
+                fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until))
             } else {
                 measured(p, options)
             }
@@ -226,7 +236,8 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     let budget = Some(guided_budget);
     let made = run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided, budget).and_then(|p| {
         let p = cover_checks(p, &g, options);
-        fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))
+        let until = closure_deadline(options, started, p.first);
+        fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until))
     });
     match made {
         Ok(mut p) if p.fit.fits => {
@@ -247,12 +258,15 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
             Ok(mut p) => {
                 p.variables = variables;
                 let p = cover_checks(p, &g, options);
-                let mut p =
-                    fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }))?;
+                // The regression tree below, if made, shares this closure's time.
+                let until = closure_deadline(options, started, p.first);
+                let mut p = fit::within(options, |n| {
+                    close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until)
+                })?;
                 if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits {
                     // Its closure did not cover every disturbed state it looked at: the
                     // plan's regression tree instead where that copes better.
-                    let r = regression(g.clone(), catalog.clone(), options, &trace)?;
+                    let r = regression(g.clone(), catalog.clone(), options, &trace, until)?;
                     if (r.fit.fits && !p.fit.fits)
                         || (r.fit.fits == p.fit.fits && better_under_disturbances(&r, &p, &g)?)
                     {
@@ -270,7 +284,9 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
             Err(_) => {}
         }
     }
-    let mut p = regression(g, catalog, options, &trace)?;
+    // The regression tree is made in no time: it is the first tree from here.
+    let until = closure_deadline(options, started, Instant::now());
+    let mut p = regression(g, catalog, options, &trace, until)?;
     if !p.fit.fits {
         keep_smaller(&mut too_big, p);
         p = too_big.take().ok_or_else(|| PlanError::NoPlan("no tree was kept".into()))?;
@@ -331,11 +347,12 @@ fn regression<C: Catalog>(
     catalog: Arc<C>,
     options: Options,
     trace: &Trace,
+    until: Option<Instant>,
 ) -> Result<Plan<C>, PlanError> {
     let plain = crate::regress::Policy::of_trace(&g, trace);
     fit::within(options, |nodes| {
         let mut policy = plain.clone();
-        let budget = close_budget(Options { close_nodes: nodes, ..options });
+        let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
         let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
         let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
         let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
@@ -435,19 +452,6 @@ pub fn covered_line(covered: usize) -> String {
     )
 }
 
-/// The closure's budget: half the time left (the rest for the checks), and
-/// [`Options::close_nodes`].
-fn close_budget(options: Options) -> crate::regress::Budget {
-    crate::regress::Budget {
-        deadline: options.deadline.map(|d| {
-            let now = Instant::now();
-            now + d.saturating_duration_since(now) / 2
-        }),
-        nodes: options.close_nodes,
-        ..crate::regress::Budget::default()
-    }
-}
-
 /// Closes a tree of guided backchaining over disturbances, and one of Algorithm 1 with
 /// [`Options::close_backchained`] ([`crate::regress::close_with`]): where a disturbance
 /// leads to a state from which the tree does not reach the goal, rules go in front of
@@ -455,7 +459,12 @@ fn close_budget(options: Options) -> crate::regress::Budget {
 /// rules of the tree's own plan, and those of the ways back from such states). A tree
 /// that reaches the goal alone from every state looked at stays exactly as it was, and
 /// so does one whose closure ran out of budget before it looked at every state.
-fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Options) -> Result<Plan<C>, PlanError> {
+fn close_backchained<C: Catalog>(
+    p: Plan<C>,
+    g: &Arc<Grounding>,
+    options: Options,
+    until: Option<Instant>,
+) -> Result<Plan<C>, PlanError> {
     if !(options.close_backchained || p.method == Made::SearchGuided) || options.close_nodes == 0 {
         return Ok(p);
     }
@@ -467,7 +476,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
     // undisturbed plan never gets longer.
     let mut policy = Trace::new(g, &p.executed)
         .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
-    let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options))?;
+    let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options, until))?;
     if !closed.complete || closed.too_long > 0 {
         // Unlike a regression tree, which fails wherever no rule holds, a backchained
         // tree copes alone with many of the states disturbances lead to; rules for only
@@ -480,7 +489,7 @@ fn close_backchained<C: Catalog>(p: Plan<C>, g: &Arc<Grounding>, options: Option
         // Nothing added, but the closure looked with the plan's rules in front: the
         // tree stays as it was only if it does as well alone.
         let mut none = crate::regress::Policy::empty();
-        let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options))?;
+        let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options, until))?;
         if alone.plans == 0 && alone.undo == 0 && alone.given_up == 0 && alone.too_long == 0 {
             return Ok(Plan { closed: Some(closed), ..p });
         }

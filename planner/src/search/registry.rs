@@ -6,7 +6,9 @@
 //! instead, whichever is smaller for the start state.
 
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
+use std::hash::BuildHasher as _;
+
+use foldhash::fast::FixedState;
 
 use crate::ground::Grounding;
 use crate::state::State;
@@ -18,11 +20,12 @@ pub(super) struct Registry {
     start: Vec<u64>,
     /// Hash of a state's atoms → the first state with that hash; further ones chain
     /// through `next`.
-    by_hash: HashMap<u64, u32>,
+    by_hash: HashMap<u64, u32, FixedState>,
     next: Vec<u32>,
     scratch: Vec<u32>,
-    /// Whether each atom is static.
-    fixed: Vec<bool>,
+    /// The fluents (atoms not static), one bit each as [`State`] has them: a state's
+    /// fluents are its words masked by these.
+    fluent_words: Vec<u64>,
     /// The static atoms true in every state of the search.
     always: Vec<u32>,
     /// How a state's fluents are written.
@@ -41,10 +44,10 @@ enum Encoding {
 
 const END: u32 = u32::MAX;
 
+/// A state's hash: foldhash with a fixed seed (fast, and the same in every run; the
+/// ids do not depend on it anyway).
 fn hash(atoms: &[u32]) -> u64 {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    atoms.hash(&mut h);
-    h.finish()
+    FixedState::with_seed(0).hash_one(atoms)
 }
 
 impl Registry {
@@ -62,6 +65,12 @@ impl Registry {
             .filter(|&a| !fixed.get(a).copied().unwrap_or(true))
             .filter_map(|a| u32::try_from(a).ok())
             .collect();
+        let mut fluent_words = vec![0u64; g.atom_count().div_ceil(64)];
+        for &a in &fluents {
+            if let Some(w) = fluent_words.get_mut(a as usize / 64) {
+                *w |= 1 << (a % 64);
+            }
+        }
         let true_fluents = start.iter().count() - always.len();
         let encoding = if bits.unwrap_or(fluents.len().div_ceil(32) < true_fluents) {
             let mut index = vec![END; g.atom_count()];
@@ -77,10 +86,10 @@ impl Registry {
         Self {
             arena: Vec::new(),
             start: vec![0],
-            by_hash: HashMap::new(),
+            by_hash: HashMap::with_hasher(FixedState::with_seed(0)),
             next: Vec::new(),
             scratch: Vec::new(),
-            fixed,
+            fluent_words,
             always,
             encoding,
         }
@@ -90,12 +99,10 @@ impl Registry {
     fn encode(&self, state: &State, out: &mut Vec<u32>) {
         out.clear();
         match &self.encoding {
-            Encoding::List => {
-                out.extend(state.iter().filter(|&a| !self.fixed.get(a as usize).copied().unwrap_or(false)))
-            }
+            Encoding::List => out.extend(State::iter_masked(state.words(), &self.fluent_words)),
             Encoding::Bits { fluents, index } => {
                 out.resize(fluents.len().div_ceil(32), 0);
-                for a in state.iter() {
+                for a in State::iter_masked(state.words(), &self.fluent_words) {
                     let k = index.get(a as usize).copied().unwrap_or(END);
                     if let Some(w) = out.get_mut(k as usize / 32)
                         && k != END

@@ -177,9 +177,10 @@ pub struct Args {
     #[arg(long, value_name = "NODES", conflicts_with = "task")]
     pub max_nodes: Option<usize>,
     /// Seconds to plan for (PDDL only): Algorithm 1 and the search run side by side,
-    /// and the closure over disturbances stops when the time is up, leaving the tree
-    /// it has made so far (less robust, never wrong); a tree not made by then is an
-    /// error. Default: no limit.
+    /// and the closure over disturbances gets as long as the first tree took (at
+    /// least 0.6 s, at most half the time left), leaving the tree it has made by then
+    /// (less robust, never wrong); a tree not made in time is an error. Default: no
+    /// limit (the tree then does not depend on the machine's speed).
     #[arg(long, value_name = "SECONDS", conflicts_with = "task")]
     pub timeout: Option<f64>,
     /// How the greedy best-first search that guides the tree evaluates states (PDDL
