@@ -116,9 +116,9 @@ pub mod run;
 pub mod selection;
 
 pub use alphabet::{Alphabet, AlphabetError};
-pub use fitness::{Fitness, FitnessCache};
+pub use fitness::{Fitness, FitnessCache, Size};
 pub use genome::{Genome, GenomeError, Invalid, Token};
 pub use log::{CSV_HEADER, CsvError, GenerationLog, read_csv, to_csv, write_csv};
 pub use operators::{MutationRates, crossover, mutate, random_tree};
-pub use params::{Entry, Params, ParamsError, RecordError, UnknownVariant, Variant, parse_record};
+pub use params::{Bound, Entry, Params, ParamsError, RecordError, UnknownVariant, Variant, parse_record};
 pub use run::{Evaluation, Gp, GpError, Individual, RunResult, run};

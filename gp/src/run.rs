@@ -33,11 +33,11 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::alphabet::{Alphabet, draw};
-use crate::fitness::{Fitness, FitnessCache};
-use crate::genome::{Genome, GenomeError, Token, hash_tokens, length};
+use crate::fitness::{Fitness, FitnessCache, Size};
+use crate::genome::{Genome, GenomeError, Token, hash_tokens, length, write_nodes};
 use crate::log::GenerationLog;
 use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into, random_tree};
-use crate::params::{Params, ParamsError};
+use crate::params::{Bound, Params, ParamsError};
 use crate::selection::{rank_order, select_best, select_by_rank};
 
 /// How a generation's episodes are run. The results are the same either way.
@@ -85,6 +85,23 @@ pub enum GpError {
     /// Island settings that cannot run ([`crate::islands::IslandParams`]).
     #[error("{0}")]
     Islands(&'static str),
+    /// The baseline is over the [`Bound`].
+    #[error("the planner's tree (the baseline) has an image of {} and {}, over the bound of {bound}",
+            crate::genome::count(size.bytes, "byte"), crate::genome::count(size.nodes, "node"))]
+    BaselineTooBig {
+        /// The baseline's size.
+        size: Size,
+        /// The bound.
+        bound: Bound,
+    },
+    /// Not even the smallest random tree fits the [`Bound`].
+    #[error("no random tree of {} or more fits {bound}", crate::genome::count(*min_length, "node"))]
+    BoundTooSmall {
+        /// The bound.
+        bound: Bound,
+        /// The smallest tree GP makes (`min_length`).
+        min_length: usize,
+    },
 }
 
 /// What a run leaves behind.
@@ -172,15 +189,22 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             (Some(nodes), true) => Some(Genome::from_nodes(nodes, &alphabet).map_err(GpError::Baseline)?),
             _ => None,
         };
+        if let Some(b) = &baseline {
+            let size = b.to_nodes().ok().and_then(|nodes| fitness.size(&nodes));
+            let size = size.unwrap_or(Size { bytes: usize::MAX, nodes: b.length() });
+            if !params.bound.admits(size) {
+                return Err(GpError::BaselineTooBig { size, bound: params.bound });
+            }
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
         let capacity = (params.population_size + 1).saturating_add(
             (params.generations as usize).saturating_mul(offspring_per_generation(&params)).min(1 << 20),
         );
         let mut genomes: Vec<Genome> = Vec::with_capacity(params.population_size + 1);
+        let mut draw = RandomTrees::new(&params);
         for _ in 0..params.population_size {
             for _ in 0..MAX_ATTEMPTS {
-                let tree = random_tree(params.initial_length, &alphabet, &mut rng)
-                    .ok_or(GpError::NoRandomTree(params.initial_length))?;
+                let tree = draw.next(&alphabet, fitness, &mut rng)?;
                 if !genomes.contains(&tree) {
                     genomes.push(tree);
                     break;
@@ -438,7 +462,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
 
     /// The offspring acceptance rule; the child's hash if accepted.
     fn accepts(&self, child: &[Token], offspring: &[Genome]) -> Option<u64> {
-        if length(child) < self.params.min_length {
+        if length(child) < self.params.min_length || !fits(child, self.params.bound, self.fitness) {
             return None;
         }
         let hash = hash_tokens(child);
@@ -521,6 +545,61 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         };
         self.log.push(row);
         row
+    }
+}
+
+/// Whether a valid tree is within `bound` (always, without one). Measured only when
+/// bounded: an unbounded run does exactly what it did before bounds existed.
+fn fits<F: Fitness + ?Sized>(tokens: &[Token], bound: Bound, fitness: &F) -> bool {
+    if bound.is_none() {
+        return true;
+    }
+    // Nodes never shrink in the shipped form, so the count alone can refuse at once.
+    if bound.nodes.is_some_and(|n| length(tokens) > n) {
+        return false;
+    }
+    let mut nodes = Vec::with_capacity(tokens.len());
+    write_nodes(tokens, &mut nodes).is_ok() && fitness.size(&nodes).is_some_and(|size| bound.admits(size))
+}
+
+/// The initial population's random trees within the bound: of `initial_length` nodes
+/// (at most the bound's nodes); where [`MAX_ATTEMPTS`] draws in a row are over the
+/// bound, one node fewer, down to `min_length`. Unbounded, exactly the draws of
+/// [`random_tree`].
+struct RandomTrees {
+    length: usize,
+    min_length: usize,
+    bound: Bound,
+    misses: usize,
+}
+
+impl RandomTrees {
+    fn new(params: &Params) -> Self {
+        let length = params.initial_length.min(params.bound.nodes.unwrap_or(usize::MAX));
+        Self { length, min_length: params.min_length, bound: params.bound, misses: 0 }
+    }
+
+    fn next<F: Fitness + ?Sized>(
+        &mut self,
+        alphabet: &Alphabet,
+        fitness: &F,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Genome, GpError> {
+        let too_small = GpError::BoundTooSmall { bound: self.bound, min_length: self.min_length };
+        loop {
+            if self.length < self.min_length.max(1) {
+                return Err(too_small);
+            }
+            let tree = random_tree(self.length, alphabet, rng).ok_or(GpError::NoRandomTree(self.length))?;
+            if fits(tree.tokens(), self.bound, fitness) {
+                return Ok(tree);
+            }
+            self.misses += 1;
+            if self.misses == MAX_ATTEMPTS {
+                self.misses = 0;
+                self.length -= 1;
+            }
+        }
     }
 }
 
