@@ -99,6 +99,9 @@
 //! - **Random trees** are redrawn at most [`operators::RANDOM_TREE_ATTEMPTS`] times
 //!   (the reference redraws forever; past ~25 nodes valid draws become too rare). The
 //!   initial population redraws a duplicate up to 100 times, as the reference does.
+//! - **A size bound** ([`Bound`], none by default; not in the paper) is one more
+//!   validity rule: random trees and offspring over it are refused before they are
+//!   simulated, and a baseline over it is an error ([`GpError::BaselineTooBig`]).
 //! - **Offspring size**: at least `min_length` = 2 nodes (the reference counts tokens;
 //!   the same for valid trees). A NaN fitness counts as `-inf`.
 #![forbid(unsafe_code)]
