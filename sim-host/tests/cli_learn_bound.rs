@@ -6,7 +6,7 @@
 use std::path::Path;
 
 mod cli_common;
-use cli_common::{ok, one_line_error, sim_host};
+use cli_common::{ok, one_line_error, sim_host, sim_host_threads};
 
 const DOMAIN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/domain.pddl");
 const BLOCKED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/problem-blocked.pddl");
@@ -63,12 +63,7 @@ fn a_learned_pddl_tree_fits_without_its_names_with_islands_and_repeats() {
             "--out",
             &out,
         ];
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_sim-host"))
-            .env("RAYON_NUM_THREADS", threads)
-            .args(args)
-            .output()
-            .unwrap();
-        ok(&o);
+        ok(&sim_host_threads(threads, &args));
         let best = Path::new(&out).join("cube-to-goal-blocked-baseline-islands2-strips-seed2/best.bt");
         (size(&best), std::fs::read(best).unwrap())
     };
