@@ -108,6 +108,7 @@
 #![deny(missing_docs)]
 
 mod alphabet;
+mod bound;
 mod edit;
 pub mod fitness;
 pub mod genome;
@@ -119,9 +120,10 @@ pub mod run;
 pub mod selection;
 
 pub use alphabet::{Alphabet, AlphabetError};
+pub use bound::Bound;
 pub use fitness::{Fitness, FitnessCache, Size};
 pub use genome::{Genome, GenomeError, Invalid, Token};
 pub use log::{CSV_HEADER, CsvError, GenerationLog, read_csv, to_csv, write_csv};
 pub use operators::{MutationRates, crossover, mutate, random_tree};
-pub use params::{Bound, Entry, Params, ParamsError, RecordError, UnknownVariant, Variant, parse_record};
+pub use params::{Entry, Params, ParamsError, RecordError, UnknownVariant, Variant, parse_record};
 pub use run::{Evaluation, Gp, GpError, Individual, RunResult, run};

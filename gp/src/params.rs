@@ -6,7 +6,7 @@ use std::str::FromStr;
 
 use bt_core::{Catalog, Node};
 
-use crate::fitness::Size;
+use crate::bound::Bound;
 use crate::operators::MutationRates;
 
 /// How the planner's tree takes part (Styrud et al., Section III-C).
@@ -139,51 +139,6 @@ pub struct Params {
     /// The most a tree may take on the controller (none by default): a validity rule
     /// like Styrud et al.'s, applied to random trees and offspring alike.
     pub bound: Bound,
-}
-
-/// The most bytes and nodes a tree may take on the controller, as
-/// [`Fitness::size`](crate::Fitness::size) measures it. `None`: no limit.
-///
-/// It is a validity rule, as the paper's are: a random tree or an offspring over the
-/// bound is refused and drawn again, never simulated, so it costs no episode and no
-/// tree over the bound is ever in the population (a penalty in the fitness would spend
-/// episodes on trees that can never be the answer, and would still let one win).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Bound {
-    /// Most image bytes (without the names section).
-    pub bytes: Option<usize>,
-    /// Most bt-core nodes.
-    pub nodes: Option<usize>,
-}
-
-impl Bound {
-    /// No limit.
-    pub const NONE: Self = Self { bytes: None, nodes: None };
-
-    /// Whether there is a limit at all.
-    #[must_use]
-    pub const fn is_none(&self) -> bool {
-        self.bytes.is_none() && self.nodes.is_none()
-    }
-
-    /// Whether a tree of `size` is within the bound.
-    #[must_use]
-    pub fn admits(&self, size: Size) -> bool {
-        self.bytes.is_none_or(|b| size.bytes <= b) && self.nodes.is_none_or(|n| size.nodes <= n)
-    }
-}
-
-impl fmt::Display for Bound {
-    /// `at most 300 bytes and 20 nodes`, `at most 300 bytes`, `no bound`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use crate::genome::count;
-        match (self.bytes, self.nodes) {
-            (None, None) => f.write_str("no bound"),
-            (Some(b), None) => write!(f, "at most {}", count(b, "byte")),
-            (None, Some(n)) => write!(f, "at most {}", count(n, "node")),
-            (Some(b), Some(n)) => write!(f, "at most {} and {}", count(b, "byte"), count(n, "node")),
-        }
-    }
 }
 
 impl Default for Params {

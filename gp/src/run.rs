@@ -33,11 +33,12 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::alphabet::{Alphabet, draw};
+use crate::bound::{Bound, RandomTrees, fits};
 use crate::fitness::{Fitness, FitnessCache, Size};
-use crate::genome::{Genome, GenomeError, Token, hash_tokens, length, write_nodes};
+use crate::genome::{Genome, GenomeError, Token, hash_tokens, length};
 use crate::log::GenerationLog;
-use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into, random_tree};
-use crate::params::{Bound, Params, ParamsError};
+use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into};
+use crate::params::{Params, ParamsError};
 use crate::selection::{rank_order, select_best, select_by_rank};
 
 /// How a generation's episodes are run. The results are the same either way.
@@ -545,61 +546,6 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
         };
         self.log.push(row);
         row
-    }
-}
-
-/// Whether a valid tree is within `bound` (always, without one). Measured only when
-/// bounded: an unbounded run does exactly what it did before bounds existed.
-fn fits<F: Fitness + ?Sized>(tokens: &[Token], bound: Bound, fitness: &F) -> bool {
-    if bound.is_none() {
-        return true;
-    }
-    // Nodes never shrink in the shipped form, so the count alone can refuse at once.
-    if bound.nodes.is_some_and(|n| length(tokens) > n) {
-        return false;
-    }
-    let mut nodes = Vec::with_capacity(tokens.len());
-    write_nodes(tokens, &mut nodes).is_ok() && fitness.size(&nodes).is_some_and(|size| bound.admits(size))
-}
-
-/// The initial population's random trees within the bound: of `initial_length` nodes
-/// (at most the bound's nodes); where [`MAX_ATTEMPTS`] draws in a row are over the
-/// bound, one node fewer, down to `min_length`. Unbounded, exactly the draws of
-/// [`random_tree`].
-struct RandomTrees {
-    length: usize,
-    min_length: usize,
-    bound: Bound,
-    misses: usize,
-}
-
-impl RandomTrees {
-    fn new(params: &Params) -> Self {
-        let length = params.initial_length.min(params.bound.nodes.unwrap_or(usize::MAX));
-        Self { length, min_length: params.min_length, bound: params.bound, misses: 0 }
-    }
-
-    fn next<F: Fitness + ?Sized>(
-        &mut self,
-        alphabet: &Alphabet,
-        fitness: &F,
-        rng: &mut ChaCha8Rng,
-    ) -> Result<Genome, GpError> {
-        let too_small = GpError::BoundTooSmall { bound: self.bound, min_length: self.min_length };
-        loop {
-            if self.length < self.min_length.max(1) {
-                return Err(too_small);
-            }
-            let tree = random_tree(self.length, alphabet, rng).ok_or(GpError::NoRandomTree(self.length))?;
-            if fits(tree.tokens(), self.bound, fitness) {
-                return Ok(tree);
-            }
-            self.misses += 1;
-            if self.misses == MAX_ATTEMPTS {
-                self.misses = 0;
-                self.length -= 1;
-            }
-        }
     }
 }
 
