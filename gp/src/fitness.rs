@@ -22,11 +22,41 @@ pub trait Fitness: Sync {
     /// The fitness of `tree` (a valid pre-order node array of reactive Sequence,
     /// Fallback and argument-less leaves).
     fn fitness(&self, tree: &[Node]) -> f64;
+
+    /// The size of `tree` as the controller it is learned for holds it: what a
+    /// [`Bound`](crate::Bound) limits. By default the image of the tree itself, without
+    /// a names section, as `bt-formats` encodes it; a world that ships the tree in
+    /// another form (the PDDL leaf contract adds an Inverter per negative condition)
+    /// measures that form. `None` when it makes no image at all.
+    fn size(&self, tree: &[Node]) -> Option<Size> {
+        Size::of_image(tree)
+    }
 }
 
 impl<F: Fn(&[Node]) -> f64 + Sync> Fitness for F {
     fn fitness(&self, tree: &[Node]) -> f64 {
         self(tree)
+    }
+}
+
+/// A tree's size on the controller.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Size {
+    /// Bytes of its image without the names section (`sim-host deploy --strip-names`
+    /// sends exactly these).
+    pub bytes: usize,
+    /// bt-core nodes.
+    pub nodes: usize,
+}
+
+impl Size {
+    /// The size of the image of `nodes` (no values, no names), as
+    /// [`bt_formats::image::Image`] encodes it; `None` past what an image holds. The
+    /// catalog's fingerprint is a fixed-width header field, so it does not matter here.
+    #[must_use]
+    pub fn of_image(nodes: &[Node]) -> Option<Self> {
+        let bytes = bt_formats::image::Image::new(nodes).encode(0).ok()?.len();
+        Some(Self { bytes, nodes: nodes.len() })
     }
 }
 

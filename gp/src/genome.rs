@@ -347,53 +347,7 @@ impl Genome {
     /// # Errors
     /// As [`Genome::to_nodes`].
     pub fn write_nodes(&self, nodes: &mut Vec<Node>) -> Result<(), GenomeError> {
-        nodes.clear();
-        if self.tokens.len() > 2 * usize::from(u16::MAX) {
-            return Err(GenomeError::TooLong(length(&self.tokens)));
-        }
-        // The open control nodes form a stack threaded through the nodes themselves:
-        // while a control node is open, its size field holds 1 + the index of the
-        // control node that was innermost before it (0 for none). No allocation.
-        let mut innermost: Option<usize> = None;
-        for (at, &token) in self.tokens.iter().enumerate() {
-            if !nodes.is_empty() && innermost.is_none() {
-                return Err(GenomeError::NotATree(Invalid::Unbalanced { at }));
-            }
-            let kind = match token {
-                Token::Sequence => NodeKind::Sequence,
-                Token::Fallback => NodeKind::Fallback,
-                Token::Condition(id) => NodeKind::Condition(Leaf::new(id)),
-                Token::Action(id) => NodeKind::Action(Leaf::new(id)),
-                Token::Close => {
-                    let start = innermost.ok_or(GenomeError::NotATree(Invalid::Unbalanced { at }))?;
-                    let size = nodes.len() - start;
-                    if size < 2 {
-                        return Err(GenomeError::NotATree(Invalid::EmptyControl { at }));
-                    }
-                    let size = u16::try_from(size).map_err(|_| GenomeError::TooLong(nodes.len()))?;
-                    if let Some(node) = nodes.get_mut(start) {
-                        innermost = usize::from(node.size()).checked_sub(1);
-                        *node = Node::new(*node.kind(), size);
-                    }
-                    continue;
-                }
-            };
-            let link = if token.is_control() {
-                let link = innermost.map_or(0, |i| i + 1);
-                innermost = Some(nodes.len());
-                u16::try_from(link).map_err(|_| GenomeError::TooLong(nodes.len()))?
-            } else {
-                1
-            };
-            nodes.push(Node::new(kind, link));
-        }
-        if nodes.is_empty() {
-            return Err(GenomeError::NotATree(Invalid::Empty));
-        }
-        if innermost.is_some() {
-            return Err(GenomeError::NotATree(Invalid::Unbalanced { at: self.tokens.len() }));
-        }
-        Ok(())
+        write_nodes(&self.tokens, nodes)
     }
 
     /// The genome in the token notation of Styrud et al. (`s( f( 0 on 1? ... ) )`), leaves
@@ -413,6 +367,61 @@ impl Genome {
     pub fn parse<C: Catalog + ?Sized>(text: &str, catalog: &C, alphabet: &Alphabet) -> Result<Self, GenomeError> {
         Self::from_nodes(&bt_formats::tokens::parse(text, catalog)?, alphabet)
     }
+}
+
+/// The bt-core nodes of a token list, into a buffer the caller reuses (cleared first):
+/// [`Genome::write_nodes`] for tokens not (yet) made into a genome.
+///
+/// # Errors
+/// As [`Genome::to_nodes`].
+pub fn write_nodes(tokens: &[Token], nodes: &mut Vec<Node>) -> Result<(), GenomeError> {
+    nodes.clear();
+    if tokens.len() > 2 * usize::from(u16::MAX) {
+        return Err(GenomeError::TooLong(length(tokens)));
+    }
+    // The open control nodes form a stack threaded through the nodes themselves:
+    // while a control node is open, its size field holds 1 + the index of the
+    // control node that was innermost before it (0 for none). No allocation.
+    let mut innermost: Option<usize> = None;
+    for (at, &token) in tokens.iter().enumerate() {
+        if !nodes.is_empty() && innermost.is_none() {
+            return Err(GenomeError::NotATree(Invalid::Unbalanced { at }));
+        }
+        let kind = match token {
+            Token::Sequence => NodeKind::Sequence,
+            Token::Fallback => NodeKind::Fallback,
+            Token::Condition(id) => NodeKind::Condition(Leaf::new(id)),
+            Token::Action(id) => NodeKind::Action(Leaf::new(id)),
+            Token::Close => {
+                let start = innermost.ok_or(GenomeError::NotATree(Invalid::Unbalanced { at }))?;
+                let size = nodes.len() - start;
+                if size < 2 {
+                    return Err(GenomeError::NotATree(Invalid::EmptyControl { at }));
+                }
+                let size = u16::try_from(size).map_err(|_| GenomeError::TooLong(nodes.len()))?;
+                if let Some(node) = nodes.get_mut(start) {
+                    innermost = usize::from(node.size()).checked_sub(1);
+                    *node = Node::new(*node.kind(), size);
+                }
+                continue;
+            }
+        };
+        let link = if token.is_control() {
+            let link = innermost.map_or(0, |i| i + 1);
+            innermost = Some(nodes.len());
+            u16::try_from(link).map_err(|_| GenomeError::TooLong(nodes.len()))?
+        } else {
+            1
+        };
+        nodes.push(Node::new(kind, link));
+    }
+    if nodes.is_empty() {
+        return Err(GenomeError::NotATree(Invalid::Empty));
+    }
+    if innermost.is_some() {
+        return Err(GenomeError::NotATree(Invalid::Unbalanced { at: tokens.len() }));
+    }
+    Ok(())
 }
 
 /// Number of tokens that are not `)`.

@@ -99,12 +99,16 @@
 //! - **Random trees** are redrawn at most [`operators::RANDOM_TREE_ATTEMPTS`] times
 //!   (the reference redraws forever; past ~25 nodes valid draws become too rare). The
 //!   initial population redraws a duplicate up to 100 times, as the reference does.
+//! - **A size bound** ([`Bound`], none by default; not in the paper) is one more
+//!   validity rule: random trees and offspring over it are refused before they are
+//!   simulated, and a baseline over it is an error ([`GpError::BaselineTooBig`]).
 //! - **Offspring size**: at least `min_length` = 2 nodes (the reference counts tokens;
 //!   the same for valid trees). A NaN fitness counts as `-inf`.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 mod alphabet;
+mod bound;
 mod edit;
 pub mod fitness;
 pub mod genome;
@@ -116,7 +120,8 @@ pub mod run;
 pub mod selection;
 
 pub use alphabet::{Alphabet, AlphabetError};
-pub use fitness::{Fitness, FitnessCache};
+pub use bound::Bound;
+pub use fitness::{Fitness, FitnessCache, Size};
 pub use genome::{Genome, GenomeError, Invalid, Token};
 pub use log::{CSV_HEADER, CsvError, GenerationLog, read_csv, to_csv, write_csv};
 pub use operators::{MutationRates, crossover, mutate, random_tree};

@@ -6,6 +6,7 @@ use std::str::FromStr;
 
 use bt_core::{Catalog, Node};
 
+use crate::bound::Bound;
 use crate::operators::MutationRates;
 
 /// How the planner's tree takes part (Styrud et al., Section III-C).
@@ -135,6 +136,9 @@ pub struct Params {
     pub variant: Variant,
     /// The planner's tree: required by every variant but `None`, refused by `None`.
     pub baseline: Option<Vec<Node>>,
+    /// The most a tree may take on the controller (none by default): a validity rule
+    /// like Styrud et al.'s, applied to random trees and offspring alike.
+    pub bound: Bound,
 }
 
 impl Default for Params {
@@ -154,6 +158,7 @@ impl Default for Params {
             seed: 0,
             variant: Variant::None,
             baseline: None,
+            bound: Bound::NONE,
         }
     }
 }
@@ -271,6 +276,13 @@ impl Params {
         if let Some(tree) = &self.baseline {
             line("baseline", &bt_formats::tokens::to_string(tree, catalog)?);
         }
+        // Only when given: a record without a bound reads as it always did.
+        if let Some(b) = self.bound.bytes {
+            line("max_bytes", &b);
+        }
+        if let Some(n) = self.bound.nodes {
+            line("max_nodes", &n);
+        }
         Ok(s)
     }
 
@@ -313,6 +325,10 @@ impl Params {
             seed: value(get("seed"), "seed")?,
             variant: value(get("variant"), "variant")?,
             baseline,
+            bound: Bound {
+                bytes: get("max_bytes").map(|e| value(Some(e), "max_bytes")).transpose()?,
+                nodes: get("max_nodes").map(|e| value(Some(e), "max_nodes")).transpose()?,
+            },
         })
     }
 }

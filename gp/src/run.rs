@@ -33,10 +33,11 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::alphabet::{Alphabet, draw};
-use crate::fitness::{Fitness, FitnessCache};
+use crate::bound::{Bound, RandomTrees, fits};
+use crate::fitness::{Fitness, FitnessCache, Size};
 use crate::genome::{Genome, GenomeError, Token, hash_tokens, length};
 use crate::log::GenerationLog;
-use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into, random_tree};
+use crate::operators::{MAX_ATTEMPTS, crossover_into, mutate_into};
 use crate::params::{Params, ParamsError};
 use crate::selection::{rank_order, select_best, select_by_rank};
 
@@ -85,6 +86,23 @@ pub enum GpError {
     /// Island settings that cannot run ([`crate::islands::IslandParams`]).
     #[error("{0}")]
     Islands(&'static str),
+    /// The baseline is over the [`Bound`].
+    #[error("the planner's tree (the baseline) has an image of {} and {}, over the bound of {bound}",
+            crate::genome::count(size.bytes, "byte"), crate::genome::count(size.nodes, "node"))]
+    BaselineTooBig {
+        /// The baseline's size.
+        size: Size,
+        /// The bound.
+        bound: Bound,
+    },
+    /// Not even the smallest random tree fits the [`Bound`].
+    #[error("no random tree of {} or more fits {bound}", crate::genome::count(*min_length, "node"))]
+    BoundTooSmall {
+        /// The bound.
+        bound: Bound,
+        /// The smallest tree GP makes (`min_length`).
+        min_length: usize,
+    },
 }
 
 /// What a run leaves behind.
@@ -172,15 +190,22 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
             (Some(nodes), true) => Some(Genome::from_nodes(nodes, &alphabet).map_err(GpError::Baseline)?),
             _ => None,
         };
+        if let Some(b) = &baseline {
+            let size = b.to_nodes().ok().and_then(|nodes| fitness.size(&nodes));
+            let size = size.unwrap_or(Size { bytes: usize::MAX, nodes: b.length() });
+            if !params.bound.admits(size) {
+                return Err(GpError::BaselineTooBig { size, bound: params.bound });
+            }
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
         let capacity = (params.population_size + 1).saturating_add(
             (params.generations as usize).saturating_mul(offspring_per_generation(&params)).min(1 << 20),
         );
         let mut genomes: Vec<Genome> = Vec::with_capacity(params.population_size + 1);
+        let mut draw = RandomTrees::new(&params);
         for _ in 0..params.population_size {
             for _ in 0..MAX_ATTEMPTS {
-                let tree = random_tree(params.initial_length, &alphabet, &mut rng)
-                    .ok_or(GpError::NoRandomTree(params.initial_length))?;
+                let tree = draw.next(&alphabet, fitness, &mut rng)?;
                 if !genomes.contains(&tree) {
                     genomes.push(tree);
                     break;
@@ -438,7 +463,7 @@ impl<'f, F: Fitness + ?Sized> Gp<'f, F> {
 
     /// The offspring acceptance rule; the child's hash if accepted.
     fn accepts(&self, child: &[Token], offspring: &[Genome]) -> Option<u64> {
-        if length(child) < self.params.min_length {
+        if length(child) < self.params.min_length || !fits(child, self.params.bound, self.fitness) {
             return None;
         }
         let hash = hash_tokens(child);

@@ -4,17 +4,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 mod cli_common;
-use cli_common::{ok, one_line_error, sim_host};
+use cli_common::{ok, one_line_error, sim_host, sim_host_threads};
 
 const DOMAIN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/domain.pddl");
 const BLOCKED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../planner/domains/cube-sphere/problem-blocked.pddl");
-
-fn sim_host_threads(threads: &str, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sim-host")).env("RAYON_NUM_THREADS", threads).args(args).output().unwrap()
-}
 
 fn record(dir: &Path, key: &str) -> String {
     let text = std::fs::read_to_string(dir.join("run.txt")).unwrap();

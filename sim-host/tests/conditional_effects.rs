@@ -18,7 +18,8 @@ const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures");
 fn problem(name: &str) -> StripsProblem {
     let dir = Path::new(FIXTURES).join(name);
     let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
-    StripsProblem::new("domain.pddl", text("domain.pddl"), "problem.pddl", text("problem.pddl"), false).unwrap()
+    StripsProblem::new("domain.pddl", text("domain.pddl"), "problem.pddl", text("problem.pddl"), false, gp::Bound::NONE)
+        .unwrap()
 }
 
 fn pddl(name: &str, file: &str) -> String {

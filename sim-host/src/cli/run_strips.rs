@@ -66,8 +66,14 @@ pub fn run(args: &Args, tree: Option<&Path>) -> anyhow::Result<()> {
     let (Some(d), Some(pp)) = (&args.domain, &args.problem) else {
         bail!("give --task NAME, or --domain D.pddl --problem P.pddl");
     };
-    let p =
-        StripsProblem::new(&d.display().to_string(), read_text(d)?, &pp.display().to_string(), read_text(pp)?, false)?;
+    let p = StripsProblem::new(
+        &d.display().to_string(),
+        read_text(d)?,
+        &pp.display().to_string(),
+        read_text(pp)?,
+        false,
+        gp::Bound::NONE,
+    )?;
     let (nodes, source) = match tree {
         Some(path) => (read_tree(&p, path)?, path.display().to_string()),
         None => (p.planner_tree().to_vec(), "the planner's tree".to_string()),

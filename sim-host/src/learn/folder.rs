@@ -88,6 +88,10 @@ pub fn folder_files(run: &RunOutcome) -> anyhow::Result<Vec<(&'static str, Vec<u
         Subject::Strips { problem, tick_limit, disturbance } => {
             let f = StripsFitnessParams::default();
             let _ = writeln!(record, "tick_limit = {tick_limit}");
+            if !spec.bound.is_none() {
+                // What the bound did to the planner's tree (its closure cut or left out).
+                let _ = writeln!(record, "planner_fit = {}", problem.planner_fit());
+            }
             match disturbance {
                 Some(d) => {
                     let _ = writeln!(

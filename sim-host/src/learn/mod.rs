@@ -75,6 +75,16 @@ impl Subject {
         }
     }
 
+    /// The size of a tree in GP's leaves as `learn` writes it (the image without its
+    /// names section): the measure of [`gp::Fitness::size`] for this subject.
+    #[must_use]
+    pub fn size(&self, tree: &[Node]) -> Option<gp::Size> {
+        match self {
+            Self::Brick { .. } => gp::Size::of_image(tree),
+            Self::Strips { problem, .. } => problem.size(tree),
+        }
+    }
+
     /// The planner's tree in GP's leaves.
     ///
     /// # Errors
@@ -102,6 +112,8 @@ pub struct RunSpec {
     pub islands: Option<IslandParams>,
     /// The brick tasks' baseline in the reference's form (the goal Sequence kept).
     pub goal_sequence: bool,
+    /// The most the learned tree may take on the controller ([`gp::Bound`]).
+    pub bound: gp::Bound,
 }
 
 impl RunSpec {
@@ -132,6 +144,7 @@ impl RunSpec {
         };
         let mut params = Params::new(self.seed, self.variant, baseline);
         params.generations = self.generations;
+        params.bound = self.bound;
         Ok(params)
     }
 }

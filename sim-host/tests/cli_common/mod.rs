@@ -8,6 +8,11 @@ pub fn sim_host(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_sim-host")).args(args).output().unwrap()
 }
 
+/// Runs `sim-host` with `args` on a rayon pool of `threads` threads.
+pub fn sim_host_threads(threads: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sim-host")).env("RAYON_NUM_THREADS", threads).args(args).output().unwrap()
+}
+
 /// The standard output of a run that must succeed.
 pub fn ok(out: &Output) -> String {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -92,6 +92,18 @@ pub struct Args {
     /// ticks to the goal, plus 30).
     #[arg(long, value_name = "N", requires = "domain")]
     pub ticks: Option<u32>,
+    /// The most bytes the learned tree's image may have as a controller holds it
+    /// (without the names section; `deploy --strip-names` sends exactly that). A
+    /// validity rule, as the paper's are: random trees and offspring over it are
+    /// refused before they are simulated, so no tree of the run is ever over it. A PDDL
+    /// baseline's closure over disturbances is cut to fit (as `plan --max-bytes`
+    /// does); a baseline over it even so is an error. Default: no bound.
+    #[arg(long, value_name = "BYTES")]
+    pub max_bytes: Option<usize>,
+    /// The most bt-core nodes the learned tree may have, as --max-bytes (random
+    /// trees of the first generation have at most this many). Default: no bound.
+    #[arg(long, value_name = "NODES")]
+    pub max_nodes: Option<usize>,
     /// Print one self-contained command per run (for GNU parallel, a batch
     /// scheduler), and run nothing.
     #[arg(long, conflicts_with = "index")]
@@ -235,6 +247,7 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
                 &p.display().to_string(),
                 read_text(p)?,
                 args.goal_sequence,
+                bound(args)?,
             )?;
             let tick_limit = args.ticks.unwrap_or_else(|| problem.default_tick_limit());
             if tick_limit == 0 || tick_limit > MAX_TICKS {
@@ -245,6 +258,12 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
         }
         _ => bail!("give --task NAME, or --domain D.pddl --problem P.pddl"),
     };
+    let bound = bound(args)?;
+    if !bound.is_none() && args.variants.0.iter().any(|v| v.uses_baseline()) {
+        for (subject, _) in &subjects {
+            check_baseline(args, subject, bound)?;
+        }
+    }
     let total = subjects.len() * args.variants.0.len() * args.seeds.0.len();
     if total > MAX_RUNS {
         bail!(
@@ -267,11 +286,64 @@ pub fn grid(args: &Args) -> anyhow::Result<Vec<RunSpec>> {
                     generations: *generations,
                     islands,
                     goal_sequence: args.goal_sequence,
+                    bound,
                 });
             }
         }
     }
     Ok(specs)
+}
+
+/// The bound of --max-bytes and --max-nodes, refused where no tree GP makes fits it.
+fn bound(args: &Args) -> anyhow::Result<gp::Bound> {
+    use bt_core::{Leaf, Node, NodeKind};
+    // The smallest tree GP makes: a Sequence over one action (`min_length` 2).
+    let smallest = [Node::new(NodeKind::Sequence, 2), Node::new(NodeKind::Action(Leaf::new(0)), 1)];
+    let smallest = gp::Size::of_image(&smallest).context("the image of a two-node tree")?;
+    if let Some(b) = args.max_bytes
+        && b < smallest.bytes
+    {
+        bail!(
+            "--max-bytes {b}: too small for any tree; the smallest GP makes (a Sequence over one action) has an \
+             image of {}",
+            count(smallest.bytes, "byte")
+        );
+    }
+    if let Some(n) = args.max_nodes
+        && n < smallest.nodes
+    {
+        bail!(
+            "--max-nodes {n}: too small for any tree; the smallest GP makes (a Sequence over one action) has 2 nodes"
+        );
+    }
+    Ok(gp::Bound { bytes: args.max_bytes, nodes: args.max_nodes })
+}
+
+/// Refuses, before any run, a bound the planner's tree (the baseline) is over.
+fn check_baseline(args: &Args, subject: &Subject, bound: gp::Bound) -> anyhow::Result<()> {
+    let tree = subject.planner_tree(args.goal_sequence)?;
+    let size = subject.size(&tree).context("the image of the planner's tree")?;
+    if bound.admits(size) {
+        return Ok(());
+    }
+    let flags: Vec<String> = [("--max-bytes", bound.bytes), ("--max-nodes", bound.nodes)]
+        .iter()
+        .filter_map(|(flag, v)| v.map(|v| format!("{flag} {v}")))
+        .collect();
+    let cut = match subject {
+        Subject::Strips { problem, .. } if problem.planner_fit().cut == Some(0) => {
+            " even with its closure over disturbances left out"
+        }
+        _ => "",
+    };
+    bail!(
+        "{}: the planner's tree for {} (the baseline) has an image of {} and {}{cut}, over the bound; \
+         give a larger one, or --variant none to learn from random trees only",
+        flags.join(" "),
+        subject.label(),
+        count(size.bytes, "byte"),
+        count(size.nodes, "node"),
+    )
 }
 
 /// One self-contained command that makes exactly `spec` into `args.out`.
@@ -310,6 +382,12 @@ pub fn command(args: &Args, spec: &RunSpec) -> String {
         if let Some(f) = i.stop_at {
             push("--stop-at", format!("{f:?}"));
         }
+    }
+    if let Some(b) = spec.bound.bytes {
+        push("--max-bytes", b.to_string());
+    }
+    if let Some(n) = spec.bound.nodes {
+        push("--max-nodes", n.to_string());
     }
     push("--out", args.out.display().to_string());
     if spec.goal_sequence {

@@ -33,6 +33,12 @@ With --disturb RATE, before a tick and with that chance (at most 3 times an epis
 external agent undoes the robot's last action or does one of the tree's actions (as in bench-pddl), and \
 a tree's fitness is its mean over --disturb-episodes seeded episodes (the same ones for every \
 tree), so that the learned tree is reactive rather than a lucky plan.\n\n\
+--max-bytes N and --max-nodes N bound the learned tree as a controller holds it (its image \
+without the names section; for PDDL, in the leaf contract `learn` writes): random trees and \
+offspring over the bound are refused before they are simulated, so no tree of the run, the \
+best included, is ever over it. A PDDL baseline's closure over disturbances is cut to fit, as \
+plan --max-bytes does; a baseline over the bound even so is an error (--variant none learns \
+without it). Default: no bound.\n\n\
 Variants: none (no baseline), baseline (inserted and kept), boost-crossover and boost-all \
 (its fitness raised to the population's best while crossover, or crossover and mutation, \
 parents are chosen), nokeep (inserted in the first population only).\n\n\

@@ -223,4 +223,10 @@ impl gp::Fitness for StripsFitness {
     fn fitness(&self, tree: &[Node]) -> f64 {
         self.score(tree)
     }
+
+    /// The size of the tree `learn` writes: in the PDDL leaf contract (an Inverter per
+    /// negative condition).
+    fn size(&self, tree: &[Node]) -> Option<gp::Size> {
+        self.p.size(tree)
+    }
 }

@@ -139,6 +139,7 @@ pub struct StripsProblem {
     letters: Vec<Letter>,
     planner_tree: Vec<Node>,
     planner_ticks: Option<u32>,
+    planner_fit: planner::Fitted,
 }
 
 impl StripsProblem {
@@ -155,12 +156,20 @@ impl StripsProblem {
         problem_file: &str,
         problem_text: String,
         goal_sequence: bool,
+        bound: gp::Bound,
     ) -> anyhow::Result<Self> {
         let domain = planner::pddl::parse_domain(domain_file, &domain_text)?;
         let problem = planner::pddl::parse_problem(problem_file, &problem_text, &domain)?;
         let g = Arc::new(Grounding::new(&problem).with_context(|| format!("grounding {problem_file}"))?);
         let pddl = PddlCatalog::new(&problem);
-        let options = Options { goal_sequence, ..Options::default() };
+        // A bound replaces the planner's default 16 KiB: its closure over disturbances
+        // is cut to fit. Not strict: a tree too big even without it is kept, for the
+        // variants without a baseline; the others refuse it by name.
+        let fit = match (bound.bytes, bound.nodes) {
+            (None, None) => planner::Fit::DEFAULT,
+            (b, n) => planner::Fit { bytes: b.unwrap_or(usize::MAX), nodes: n.unwrap_or(usize::MAX), strict: false },
+        };
+        let options = Options { goal_sequence, fit, ..Options::default() };
         let plan = planner::plan(g.clone(), Arc::new(pddl.clone()), options)
             .with_context(|| format!("planning {problem_file} (the baseline)"))?;
 
@@ -198,6 +207,7 @@ impl StripsProblem {
             letters,
             planner_tree: Vec::new(),
             planner_ticks: plan.goal_ticks,
+            planner_fit: plan.fit,
         };
         p.planner_tree = p.from_pddl(&plan.nodes).context("the planner's tree")?;
         Ok(p)
@@ -243,6 +253,20 @@ impl StripsProblem {
     #[must_use]
     pub fn planner_tree(&self) -> &[Node] {
         &self.planner_tree
+    }
+
+    /// The size of a tree in GP's leaves as `learn` writes it: in the PDDL leaf
+    /// contract, its image without the names section.
+    #[must_use]
+    pub fn size(&self, tree: &[Node]) -> Option<gp::Size> {
+        gp::Size::of_image(&self.to_pddl(tree).ok()?)
+    }
+
+    /// The planner's tree's size, and whether its closure over disturbances was cut to
+    /// fit the bound.
+    #[must_use]
+    pub fn planner_fit(&self) -> planner::Fitted {
+        self.planner_fit
     }
 
     /// Ticks the planner's tree takes to the goal in the undisturbed world, if it
