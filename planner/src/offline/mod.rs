@@ -11,6 +11,7 @@ use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
 use crate::guide::Trace;
 use crate::planner::{Expansion, Method, Options, Planner};
+use crate::regress::Stop;
 use crate::search::SearchOptions;
 use crate::strips::{self, StripsWorld, Verdict};
 use crate::tree::PlanTree;
@@ -458,12 +459,25 @@ pub fn covered_line(covered: usize) -> String {
 /// it and undo rules behind it (`Fallback(goal?, rules..., tree, undo rules...)`: the
 /// rules of the tree's own plan, and those of the ways back from such states). A tree
 /// that reaches the goal alone from every state looked at stays exactly as it was, and
-/// so does one whose closure ran out of budget before it looked at every state.
+/// so does one whose closure reached its node budget or left out a way back that was
+/// too long. A closure cut short by its time or its states ([`Stop::out_of_work`])
+/// keeps the rules it found, unless the tree alone reaches the goal in more of the
+/// planner's own seeded disturbed episodes ([`better_under_disturbances`]).
 fn close_backchained<C: Catalog>(
     p: Plan<C>,
     g: &Arc<Grounding>,
     options: Options,
     until: Option<Instant>,
+) -> Result<Plan<C>, PlanError> {
+    close_backchained_within(p, g, options, &close_budget(options, until))
+}
+
+/// [`close_backchained`] within `budget`.
+fn close_backchained_within<C: Catalog>(
+    p: Plan<C>,
+    g: &Arc<Grounding>,
+    options: Options,
+    budget: &crate::regress::Budget,
 ) -> Result<Plan<C>, PlanError> {
     if !(options.close_backchained || p.method == Made::SearchGuided) || options.close_nodes == 0 {
         return Ok(p);
@@ -476,8 +490,11 @@ fn close_backchained<C: Catalog>(
     // undisturbed plan never gets longer.
     let mut policy = Trace::new(g, &p.executed)
         .map_or_else(crate::regress::Policy::empty, |t| crate::regress::Policy::of_trace(g, &t));
-    let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, &close_budget(options, until))?;
-    if !closed.complete || closed.too_long > 0 {
+    let mut closed = crate::regress::close_with(g, &mut policy, &mut behind, budget)?;
+    // Cut short by its time or states, the closure keeps the rules found so far where
+    // they do at least as well as the tree alone (checked below).
+    let partial = !closed.complete && closed.too_long == 0 && closed.stopped.is_some_and(Stop::out_of_work);
+    if (!closed.complete || closed.too_long > 0) && !partial {
         // Unlike a regression tree, which fails wherever no rule holds, a backchained
         // tree copes alone with many of the states disturbances lead to; rules for only
         // some of the others bring new actions that an agent can do out of turn
@@ -485,11 +502,11 @@ fn close_backchained<C: Catalog>(
         closed.kept = true;
         return Ok(Plan { closed: Some(closed), ..p });
     }
-    if closed.plans == 0 && closed.undo == 0 {
+    if closed.plans == 0 && closed.undo == 0 && !partial {
         // Nothing added, but the closure looked with the plan's rules in front: the
         // tree stays as it was only if it does as well alone.
         let mut none = crate::regress::Policy::empty();
-        let alone = crate::regress::close_with(g, &mut none, &mut behind, &close_budget(options, until))?;
+        let alone = crate::regress::close_with(g, &mut none, &mut behind, budget)?;
         if alone.plans == 0 && alone.undo == 0 && alone.given_up == 0 && alone.too_long == 0 {
             return Ok(Plan { closed: Some(closed), ..p });
         }
@@ -507,6 +524,11 @@ fn close_backchained<C: Catalog>(
         p.steps.clone(),
         p.planning_ticks,
     ) {
+        Ok(q) if partial && better_under_disturbances(&p, &q, g)? => {
+            // The rules of an unfinished closure did worse than the tree alone.
+            closed.kept = true;
+            Ok(Plan { closed: Some(closed), ..p })
+        }
         Ok(mut q) => {
             q.gave_up = p.gave_up;
             q.closed = Some(closed);
@@ -682,3 +704,6 @@ fn finish<C: Catalog>(
         first: Instant::now(),
     })
 }
+
+#[cfg(test)]
+mod tests;

@@ -52,12 +52,40 @@ pub struct Closed {
     /// Whether every state within [`MAX_DISTURBANCES`] was looked at (false: a budget
     /// ran out first).
     pub complete: bool,
+    /// Which budget ran out first, when one did.
+    pub stopped: Option<Stop>,
     /// Whether rules of a backchained tree's own plan went in front of it with no plan
     /// added ([`close_with`] looks with them there; the tree alone did worse).
     pub own_rules: bool,
-    /// Whether the closure of a backchained tree ran out of budget, or left out a way
-    /// back that was too long, and the tree was kept as it was, without the rules.
+    /// Whether the closure of a backchained tree was left out and the tree kept as it
+    /// was, without the rules: the closure reached its node budget, or left out a way
+    /// back that was too long, or was cut short by its time or states and its rules did
+    /// worse under disturbances than the tree alone.
     pub kept: bool,
+}
+
+/// The budget that ended a closure early ([`Closed::stopped`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// [`Budget::plans`].
+    Plans,
+    /// [`Budget::states`].
+    States,
+    /// [`Budget::nodes`]: the tree's size.
+    Nodes,
+    /// [`Budget::deadline`].
+    Deadline,
+}
+
+impl Stop {
+    /// Whether the closure stopped for the work it may do (its time or the states it
+    /// may look at), not for the tree's size: every rule it added is a way back from a
+    /// disturbed state, and the rules it would have added next are for states further
+    /// from the tree's path.
+    #[must_use]
+    pub fn out_of_work(self) -> bool {
+        matches!(self, Self::States | Self::Deadline)
+    }
 }
 
 impl std::fmt::Display for Closed {
@@ -200,10 +228,15 @@ fn pass(
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
     let over = |d: &Closed, size: usize| {
-        d.plans >= budget.plans
-            || d.states >= budget.states
-            || size >= budget.nodes
-            || budget.deadline.is_some_and(|t| Instant::now() >= t)
+        if d.plans >= budget.plans {
+            Some(Stop::Plans)
+        } else if d.states >= budget.states {
+            Some(Stop::States)
+        } else if size >= budget.nodes {
+            Some(Stop::Nodes)
+        } else {
+            budget.deadline.is_some_and(|t| Instant::now() >= t).then_some(Stop::Deadline)
+        }
     };
     'scan: loop {
         for depth in 0..levels.len() {
@@ -215,7 +248,8 @@ fn pass(
                     if !seen.insert(t.clone()) {
                         continue;
                     }
-                    if over(done, size) {
+                    if let Some(stop) = over(done, size) {
+                        done.stopped = Some(stop);
                         return Ok(false);
                     }
                     if ever.insert(t.clone()) {

@@ -76,7 +76,7 @@
 mod close;
 mod way_back;
 
-pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, close, close_with};
+pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, Stop, close, close_with};
 
 use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;

@@ -160,7 +160,8 @@ pub struct Args {
     /// those states go in front of it (and rules that undo the agent's action behind
     /// it), within --close-nodes (a backchained tree whose closure runs out of that
     /// budget before it has looked at every such state stays as it was: it copes with
-    /// many of them alone, and rules for only some would give the agent new actions).
+    /// many of them alone, and rules for only some would give the agent new actions;
+    /// one cut short by --timeout keeps the rules it found where they do better).
     /// Off by default, so that Algorithm 1's trees stay as the paper's method makes
     /// them (the paper's figures among them).
     #[arg(long, conflicts_with = "task")]
