@@ -42,6 +42,17 @@ pub enum ImageError {
     Load(#[from] LoadError),
 }
 
+/// A tree's size as a controller holds it: its image without the names section (the
+/// bytes `sim-host deploy --strip-names` sends), and its nodes. The planner's
+/// `--max-bytes` and learning's size bound both measure this.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Size {
+    /// Bytes of the image without the names section.
+    pub bytes: usize,
+    /// bt-core nodes.
+    pub nodes: usize,
+}
+
 /// A tree and what its image holds besides the nodes; [`Image::encode`] writes it.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Image<'a> {
@@ -79,6 +90,16 @@ impl<'a> Image<'a> {
     pub const fn names(mut self, names: &'a Names) -> Self {
         self.names = Some(names);
         self
+    }
+
+    /// Its [`Size`]: the image without the names section (the behavior set's
+    /// fingerprint is a fixed-width header field, so it does not matter here).
+    ///
+    /// # Errors
+    /// As [`Image::encode`].
+    pub fn size(&self) -> Result<Size, ImageError> {
+        let bytes = Self { names: None, ..*self }.encode(0)?.len();
+        Ok(Size { bytes, nodes: self.nodes.len() })
     }
 
     /// The image bytes for the behavior set with `fingerprint`.

@@ -29,7 +29,7 @@ pub trait Fitness: Sync {
     /// another form (the PDDL leaf contract adds an Inverter per negative condition)
     /// measures that form. `None` when it makes no image at all.
     fn size(&self, tree: &[Node]) -> Option<Size> {
-        Size::of_image(tree)
+        image_size(tree)
     }
 }
 
@@ -39,25 +39,13 @@ impl<F: Fn(&[Node]) -> f64 + Sync> Fitness for F {
     }
 }
 
-/// A tree's size on the controller.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Size {
-    /// Bytes of its image without the names section (`sim-host deploy --strip-names`
-    /// sends exactly these).
-    pub bytes: usize,
-    /// bt-core nodes.
-    pub nodes: usize,
-}
+pub use bt_formats::image::Size;
 
-impl Size {
-    /// The size of the image of `nodes` (no values, no names), as
-    /// [`bt_formats::image::Image`] encodes it; `None` past what an image holds. The
-    /// catalog's fingerprint is a fixed-width header field, so it does not matter here.
-    #[must_use]
-    pub fn of_image(nodes: &[Node]) -> Option<Self> {
-        let bytes = bt_formats::image::Image::new(nodes).encode(0).ok()?.len();
-        Some(Self { bytes, nodes: nodes.len() })
-    }
+/// The size of the image of `nodes` (no values, no names) as a controller holds it;
+/// `None` past what an image holds.
+#[must_use]
+pub fn image_size(nodes: &[Node]) -> Option<Size> {
+    bt_formats::image::Image::new(nodes).size().ok()
 }
 
 /// Hands the hash a [`Genome`] carries straight to the map: a genome is hashed once,

@@ -121,7 +121,7 @@ pub mod selection;
 
 pub use alphabet::{Alphabet, AlphabetError};
 pub use bound::Bound;
-pub use fitness::{Fitness, FitnessCache, Size};
+pub use fitness::{Fitness, FitnessCache, Size, image_size};
 pub use genome::{Genome, GenomeError, Invalid, Token};
 pub use log::{CSV_HEADER, CsvError, GenerationLog, read_csv, to_csv, write_csv};
 pub use operators::{MutationRates, crossover, mutate, random_tree};

@@ -20,13 +20,13 @@ fn params(seed: u64, variant: Variant, spec: &planner::duplo::Spec, bound: Bound
 }
 
 fn size(individual: &gp::Individual) -> Size {
-    Size::of_image(&individual.tree().unwrap()).unwrap()
+    gp::image_size(&individual.tree().unwrap()).unwrap()
 }
 
 #[test]
 fn no_tree_of_a_bounded_run_is_over_the_bound() {
     let (spec, alphabet, _) = Target::tower();
-    let baseline = Size::of_image(&tower_baseline(&spec)).unwrap();
+    let baseline = gp::image_size(&tower_baseline(&spec)).unwrap();
     // Room for the baseline and a few nodes more, in bytes; in nodes, a little more.
     let bound = Bound { bytes: Some(baseline.bytes + 12), nodes: Some(baseline.nodes + 6) };
     let free = gp::run(
@@ -63,7 +63,7 @@ fn a_node_bound_below_the_initial_length_draws_smaller_trees() {
 #[test]
 fn a_baseline_over_the_bound_and_a_bound_below_any_tree_are_refused() {
     let (spec, alphabet, _) = Target::tower();
-    let baseline = Size::of_image(&tower_baseline(&spec)).unwrap();
+    let baseline = gp::image_size(&tower_baseline(&spec)).unwrap();
     let bound = Bound { bytes: Some(baseline.bytes - 1), nodes: None };
     let err = Gp::new(alphabet.clone(), &bigger, params(1, Variant::Baseline, &spec, bound), Evaluation::Sequential)
         .unwrap_err();
@@ -78,7 +78,7 @@ fn a_baseline_over_the_bound_and_a_bound_below_any_tree_are_refused() {
 #[test]
 fn bounded_runs_are_deterministic_sequential_parallel_and_on_islands() {
     let (spec, alphabet, target) = Target::tower();
-    let baseline = Size::of_image(&tower_baseline(&spec)).unwrap();
+    let baseline = gp::image_size(&tower_baseline(&spec)).unwrap();
     let bound = Bound { bytes: Some(baseline.bytes + 20), nodes: None };
     let p = params(9, Variant::BoostAll, &spec, bound);
     let mut par = Gp::new(alphabet.clone(), &target, p.clone(), Evaluation::Parallel).unwrap();

@@ -133,6 +133,12 @@ impl Fit {
     pub const DEFAULT: Self = Self { bytes: 16 * 1024, nodes: u16::MAX as usize, strict: false };
     /// No bound.
     pub const NONE: Self = Self { bytes: usize::MAX, nodes: usize::MAX, strict: false };
+
+    /// Whether a tree of `size` is within it.
+    #[must_use]
+    pub const fn admits(self, size: crate::Size) -> bool {
+        size.bytes <= self.bytes && size.nodes <= self.nodes
+    }
 }
 
 impl Default for Fit {

@@ -7,35 +7,18 @@ use super::Plan;
 use crate::PlanError;
 use crate::planner::{Fit, Options};
 
-/// A tree's size as a controller holds it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Size {
-    /// Bytes of its image without the names section (`sim-host deploy --strip-names`
-    /// sends exactly these).
-    pub bytes: usize,
-    /// bt-core nodes.
-    pub nodes: usize,
-}
+pub use bt_formats::image::Size;
 
-impl Size {
-    /// The size of a tree and its value table, as an image for `catalog`.
-    ///
-    /// # Errors
-    /// [`PlanError::TooBig`] when the tree does not make an image at all (more nodes
-    /// or values than an image holds).
-    pub fn of<C: Catalog + ?Sized>(nodes: &[bt_core::Node], values: &[u16], catalog: &C) -> Result<Self, PlanError> {
-        let image = bt_formats::image::Image::new(nodes)
-            .values(values)
-            .encode(catalog.fingerprint())
-            .map_err(|e| PlanError::TooBig { what: format!("the tree makes no image: {e}") })?;
-        Ok(Self { bytes: image.len(), nodes: nodes.len() })
-    }
-
-    /// Whether it is within `fit`.
-    #[must_use]
-    pub fn within(self, fit: Fit) -> bool {
-        self.bytes <= fit.bytes && self.nodes <= fit.nodes
-    }
+/// The size of a tree and its value table as a controller holds it.
+///
+/// # Errors
+/// [`PlanError::TooBig`] when the tree does not make an image at all (more nodes or
+/// values than an image holds).
+pub fn size_of(nodes: &[bt_core::Node], values: &[u16]) -> Result<Size, PlanError> {
+    bt_formats::image::Image::new(nodes)
+        .values(values)
+        .size()
+        .map_err(|e| PlanError::TooBig { what: format!("the tree makes no image: {e}") })
 }
 
 /// How a tree was made to fit ([`Plan::fit`]).
@@ -96,8 +79,8 @@ pub(super) fn within<C: Catalog>(
 ) -> Result<Plan<C>, PlanError> {
     let fit = options.fit;
     let measure = |mut p: Plan<C>, cut: Option<usize>| -> Result<Plan<C>, PlanError> {
-        let size = Size::of(&p.nodes, &p.values, p.catalog.as_ref())?;
-        p.fit = Fitted { size, fits: size.within(fit), cut };
+        let size = size_of(&p.nodes, &p.values)?;
+        p.fit = Fitted { size, fits: fit.admits(size), cut };
         Ok(p)
     };
     let plain = measure(make(0)?, None)?;

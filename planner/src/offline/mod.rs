@@ -308,8 +308,8 @@ fn search_options(options: Options) -> SearchOptions {
 
 /// `p`, measured against `options.fit` with nothing cut.
 fn measured<C: Catalog>(mut p: Plan<C>, options: Options) -> Result<Plan<C>, PlanError> {
-    let size = fit::Size::of(&p.nodes, &p.values, p.catalog.as_ref())?;
-    p.fit = fit::Fitted { size, fits: size.within(options.fit), cut: None };
+    let size = fit::size_of(&p.nodes, &p.values)?;
+    p.fit = fit::Fitted { size, fits: options.fit.admits(size), cut: None };
     Ok(p)
 }
 

@@ -80,7 +80,7 @@ impl Subject {
     #[must_use]
     pub fn size(&self, tree: &[Node]) -> Option<gp::Size> {
         match self {
-            Self::Brick { .. } => gp::Size::of_image(tree),
+            Self::Brick { .. } => gp::image_size(tree),
             Self::Strips { problem, .. } => problem.size(tree),
         }
     }

@@ -299,7 +299,7 @@ fn bound(args: &Args) -> anyhow::Result<gp::Bound> {
     use bt_core::{Leaf, Node, NodeKind};
     // The smallest tree GP makes: a Sequence over one action (`min_length` 2).
     let smallest = [Node::new(NodeKind::Sequence, 2), Node::new(NodeKind::Action(Leaf::new(0)), 1)];
-    let smallest = gp::Size::of_image(&smallest).context("the image of a two-node tree")?;
+    let smallest = gp::image_size(&smallest).context("the image of a two-node tree")?;
     if let Some(b) = args.max_bytes
         && b < smallest.bytes
     {

@@ -259,7 +259,7 @@ impl StripsProblem {
     /// contract, its image without the names section.
     #[must_use]
     pub fn size(&self, tree: &[Node]) -> Option<gp::Size> {
-        gp::Size::of_image(&self.to_pddl(tree).ok()?)
+        gp::image_size(&self.to_pddl(tree).ok()?)
     }
 
     /// The planner's tree's size, and whether its closure over disturbances was cut to
