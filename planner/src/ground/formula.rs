@@ -33,7 +33,7 @@ pub(super) struct Eval<'a> {
     pub(super) missing: Option<Vec<Box<[u16]>>>,
 }
 
-fn term(t: Term, binding: &[ObjectId]) -> ObjectId {
+pub(super) fn term(t: Term, binding: &[ObjectId]) -> ObjectId {
     match t {
         Term::Object(o) => o,
         Term::Var(v) => binding.get(usize::from(v)).copied().unwrap_or(UNBOUND),
