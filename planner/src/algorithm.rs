@@ -148,34 +148,95 @@ pub fn expand(
     Some((fallback, actions))
 }
 
+/// Literals in the order they were added (one removed and added again goes last), with
+/// constant-time membership and removal: the summary of everything executed before a
+/// subtree holds hundreds of literals in a long plan, and each subtree composed into it
+/// removes only the few its effects undo.
+#[derive(Clone, Debug, Default)]
+struct Lits {
+    /// The literals in order; `None` where one was removed.
+    order: Vec<Option<Lit>>,
+    /// Where each literal present is in `order`.
+    at: std::collections::HashMap<Lit, usize, foldhash::fast::FixedState>,
+}
+
+impl Lits {
+    fn contains(&self, l: &Lit) -> bool {
+        self.at.contains_key(l)
+    }
+
+    fn insert(&mut self, l: Lit) {
+        if !self.at.contains_key(&l) {
+            self.at.insert(l, self.order.len());
+            self.order.push(Some(l));
+        }
+    }
+
+    fn remove(&mut self, l: &Lit) {
+        if let Some(i) = self.at.remove(l)
+            && let Some(slot) = self.order.get_mut(i)
+        {
+            *slot = None;
+        }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &Lit> {
+        self.order.iter().flatten()
+    }
+
+    fn retain(&mut self, keep: impl Fn(&Lit) -> bool) {
+        for slot in &mut self.order {
+            if let Some(l) = slot
+                && !keep(l)
+            {
+                self.at.remove(l);
+                *slot = None;
+            }
+        }
+    }
+}
+
+impl FromIterator<Lit> for Lits {
+    fn from_iter<I: IntoIterator<Item = Lit>>(iter: I) -> Self {
+        let mut out = Self::default();
+        for l in iter {
+            out.insert(l);
+        }
+        out
+    }
+}
+
 /// A literal set with "may" and "must" parts, as described in the module docs.
 #[derive(Clone, Debug, Default)]
 struct Summary {
-    must: Vec<Lit>,
-    may: Vec<Lit>,
+    must: Lits,
+    may: Lits,
 }
 
 fn then(acc: &mut Summary, next: &Summary) {
-    acc.must.retain(|l| !next.may.contains(&l.negated()));
-    acc.may.retain(|l| !next.must.contains(&l.negated()));
-    for &l in &next.must {
-        if !acc.must.contains(&l) {
-            acc.must.push(l);
-        }
+    // What `next` may undo is no longer sure, and what it surely undoes no longer
+    // possible.
+    for l in next.may.iter() {
+        acc.must.remove(&l.negated());
     }
-    for &l in &next.may {
-        if !acc.may.contains(&l) {
-            acc.may.push(l);
-        }
+    for l in next.must.iter() {
+        acc.may.remove(&l.negated());
+    }
+    for &l in next.must.iter() {
+        acc.must.insert(l);
+    }
+    for &l in next.may.iter() {
+        acc.may.insert(l);
     }
 }
 
 fn summary(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Summary {
     let order = tree.preorder(n);
-    let mut sums: std::collections::HashMap<PlanNode, Summary> = std::collections::HashMap::new();
+    let mut sums: std::collections::HashMap<PlanNode, Summary, foldhash::fast::FixedState> =
+        std::collections::HashMap::default();
     for &x in order.iter().rev() {
         let s = match tree.kind(x) {
-            Kind::Condition(l) => Summary { must: vec![l], may: Vec::new() },
+            Kind::Condition(l) => Summary { must: std::iter::once(l).collect(), may: Lits::default() },
             Kind::Action(a) => match g.action(a) {
                 Some(x) => Summary { must: x.must_effects().collect(), may: x.may_effects().collect() },
                 None => Summary::default(),
@@ -197,10 +258,8 @@ fn summary(tree: &PlanTree, g: &Grounding, n: PlanNode) -> Summary {
                         None => s,
                         Some(mut a) => {
                             a.must.retain(|l| s.must.contains(l));
-                            for l in s.may {
-                                if !a.may.contains(&l) {
-                                    a.may.push(l);
-                                }
+                            for &l in s.may.iter() {
+                                a.may.insert(l);
                             }
                             a
                         }

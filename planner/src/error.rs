@@ -156,6 +156,21 @@ pub enum PlanError {
         /// The budget.
         budget: usize,
     },
+    /// Guided backchaining, with a deadline, got too little of the way along its plan
+    /// to be done in the time it has, leaving that time to the plan's regression tree.
+    #[error(
+        "at its pace it would not be done in its {allowed:.1?}: {done} of the plan's {steps} actions executed after {spent:.1?}"
+    )]
+    Behind {
+        /// The most actions of the plan a run of the tree executed.
+        done: usize,
+        /// The plan's length.
+        steps: usize,
+        /// The time spent.
+        spent: std::time::Duration,
+        /// The time it had.
+        allowed: std::time::Duration,
+    },
     /// The tree does not fit the size asked for ([`crate::Fit`]), even without any
     /// rule of its closure over disturbances.
     #[error("{what}")]

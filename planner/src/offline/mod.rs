@@ -19,9 +19,11 @@ use crate::tree::PlanTree;
 mod behind;
 mod closure_time;
 pub(crate) mod fit;
+mod pace;
 mod portfolio;
 use behind::Behind;
 use closure_time::{close_budget, closure_deadline};
+use pace::Pace;
 
 /// Where offline runs start ([`PlanError::GoalNotReached`]).
 const INITIAL: &str = "the initial state";
@@ -158,8 +160,10 @@ pub struct GaveUp {
 /// not fit even without it gives way to the next method, and the smallest is returned
 /// where none fits (unless the fit is strict).
 ///
-/// With [`Options::deadline`], the closure over disturbances gets as long as the
-/// first tree took (at least 0.6 s, at most half the time left), so that the closed
+/// With [`Options::deadline`], guided backchaining gets half the time left, and gives
+/// way to the next method sooner where its progress along the plan says it would not
+/// be done in that time ([`PlanError::Behind`]); the closure over disturbances gets as
+/// long as the first tree took (at least 0.6 s, at most half the time left), so that the closed
 /// tree comes at most about twice as late as the first; without one it stops only at
 /// its budget of states, plans and nodes, and the tree does not depend on the
 /// machine's speed.
@@ -235,11 +239,13 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     let guided_budget = options.algorithm1_nodes.max(4 * regression_nodes);
     let guided = Planner::guided(g.clone(), trace.clone(), options)?;
     let budget = Some(guided_budget);
-    let made = run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided, budget).and_then(|p| {
-        let p = cover_checks(p, &g, options);
-        let until = closure_deadline(options, started, p.first);
-        fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until))
-    });
+    let (timed, pace) = paced(options, found.plan.len());
+    let made =
+        run_algorithm1(guided, g.clone(), catalog.clone(), timed, Made::SearchGuided, budget, pace).and_then(|p| {
+            let p = cover_checks(p, &g, options);
+            let until = closure_deadline(options, started, p.first);
+            fit::within(options, |n| close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until))
+        });
     match made {
         Ok(mut p) if p.fit.fits => {
             p.gave_up = gave_up;
@@ -255,7 +261,8 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
     let mut guided = Planner::guided(g.clone(), trace.clone(), options)?;
     if guided.with_state_variables() {
         let variables = guided.state_variable_names();
-        match run_algorithm1(guided, g.clone(), catalog.clone(), options, Made::SearchGuided, budget) {
+        let (timed, pace) = paced(options, found.plan.len());
+        match run_algorithm1(guided, g.clone(), catalog.clone(), timed, Made::SearchGuided, budget, pace) {
             Ok(mut p) => {
                 p.variables = variables;
                 let p = cover_checks(p, &g, options);
@@ -559,11 +566,26 @@ fn algorithm1<C: Catalog>(
     budget: Option<usize>,
 ) -> Result<Plan<C>, PlanError> {
     let planner = Planner::new(g.clone(), options)?;
-    run_algorithm1(planner, g, catalog, options, Made::Algorithm1, budget)
+    run_algorithm1(planner, g, catalog, options, Made::Algorithm1, budget, None)
+}
+
+/// The options and [`Pace`] of guided backchaining for a plan of `steps` actions: with
+/// a deadline, half the time left and no longer than its progress promises; without
+/// one, as `options` (its tree then does not depend on the machine's speed).
+fn paced(options: Options, steps: usize) -> (Options, Option<Pace>) {
+    match options.deadline {
+        Some(d) => {
+            let pace = Pace::new(steps, d);
+            (Options { deadline: Some(pace.until()), ..options }, Some(pace))
+        }
+        None => (options, None),
+    }
 }
 
 /// The loop of Algorithm 1: run the tree from the initial state; on Failure expand;
-/// give up ([`PlanError::OverBudget`]) when the tree has grown past `budget` nodes.
+/// give up ([`PlanError::OverBudget`]) when the tree has grown past `budget` nodes, and
+/// ([`PlanError::Behind`]) when it falls behind `pace`.
+#[allow(clippy::too_many_arguments)]
 fn run_algorithm1<C: Catalog>(
     mut planner: Planner,
     g: Arc<Grounding>,
@@ -571,6 +593,7 @@ fn run_algorithm1<C: Catalog>(
     options: Options,
     made: Made,
     budget: Option<usize>,
+    mut pace: Option<Pace>,
 ) -> Result<Plan<C>, PlanError> {
     let mut world = StripsWorld::new(g.clone());
     let mut states = Vec::new();
@@ -603,6 +626,9 @@ fn run_algorithm1<C: Catalog>(
             }
             Verdict::Failed { ticks } => {
                 planning_ticks = planning_ticks.saturating_add(ticks);
+                if let Some(pace) = &mut pace {
+                    pace.check(world.executed().len())?;
+                }
                 let belief = world.state().clone();
                 match planner.on_failure(&states, &belief) {
                     Ok(e) => expansions.push(e),

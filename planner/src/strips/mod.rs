@@ -53,6 +53,10 @@ pub struct StripsWorld {
     executed: Vec<ActionId>,
     scratch: Vec<ActionId>,
     checked: bool,
+    /// The atom each condition node checked last, by node id, with the leaf it was
+    /// found for: a tree ticks the same conditions over and over, and a lookup by
+    /// key hashes it (see [`StripsWorld::atom_of`]).
+    atoms: Vec<Option<(Leaf, Option<AtomId>)>>,
 }
 
 impl StripsWorld {
@@ -70,6 +74,7 @@ impl StripsWorld {
             executed: Vec::new(),
             scratch: Vec::new(),
             checked: false,
+            atoms: Vec::new(),
         }
     }
 
@@ -237,9 +242,35 @@ impl StripsWorld {
     }
 }
 
+impl StripsWorld {
+    /// The atom condition leaf `leaf` at `ctx.node` checks. The answer depends only on
+    /// the leaf where its values are inline, so it is kept by node and used again while
+    /// that node holds the same leaf (any tree, any number of trees in turn).
+    fn atom_of(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Option<AtomId> {
+        let args = ctx.args(leaf);
+        if args != leaf.args() {
+            return self.g.leaf_atom_of(leaf, args);
+        }
+        let i = usize::from(ctx.node);
+        if let Some(Some((seen, atom))) = self.atoms.get(i)
+            && seen == leaf
+        {
+            return *atom;
+        }
+        let atom = self.g.leaf_atom_of(leaf, args);
+        if self.atoms.len() <= i {
+            self.atoms.resize(i + 1, None);
+        }
+        if let Some(slot) = self.atoms.get_mut(i) {
+            *slot = Some((*leaf, atom));
+        }
+        atom
+    }
+}
+
 impl BehaviorSet for StripsWorld {
     fn condition(&mut self, leaf: &Leaf, ctx: Context<'_>) -> Status {
-        match self.g.leaf_atom_of(leaf, ctx.args(leaf)) {
+        match self.atom_of(leaf, ctx) {
             Some(a) if self.state.holds(a) => Status::Success,
             _ => Status::Failure,
         }
