@@ -30,8 +30,15 @@ pub struct Fitted {
     pub fits: bool,
     /// When the closure over disturbances was given fewer nodes than
     /// [`Options::close_nodes`] so that the tree fits: that node budget (0: no closure
-    /// at all).
+    /// at all); for a closure whose rules were chosen by the disturbed episodes they
+    /// save ([`Fitted::by_episodes`]), the tree's nodes.
     pub cut: Option<usize>,
+    /// For a regression tree whose closure was cut: the closure's groups of rules (a
+    /// way back from a disturbed state, or an undo rule) kept, of all it added.
+    pub ways: Option<(u32, u32)>,
+    /// Whether the groups kept were chosen by the disturbed episodes they save per byte
+    /// (else in the closure's order, nearest the tree's path first).
+    pub by_episodes: bool,
 }
 
 impl std::fmt::Display for Fitted {
@@ -44,6 +51,13 @@ impl std::fmt::Display for Fitted {
             Some(0) => write!(f, "; the closure over disturbances left out to fit")?,
             Some(n) => write!(f, "; the closure over disturbances cut to {} to fit", count(n, "node"))?,
             None => {}
+        }
+        if let Some((kept, of)) = self.ways {
+            write!(f, " ({kept} of {} kept", count(of as usize, "way back"))?;
+            if self.by_episodes {
+                write!(f, ", chosen by the disturbed episodes they save per byte")?;
+            }
+            write!(f, ")")?;
         }
         if !self.fits {
             write!(f, "; does not fit")?;
@@ -80,7 +94,7 @@ pub(super) fn within<C: Catalog>(
     let fit = options.fit;
     let measure = |mut p: Plan<C>, cut: Option<usize>| -> Result<Plan<C>, PlanError> {
         let size = size_of(&p.nodes, &p.values)?;
-        p.fit = Fitted { size, fits: fit.admits(size), cut };
+        p.fit = Fitted { size, fits: fit.admits(size), cut, ..Fitted::default() };
         Ok(p)
     };
     let plain = measure(make(0)?, None)?;

@@ -20,6 +20,7 @@ mod behind;
 mod closure_time;
 pub(crate) mod fit;
 mod portfolio;
+mod select;
 use behind::Behind;
 use closure_time::{close_budget, closure_deadline};
 
@@ -264,8 +265,9 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
                 let mut p = fit::within(options, |n| {
                     close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until)
                 })?;
-                if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits {
-                    // Its closure did not cover every disturbed state it looked at: the
+                if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits || p.fit.cut.is_some() {
+                    // Its closure did not cover every disturbed state it looked at (or was cut
+                    // or left out to fit): the
                     // plan's regression tree instead where that copes better.
                     let r = regression(g.clone(), catalog.clone(), options, &trace, until)?;
                     if (r.fit.fits && !p.fit.fits)
@@ -309,7 +311,7 @@ fn search_options(options: Options) -> SearchOptions {
 /// `p`, measured against `options.fit` with nothing cut.
 fn measured<C: Catalog>(mut p: Plan<C>, options: Options) -> Result<Plan<C>, PlanError> {
     let size = fit::size_of(&p.nodes, &p.values)?;
-    p.fit = fit::Fitted { size, fits: options.fit.admits(size), cut: None };
+    p.fit = fit::Fitted { size, fits: options.fit.admits(size), ..fit::Fitted::default() };
     Ok(p)
 }
 
@@ -333,16 +335,14 @@ const CHOICE_SEED: u64 = 0x5EED_C401;
 /// (agents as in [`crate::coverage::disturbed`], with their own seed
 /// [`CHOICE_SEED`]); on a tie, `b` is kept.
 fn better_under_disturbances<C: Catalog>(a: &Plan<C>, b: &Plan<C>, g: &Arc<Grounding>) -> Result<bool, PlanError> {
-    let settings = crate::coverage::Settings { seed: CHOICE_SEED, ..crate::coverage::Settings::default() };
-    let reached = |p: &Plan<C>| -> Result<usize, PlanError> {
-        let ticks = p.goal_ticks.unwrap_or(0);
-        let runs = crate::coverage::episodes((&p.nodes, &p.values), p.catalog.as_ref(), g, ticks, &settings)?;
-        Ok(runs.iter().filter(|r| r.0).count())
-    };
-    Ok(reached(a)? > reached(b)?)
+    Ok(select::reached(a, g)? > select::reached(b, g)?)
 }
 
-/// The regression tree of the plan, closed over disturbances.
+/// The regression tree of the plan, closed over disturbances. Where the closure must be
+/// cut to fit [`Options::fit`], it is cut by its own order ([`fit::within`]), and also
+/// by the disturbed episodes its rules save per byte ([`select::closed_to_fit`], with
+/// as long again for its closure as the first cut had); the second is kept where it
+/// reaches the goal in more of the planner's own seeded episodes.
 fn regression<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
@@ -351,15 +351,27 @@ fn regression<C: Catalog>(
     until: Option<Instant>,
 ) -> Result<Plan<C>, PlanError> {
     let plain = crate::regress::Policy::of_trace(&g, trace);
-    fit::within(options, |nodes| {
-        let mut policy = plain.clone();
-        let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
-        let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+    let make = |policy: &crate::regress::Policy, closed| -> Result<Plan<C>, PlanError> {
         let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
         let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
         p.closed = closed;
         Ok(p)
-    })
+    };
+    let started = Instant::now();
+    let by_depth = fit::within(options, |nodes| {
+        let mut policy = plain.clone();
+        let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
+        let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+        make(&policy, closed)
+    })?;
+    if by_depth.fit.cut.is_none() || !by_depth.fit.fits {
+        return Ok(by_depth);
+    }
+    let again = until.map(|u| Instant::now() + u.saturating_duration_since(started));
+    match select::closed_to_fit(options, &g, &plain, again, &make)? {
+        Some(p) if select::reached(&p, &g)? > select::reached(&by_depth, &g)? => Ok(p),
+        _ => Ok(by_depth),
+    }
 }
 
 /// Conditions of `tree` whose failure fails the whole tree: the root, the children
