@@ -53,7 +53,7 @@ impl std::fmt::Display for Fitted {
             None => {}
         }
         if let Some((kept, of)) = self.ways {
-            write!(f, " ({kept} of {} kept", count(of as usize, "way back"))?;
+            write!(f, " ({kept} of {of} ways back kept")?;
             if self.by_episodes {
                 write!(f, ", chosen by the disturbed episodes they save per byte")?;
             }

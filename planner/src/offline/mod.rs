@@ -350,6 +350,18 @@ fn regression<C: Catalog>(
     trace: &Trace,
     until: Option<Instant>,
 ) -> Result<Plan<C>, PlanError> {
+    regression_cut(g, catalog, options, trace, until, true)
+}
+
+/// [`regression`], its closure cut to fit by its own order only unless `by_episodes`.
+fn regression_cut<C: Catalog>(
+    g: Arc<Grounding>,
+    catalog: Arc<C>,
+    options: Options,
+    trace: &Trace,
+    until: Option<Instant>,
+    by_episodes: bool,
+) -> Result<Plan<C>, PlanError> {
     let plain = crate::regress::Policy::of_trace(&g, trace);
     let make = |policy: &crate::regress::Policy, closed| -> Result<Plan<C>, PlanError> {
         let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
@@ -364,7 +376,7 @@ fn regression<C: Catalog>(
         let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
         make(&policy, closed)
     })?;
-    if by_depth.fit.cut.is_none() || !by_depth.fit.fits {
+    if !by_episodes || by_depth.fit.cut.is_none() || !by_depth.fit.fits {
         return Ok(by_depth);
     }
     let again = until.map(|u| Instant::now() + u.saturating_duration_since(started));

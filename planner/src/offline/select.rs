@@ -179,11 +179,10 @@ mod tests {
     use std::path::Path;
     use std::sync::Arc;
 
-    use super::super::{Made, Plan, finish, fit, regression};
+    use super::super::{Plan, regression, regression_cut};
     use crate::ground::Grounding;
     use crate::guide::Trace;
     use crate::pddl::{parse_domain, parse_problem};
-    use crate::planner::Planner;
     use crate::{Fit, Options, PddlCatalog};
 
     fn fixture(domain: &str, problem: &str) -> (Arc<Grounding>, Arc<PddlCatalog>, Trace) {
@@ -197,22 +196,6 @@ mod tests {
         (Arc::new(g), Arc::new(PddlCatalog::new(&problem)), trace)
     }
 
-    /// The closure cut to fit by its own order, nearest the tree's path first: node
-    /// budgets shrinking until the tree fits ([`fit::within`]).
-    fn by_depth(g: &Arc<Grounding>, c: &Arc<PddlCatalog>, options: Options, trace: &Trace) -> Plan<PddlCatalog> {
-        let plain = crate::regress::Policy::of_trace(g, trace);
-        fit::within(options, |nodes| {
-            let mut policy = plain.clone();
-            let budget = crate::regress::Budget { nodes, ..crate::regress::Budget::default() };
-            let closed = if nodes == 0 { None } else { Some(crate::regress::close(g, &mut policy, &budget)?) };
-            let planner = Planner::from_tree(g.clone(), policy.tree(g), options)?;
-            let mut p = finish(planner, g.clone(), c.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
-            p.closed = closed;
-            Ok(p)
-        })
-        .unwrap()
-    }
-
     #[test]
     fn a_closure_cut_by_the_episodes_its_rules_save_keeps_more_than_one_cut_by_depth() {
         let (g, c, trace) = fixture("openstacks-sat08-adl", "p01.pddl");
@@ -224,7 +207,7 @@ mod tests {
         // Room for about three tenths of what the whole closure adds.
         let bytes = bare.fit.size.bytes + (whole.fit.size.bytes - bare.fit.size.bytes) * 3 / 10;
         let options = Options { fit: Fit { bytes, ..Options::default().fit }, ..Options::default() };
-        let depth = by_depth(&g, &c, options, &trace);
+        let depth = regression_cut(g.clone(), c.clone(), options, &trace, None, false).unwrap();
         let chosen = regression(g.clone(), c.clone(), options, &trace, None).unwrap();
         assert!(chosen.fit.fits && chosen.fit.by_episodes && depth.fit.cut.is_some(), "{}", chosen.fit);
         // Judged by the benchmark's seed, not the one the planner chose by.
