@@ -77,6 +77,14 @@ pub(super) fn too_big(size: Size, fit: Fit) -> PlanError {
     PlanError::TooBig { what: format!("the tree does not fit even without its closure over disturbances: {what}") }
 }
 
+/// The first node budget of a closure that must fit `options.fit`, for a tree of
+/// `plain` size without it: [`Options::close_nodes`], or as many nodes as the bytes
+/// allowed hold at the bytes a node of the plain tree takes, if fewer.
+pub(super) fn first_budget(options: Options, plain: Size) -> usize {
+    let per_node = plain.bytes as f64 / plain.nodes.max(1) as f64;
+    options.close_nodes.min((options.fit.bytes as f64 / per_node) as usize).min(options.fit.nodes)
+}
+
 /// Makes a tree with `make(budget)`, the closure over disturbances within `budget`
 /// nodes, that fits `options.fit`. The tree without any closure (`make(0)`) gives the
 /// bytes a node takes; the first budget is [`Options::close_nodes`], or fewer where
@@ -101,8 +109,7 @@ pub(super) fn within<C: Catalog>(
     if options.close_nodes == 0 || !plain.fit.fits {
         return Ok(Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..plain.fit }, ..plain });
     }
-    let per_node = plain.fit.size.bytes as f64 / plain.fit.size.nodes.max(1) as f64;
-    let mut budget = options.close_nodes.min((fit.bytes as f64 / per_node) as usize).min(fit.nodes);
+    let mut budget = first_budget(options, plain.fit.size);
     let mut tries = 0;
     loop {
         let mut p = make(budget)?;

@@ -338,11 +338,9 @@ fn better_under_disturbances<C: Catalog>(a: &Plan<C>, b: &Plan<C>, g: &Arc<Groun
     Ok(select::reached(a, g)? > select::reached(b, g)?)
 }
 
-/// The regression tree of the plan, closed over disturbances. Where the closure must be
-/// cut to fit [`Options::fit`], it is cut by its own order ([`fit::within`]), and also
-/// by the disturbed episodes its rules save per byte ([`select::closed_to_fit`], with
-/// as long again for its closure as the first cut had); the second is kept where it
-/// reaches the goal in more of the planner's own seeded episodes.
+/// The regression tree of the plan, closed over disturbances and cut to fit
+/// [`Options::fit`] by the disturbed episodes its rules save per byte
+/// ([`select::closed_to_fit`]).
 fn regression<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
@@ -353,7 +351,8 @@ fn regression<C: Catalog>(
     regression_cut(g, catalog, options, trace, until, true)
 }
 
-/// [`regression`], its closure cut to fit by its own order only unless `by_episodes`.
+/// [`regression`], or with its closure cut by node budgets ([`fit::within`]) unless
+/// `by_episodes`.
 fn regression_cut<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
@@ -369,21 +368,15 @@ fn regression_cut<C: Catalog>(
         p.closed = closed;
         Ok(p)
     };
-    let started = Instant::now();
-    let by_depth = fit::within(options, |nodes| {
+    if by_episodes {
+        return select::closed_to_fit(options, &g, &plain, until, &make);
+    }
+    fit::within(options, |nodes| {
         let mut policy = plain.clone();
         let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
         let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
         make(&policy, closed)
-    })?;
-    if !by_episodes || by_depth.fit.cut.is_none() || !by_depth.fit.fits {
-        return Ok(by_depth);
-    }
-    let again = until.map(|u| Instant::now() + u.saturating_duration_since(started));
-    match select::closed_to_fit(options, &g, &plain, again, &make)? {
-        Some(p) if select::reached(&p, &g)? > select::reached(&by_depth, &g)? => Ok(p),
-        _ => Ok(by_depth),
-    }
+    })
 }
 
 /// Conditions of `tree` whose failure fails the whole tree: the root, the children

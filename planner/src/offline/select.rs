@@ -5,13 +5,14 @@
 //! undo rule), the states one disturbance from the tree's path first. Cutting it by
 //! that order keeps the groups for the nearest states, which are not always the ones
 //! an agent's disturbances lead to: a long way back for a state no episode reaches can
-//! take the room of a short one many episodes need. So the whole closure is made, run
-//! in the planner's own seeded disturbed episodes, and each episode that reaches the
+//! take the room of a short one many episodes need. So the closure (within the first
+//! node budget of [`super::fit::within`]) is run in the planner's own seeded disturbed
+//! episodes, and each episode that reaches the
 //! goal names the groups it acted on (a *unit*: all of them, since a way back leads
 //! into the rules of another). Units are kept greedily by episodes per byte not yet
-//! kept, then the other groups in the closure's order, as many as fit. The offline
-//! planner keeps that tree where it reaches the goal in more of those episodes than
-//! the closure cut by its own order ([`super::fit::within`]).
+//! kept, then the other groups in the closure's order, as many as fit. That tree is
+//! kept where it reaches the goal in more of those episodes than the closure's groups
+//! kept in its own order, as many as fit. Either way the closure is made once.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -30,10 +31,12 @@ use crate::regress::{Closed, Policy};
 /// reaches the goal from the initial state included).
 pub(super) type Make<'a, C> = dyn Fn(&Policy, Option<Closed>) -> Result<Plan<C>, PlanError> + 'a;
 
-/// `plain` (a regression tree's rules) closed over disturbances within
-/// [`Options::close_nodes`] and `until`, and cut to fit [`Options::fit`] by the
-/// disturbed episodes its groups of rules save per byte (see the module docs): the whole
-/// closure where it fits; `None` where not even one group fits.
+/// `plain` (a regression tree's rules) closed over disturbances within `until` and
+/// the first node budget of [`fit::within`], as that would (the same tree wherever it
+/// fits); where it does not fit, cut to fit [`Options::fit`] by the disturbed episodes
+/// its groups of rules save per byte, or by the closure's own order where that keeps as
+/// many of the planner's own episodes (see the module docs); without any closure where
+/// not one group fits.
 ///
 /// # Errors
 /// From `make` and the closure.
@@ -43,20 +46,40 @@ pub(super) fn closed_to_fit<C: Catalog>(
     plain: &Policy,
     until: Option<Instant>,
     make: &Make<'_, C>,
-) -> Result<Option<Plan<C>>, PlanError> {
+) -> Result<Plan<C>, PlanError> {
     let measure = |p: Plan<C>| -> Result<Plan<C>, PlanError> {
         let size = fit::size_of(&p.nodes, &p.values)?;
         Ok(Plan { fit: Fitted { size, fits: options.fit.admits(size), ..Fitted::default() }, ..p })
     };
-    let mut policy = plain.clone();
-    let closed = crate::regress::close(g, &mut policy, &close_budget(options, until))?;
-    let whole = measure(make(&policy, Some(closed))?)?;
-    if whole.fit.fits {
-        return Ok(Some(whole));
+    let bare = measure(make(plain, None)?)?;
+    if options.close_nodes == 0 || !bare.fit.fits {
+        return Ok(Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..bare.fit }, ..bare });
     }
+    let budget = fit::first_budget(options, bare.fit.size);
+    let mut policy = plain.clone();
+    let closed =
+        crate::regress::close(g, &mut policy, &close_budget(Options { close_nodes: budget, ..options }, until))?;
+    let mut whole = measure(make(&policy, Some(closed))?)?;
+    whole.first = whole.first.min(bare.first);
+    if whole.fit.fits {
+        // Cut only where the closure stopped short of the states it would look at.
+        let cut = (budget < options.close_nodes && !closed.complete).then_some(budget);
+        return Ok(Plan { fit: Fitted { cut, ..whole.fit }, ..whole });
+    }
+    let depth: Vec<u32> = (1..policy.group_count()).collect();
+    let mut chosen = largest_fitting(&policy, &depth, closed, make, &measure)?;
     let order = by_episodes(&policy, g, &whole)?;
-    let p = largest_fitting(&policy, &order, closed, make, &measure)?;
-    Ok(p.fit.ways.is_some_and(|w| w.0 > 0).then_some(p))
+    if order != depth {
+        let other = largest_fitting(&policy, &order, closed, make, &measure)?;
+        if reached(&other, g)? > reached(&chosen, g)? {
+            chosen = Plan { fit: Fitted { by_episodes: true, ..other.fit }, ..other };
+        }
+    }
+    if chosen.fit.ways.is_none_or(|w| w.0 == 0) {
+        return Ok(Plan { fit: Fitted { cut: Some(0), ..bare.fit }, ..bare });
+    }
+    chosen.first = bare.first;
+    Ok(chosen)
 }
 
 /// The tree of `policy` with group 0 and as many of `order`'s groups, from its start,
@@ -104,7 +127,7 @@ fn largest_fitting<C: Catalog>(
     };
     let total = u32::try_from(order.len()).unwrap_or(u32::MAX);
     let kept = u32::try_from(k).unwrap_or(u32::MAX);
-    let fit = Fitted { cut: Some(p.fit.size.nodes), ways: Some((kept, total)), by_episodes: true, ..p.fit };
+    let fit = Fitted { cut: Some(p.fit.size.nodes), ways: Some((kept, total)), ..p.fit };
     Ok(Plan { fit, ..p })
 }
 
@@ -180,6 +203,7 @@ mod tests {
     use std::sync::Arc;
 
     use super::super::{Plan, regression, regression_cut};
+    use super::reached;
     use crate::ground::Grounding;
     use crate::guide::Trace;
     use crate::pddl::{parse_domain, parse_problem};
@@ -204,20 +228,34 @@ mod tests {
         let bare = Options { close_nodes: 0, ..Options::default() };
         let bare = regression(g.clone(), c.clone(), bare, &trace, None).unwrap();
         assert!(whole.fit.cut.is_none(), "{}", whole.fit);
-        // Room for about three tenths of what the whole closure adds.
-        let bytes = bare.fit.size.bytes + (whole.fit.size.bytes - bare.fit.size.bytes) * 3 / 10;
-        let options = Options { fit: Fit { bytes, ..Options::default().fit }, ..Options::default() };
-        let depth = regression_cut(g.clone(), c.clone(), options, &trace, None, false).unwrap();
-        let chosen = regression(g.clone(), c.clone(), options, &trace, None).unwrap();
-        assert!(chosen.fit.fits && chosen.fit.by_episodes && depth.fit.cut.is_some(), "{}", chosen.fit);
-        // Judged by the benchmark's seed, not the one the planner chose by.
+        // The benchmark's seed, not the one the planner chooses by.
         let settings = crate::coverage::Settings::default();
-        let reached = |p: &Plan<PddlCatalog>| {
+        let benchmark = |p: &Plan<PddlCatalog>| {
             crate::coverage::disturbed(&p.nodes, &p.values, c.as_ref(), &g, p.goal_ticks.unwrap(), &settings)
                 .unwrap()
                 .reached
         };
-        let (d, e, w) = (reached(&depth), reached(&chosen), reached(&whole));
-        assert!(d < e && e <= w, "by depth {d}, by episodes {e}, whole closure {w} of {}", settings.episodes);
+        // Room for `tenths` of what the whole closure adds: the closure cut by node
+        // budgets shrinking until it fits, and the one cut by its groups of rules.
+        let cut = |tenths: usize| {
+            let bytes = bare.fit.size.bytes + (whole.fit.size.bytes - bare.fit.size.bytes) * tenths / 10;
+            let options = Options { fit: Fit { bytes, ..Options::default().fit }, ..Options::default() };
+            let by_budgets = regression_cut(g.clone(), c.clone(), options, &trace, None, false).unwrap();
+            let by_groups = regression(g.clone(), c.clone(), options, &trace, None).unwrap();
+            assert!(by_groups.fit.fits && by_groups.fit.ways.is_some(), "{}", by_groups.fit);
+            (by_budgets, by_groups)
+        };
+        // Three tenths: the closure's groups kept in its own order, as many as fit,
+        // save more episodes than the node budgets that shrank until the tree fit.
+        let (budgets, groups) = cut(3);
+        let (b, k, w) = (benchmark(&budgets), benchmark(&groups), benchmark(&whole));
+        assert!(b < k && k <= w, "by budgets {b}, by groups {k}, whole closure {w} of {}", settings.episodes);
+        // Four tenths: the groups that serve the planner's own episodes first reach the
+        // goal in all of them, the closure's own order in fewer.
+        let (budgets, groups) = cut(4);
+        assert!(groups.fit.by_episodes, "{}", groups.fit);
+        let (b, k) = (reached(&budgets, &g).unwrap(), reached(&groups, &g).unwrap());
+        assert!(b < k && k == 20, "the planner's own episodes: by budgets {b}, by episodes {k}");
+        assert!(benchmark(&budgets) <= benchmark(&groups));
     }
 }
