@@ -30,8 +30,15 @@ pub struct Fitted {
     pub fits: bool,
     /// When the closure over disturbances was given fewer nodes than
     /// [`Options::close_nodes`] so that the tree fits: that node budget (0: no closure
-    /// at all).
+    /// at all); for a closure whose rules were chosen by the disturbed episodes they
+    /// save ([`Fitted::by_episodes`]), the tree's nodes.
     pub cut: Option<usize>,
+    /// For a regression tree whose closure was cut: the closure's groups of rules (a
+    /// way back from a disturbed state, or an undo rule) kept, of all it added.
+    pub ways: Option<(u32, u32)>,
+    /// Whether the groups kept were chosen by the disturbed episodes they save per byte
+    /// (else in the closure's order, nearest the tree's path first).
+    pub by_episodes: bool,
 }
 
 impl std::fmt::Display for Fitted {
@@ -44,6 +51,13 @@ impl std::fmt::Display for Fitted {
             Some(0) => write!(f, "; the closure over disturbances left out to fit")?,
             Some(n) => write!(f, "; the closure over disturbances cut to {} to fit", count(n, "node"))?,
             None => {}
+        }
+        if let Some((kept, of)) = self.ways {
+            write!(f, " ({kept} of {of} ways back kept")?;
+            if self.by_episodes {
+                write!(f, ", chosen by the disturbed episodes they save per byte")?;
+            }
+            write!(f, ")")?;
         }
         if !self.fits {
             write!(f, "; does not fit")?;
@@ -63,6 +77,14 @@ pub(super) fn too_big(size: Size, fit: Fit) -> PlanError {
     PlanError::TooBig { what: format!("the tree does not fit even without its closure over disturbances: {what}") }
 }
 
+/// The first node budget of a closure that must fit `options.fit`, for a tree of
+/// `plain` size without it: [`Options::close_nodes`], or as many nodes as the bytes
+/// allowed hold at the bytes a node of the plain tree takes, if fewer.
+pub(super) fn first_budget(options: Options, plain: Size) -> usize {
+    let per_node = plain.bytes as f64 / plain.nodes.max(1) as f64;
+    options.close_nodes.min((options.fit.bytes as f64 / per_node) as usize).min(options.fit.nodes)
+}
+
 /// Makes a tree with `make(budget)`, the closure over disturbances within `budget`
 /// nodes, that fits `options.fit`. The tree without any closure (`make(0)`) gives the
 /// bytes a node takes; the first budget is [`Options::close_nodes`], or fewer where
@@ -80,15 +102,14 @@ pub(super) fn within<C: Catalog>(
     let fit = options.fit;
     let measure = |mut p: Plan<C>, cut: Option<usize>| -> Result<Plan<C>, PlanError> {
         let size = size_of(&p.nodes, &p.values)?;
-        p.fit = Fitted { size, fits: fit.admits(size), cut };
+        p.fit = Fitted { size, fits: fit.admits(size), cut, ..Fitted::default() };
         Ok(p)
     };
     let plain = measure(make(0)?, None)?;
     if options.close_nodes == 0 || !plain.fit.fits {
         return Ok(Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..plain.fit }, ..plain });
     }
-    let per_node = plain.fit.size.bytes as f64 / plain.fit.size.nodes.max(1) as f64;
-    let mut budget = options.close_nodes.min((fit.bytes as f64 / per_node) as usize).min(fit.nodes);
+    let mut budget = first_budget(options, plain.fit.size);
     let mut tries = 0;
     loop {
         let mut p = make(budget)?;

@@ -21,6 +21,7 @@ mod closure_time;
 pub(crate) mod fit;
 mod pace;
 mod portfolio;
+mod select;
 use behind::Behind;
 use closure_time::{close_budget, closure_deadline};
 use pace::Pace;
@@ -271,8 +272,9 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
                 let mut p = fit::within(options, |n| {
                     close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until)
                 })?;
-                if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits {
-                    // Its closure did not cover every disturbed state it looked at: the
+                if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits || p.fit.cut.is_some() {
+                    // Its closure did not cover every disturbed state it looked at (or was cut
+                    // or left out to fit): the
                     // plan's regression tree instead where that copes better.
                     let r = regression(g.clone(), catalog.clone(), options, &trace, until)?;
                     if (r.fit.fits && !p.fit.fits)
@@ -316,7 +318,7 @@ fn search_options(options: Options) -> SearchOptions {
 /// `p`, measured against `options.fit` with nothing cut.
 fn measured<C: Catalog>(mut p: Plan<C>, options: Options) -> Result<Plan<C>, PlanError> {
     let size = fit::size_of(&p.nodes, &p.values)?;
-    p.fit = fit::Fitted { size, fits: options.fit.admits(size), cut: None };
+    p.fit = fit::Fitted { size, fits: options.fit.admits(size), ..fit::Fitted::default() };
     Ok(p)
 }
 
@@ -340,16 +342,12 @@ const CHOICE_SEED: u64 = 0x5EED_C401;
 /// (agents as in [`crate::coverage::disturbed`], with their own seed
 /// [`CHOICE_SEED`]); on a tie, `b` is kept.
 fn better_under_disturbances<C: Catalog>(a: &Plan<C>, b: &Plan<C>, g: &Arc<Grounding>) -> Result<bool, PlanError> {
-    let settings = crate::coverage::Settings { seed: CHOICE_SEED, ..crate::coverage::Settings::default() };
-    let reached = |p: &Plan<C>| -> Result<usize, PlanError> {
-        let ticks = p.goal_ticks.unwrap_or(0);
-        let runs = crate::coverage::episodes((&p.nodes, &p.values), p.catalog.as_ref(), g, ticks, &settings)?;
-        Ok(runs.iter().filter(|r| r.0).count())
-    };
-    Ok(reached(a)? > reached(b)?)
+    Ok(select::reached(a, g)? > select::reached(b, g)?)
 }
 
-/// The regression tree of the plan, closed over disturbances.
+/// The regression tree of the plan, closed over disturbances and cut to fit
+/// [`Options::fit`] by the disturbed episodes its rules save per byte
+/// ([`select::closed_to_fit`]).
 fn regression<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
@@ -357,15 +355,34 @@ fn regression<C: Catalog>(
     trace: &Trace,
     until: Option<Instant>,
 ) -> Result<Plan<C>, PlanError> {
+    regression_cut(g, catalog, options, trace, until, true)
+}
+
+/// [`regression`], or with its closure cut by node budgets ([`fit::within`]) unless
+/// `by_episodes`.
+fn regression_cut<C: Catalog>(
+    g: Arc<Grounding>,
+    catalog: Arc<C>,
+    options: Options,
+    trace: &Trace,
+    until: Option<Instant>,
+    by_episodes: bool,
+) -> Result<Plan<C>, PlanError> {
     let plain = crate::regress::Policy::of_trace(&g, trace);
-    fit::within(options, |nodes| {
-        let mut policy = plain.clone();
-        let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
-        let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+    let make = |policy: &crate::regress::Policy, closed| -> Result<Plan<C>, PlanError> {
         let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
         let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
         p.closed = closed;
         Ok(p)
+    };
+    if by_episodes {
+        return select::closed_to_fit(options, &g, &plain, until, &make);
+    }
+    fit::within(options, |nodes| {
+        let mut policy = plain.clone();
+        let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
+        let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
+        make(&policy, closed)
     })
 }
 

@@ -74,6 +74,7 @@
 //! the rules take over.
 
 mod close;
+mod groups;
 mod way_back;
 
 pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, Stop, close, close_with};
@@ -154,6 +155,8 @@ pub struct Rule {
     pub action: ActionId,
     /// Actions to the goal, this one included.
     pub distance: u32,
+    /// The addition it came with ([`Policy::group_count`]): 0 for the first plan's.
+    group: u32,
 }
 
 impl Rule {
@@ -165,7 +168,7 @@ impl Rule {
     fn goal(g: &Grounding) -> Self {
         let mut when = g.goal().to_vec();
         when.sort_unstable();
-        Self { when, action: 0, distance: 0 }
+        Self { when, action: 0, distance: 0, group: 0 }
     }
 }
 
@@ -186,6 +189,8 @@ pub struct Policy {
     undo: Vec<Rule>,
     /// The plans to the goal whose rules were added, first to last.
     plans: Vec<Vec<ActionId>>,
+    /// Every addition of rules, in order: replayed in part by [`Policy::only`].
+    log: Vec<groups::Group>,
 }
 
 fn subset(a: &[Lit], b: &[Lit]) -> bool {
@@ -295,22 +300,21 @@ impl Policy {
     /// Adds the rules of `trace`, a path to a state where `rule` holds (its conditions
     /// regressed through the path); returns how many were kept.
     fn add_path(&mut self, g: &Grounding, trace: &Trace, rule: &Rule) -> usize {
-        if rule.distance == 0 {
-            self.plans.push(trace.plan().to_vec());
-        }
+        let plan = (rule.distance == 0).then(|| trace.plan().to_vec());
         let cs = conditions_to(g, trace, &rule.when);
         let n = trace.plan().len();
-        let mut kept = 0;
+        let group = self.group_count();
         // Nearest the target first, so that equal rules keep the path's last use.
-        for i in (1..=n).rev() {
-            let mut when = cs[i - 1].clone();
-            when.sort_unstable();
-            let distance = rule.distance + (n - i + 1) as u32;
-            if self.insert(Rule { when, action: trace.plan()[i - 1], distance }) {
-                kept += 1;
-            }
-        }
-        kept
+        let rules = (1..=n)
+            .rev()
+            .map(|i| {
+                let mut when = cs[i - 1].clone();
+                when.sort_unstable();
+                let distance = rule.distance + (n - i + 1) as u32;
+                Rule { when, action: trace.plan()[i - 1], distance, group }
+            })
+            .collect();
+        self.apply(groups::Group { rules, undo: false, plan })
     }
 
     /// Planner nodes of [`Policy::tree`] (it builds the tree: keep the count while the
@@ -409,13 +413,15 @@ impl Policy {
         let mut when = x.pre.clone();
         when.sort_unstable();
         when.dedup();
-        self.undo.push(Rule { when, action: u, distance: u32::MAX });
+        let rule = Rule { when, action: u, distance: u32::MAX, group: self.group_count() };
+        self.apply(groups::Group { rules: vec![rule], undo: true, plan: None });
         true
     }
 
     /// Takes out the undo rule added last.
     fn pop_undo(&mut self) {
         self.undo.pop();
+        self.log.pop();
     }
 
     /// Appends `rules` to the Fallback `parent`, whose ancestors have checked `known`.
@@ -473,6 +479,6 @@ impl Policy {
     /// An empty policy (no rules).
     #[must_use]
     pub fn empty() -> Self {
-        Self { rules: Vec::new(), undo: Vec::new(), plans: Vec::new() }
+        Self { rules: Vec::new(), undo: Vec::new(), plans: Vec::new(), log: Vec::new() }
     }
 }
