@@ -43,7 +43,7 @@ impl Policy {
                         break;
                     }
                     if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
-                        x.apply(&mut s);
+                        g.apply(x, &mut s);
                         done.push(a);
                     }
                 }
