@@ -75,8 +75,16 @@ pub fn domain(s: &Sexp, w: &mut Vec<(Pos, String)>) -> R<Domain> {
             ModelError::DerivedChanged { action, .. } => {
                 d.actions.iter().position(|a| a.name == *action).map(|i| action_pos[i])
             }
-            ModelError::NotStratifiable { predicate, .. } => {
-                d.axioms.iter().position(|a| a.name == *predicate).map(|i| rule_pos[i])
+            ModelError::NotStratifiable { predicate, through } => {
+                // The rule of `predicate` that names `through`, else its first.
+                let through = d.predicate(through);
+                let names = |a: &crate::model::ActionTemplate| {
+                    let mut found = false;
+                    a.pre.iter().for_each(|c| c.for_each_literal(&mut |l| found |= Some(l.atom.predicate) == through));
+                    found
+                };
+                let rules = || d.axioms.iter().enumerate().filter(|(_, a)| a.name == *predicate);
+                rules().find(|(_, a)| names(a)).or_else(|| rules().next()).map(|(i, _)| rule_pos[i])
             }
             _ => None,
         };
