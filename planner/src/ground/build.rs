@@ -11,7 +11,7 @@ use super::reach;
 use super::tables::{self, Objects, UNBOUND, key_into};
 use super::{ActionId, AtomId, CondEffect, GroundAction, Grounding, Leaves, Limits, Lit};
 use crate::PlanError;
-use crate::model::{Atom, Condition, CostTerm, ObjectId, Problem, Term};
+use crate::model::{ActionTemplate, Atom, Condition, CostTerm, ObjectId, Problem, Term};
 use crate::state::State;
 
 pub(super) fn build(original: &Problem, limits: &Limits) -> Result<Grounding, PlanError> {
@@ -23,7 +23,8 @@ pub(super) fn build(original: &Problem, limits: &Limits) -> Result<Grounding, Pl
         original
     } else {
         let mut p = original.clone();
-        p.domain.actions.extend(p.domain.axioms.iter().cloned());
+        let rules: Vec<ActionTemplate> = p.domain.axioms.iter().flat_map(split_rule).collect();
+        p.domain.actions.extend(rules);
         with_rules = p;
         &with_rules
     };
@@ -270,6 +271,51 @@ pub(super) fn build(original: &Problem, limits: &Limits) -> Result<Grounding, Pl
     g.close(&mut init);
     g.init = init;
     Ok(g)
+}
+
+/// Most rules one `:derived` rule is split into by [`split_rule`].
+const SPLIT: usize = 32;
+
+/// A rule split into one rule per alternative of its body's disjunctions, `exists`
+/// kept around each (so its variables become ones the join binds, as a Datalog
+/// translation does): `(or (and (con ?z ?y) (up ?x ?z)) ...)` under an `exists` is
+/// joined through `con` and `up` instead of trying every object for `?z` and `?y`.
+/// The rule is kept whole when that would make more than [`SPLIT`] rules.
+fn split_rule(rule: &ActionTemplate) -> Vec<ActionTemplate> {
+    let Some(alternatives) = alternatives(&Condition::And(rule.pre.clone())) else {
+        return vec![rule.clone()];
+    };
+    alternatives.into_iter().map(|pre| ActionTemplate { pre, ..rule.clone() }).collect()
+}
+
+/// The alternatives of a condition as conjunctions (`None` past [`SPLIT`]).
+fn alternatives(c: &Condition) -> Option<Vec<Vec<Condition>>> {
+    let out = match c {
+        Condition::Or(parts) => {
+            let mut out = Vec::new();
+            for p in parts {
+                out.extend(alternatives(p)?);
+            }
+            out
+        }
+        Condition::And(parts) => {
+            let mut out: Vec<Vec<Condition>> = vec![Vec::new()];
+            for p in parts {
+                let alts = alternatives(p)?;
+                if out.len() * alts.len() > SPLIT {
+                    return None;
+                }
+                out = out.iter().flat_map(|a| alts.iter().map(move |b| [a.clone(), b.clone()].concat())).collect();
+            }
+            out
+        }
+        Condition::Exists(vars, body) => alternatives(body)?
+            .into_iter()
+            .map(|alt| vec![Condition::Exists(vars.clone(), Box::new(Condition::And(alt)))])
+            .collect(),
+        other => vec![vec![other.clone()]],
+    };
+    (out.len() <= SPLIT).then_some(out)
 }
 
 /// The ground rules, from the rules grounded as actions (one per alternative of a
