@@ -94,10 +94,12 @@ fn a_recursive_rule_and_a_negation_over_it_are_planned_into_a_tree_that_reaches_
     let out = run_to_goal(&p, &c, &mut world);
     assert_eq!(out, Verdict::Reached { ticks: p.goal_ticks.unwrap() });
     assert!(world.goal_reached());
-    // The same problem plans to the same tree.
-    let again = plan(g, c, Options::default()).unwrap();
-    assert_eq!(again.nodes, p.nodes);
-    assert_eq!(again.executed, p.executed);
+    // The same problem plans to the same tree, with the search on threads or not.
+    for parallel in [true, false] {
+        let again = plan(g.clone(), c.clone(), Options { parallel, ..Options::default() }).unwrap();
+        assert_eq!(again.nodes, p.nodes);
+        assert_eq!(again.executed, p.executed);
+    }
 }
 
 #[test]
@@ -179,4 +181,41 @@ fn a_rule_for_an_undeclared_predicate_or_with_the_wrong_arity_is_refused() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("(:derived"), "{e}");
+}
+
+#[test]
+fn a_support_holds_where_its_literal_does_and_implies_it_everywhere() {
+    let g = grounding(GRID, GRID_PROBLEM);
+    let lines: Vec<u32> = ["n0 n1", "n1 n2", "n1 n3", "n2 n3"]
+        .iter()
+        .map(|l| g.atom_by_name("closed", &l.split(' ').collect::<Vec<_>>()).unwrap())
+        .collect();
+    // Every assignment of the lines, closed under the rules.
+    let states: Vec<planner::state::State> = (0..1u32 << lines.len())
+        .map(|bits| {
+            let mut s = g.init().clone();
+            for (i, &a) in lines.iter().enumerate() {
+                s.set(a, bits & (1 << i) != 0);
+            }
+            g.close(&mut s);
+            s
+        })
+        .collect();
+    let derived: Vec<u32> = (0..g.atom_count() as u32).filter(|&a| g.is_derived(a)).collect();
+    assert_eq!(derived.len(), 8, "fed and dark of four nodes");
+    let mut checked = 0;
+    for s in &states {
+        for &a in &derived {
+            let lit = planner::ground::Lit { atom: a, positive: s.holds(a) };
+            let support = g.support(s, &[lit]);
+            assert!(support.iter().all(|l| !g.is_derived(l.atom) && l.holds(s)), "{}", g.lit_name(lit));
+            for t in &states {
+                if support.iter().all(|l| l.holds(t)) {
+                    assert!(lit.holds(t), "{} from {support:?}", g.lit_name(lit));
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 16 * 8, "{checked}");
 }
