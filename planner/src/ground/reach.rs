@@ -373,6 +373,7 @@ impl Search<'_> {
         }
         let mut ev = Eval { objects: self.objects, atoms, statics: self.statics, key: Vec::new(), missing: None };
         let mut err = None;
+        let mut key: Vec<ObjectId> = Vec::with_capacity(s.bound.len());
         ev.bindings(&free, binding, &mut |ev, b| {
             let eq_ok = s.eq.iter().all(|&(positive, l, r)| {
                 let v = |x: Term| match x {
@@ -386,9 +387,10 @@ impl Search<'_> {
                 ev.relaxed(&c, b)
             });
             // An instance found in an earlier round needs no second look at its residue.
-            let new = || {
-                let k: Vec<ObjectId> = s.bound.iter().map(|&v| b[usize::from(v)]).collect();
-                !seen.contains(k.as_slice())
+            let mut new = || {
+                key.clear();
+                key.extend(s.bound.iter().map(|&v| b[usize::from(v)]));
+                !seen.contains(key.as_slice())
             };
             if eq_ok && neg_ok && new() && s.residue.iter().all(|c| ev.relaxed(c, b)) {
                 out.push(b.clone().into_boxed_slice());
