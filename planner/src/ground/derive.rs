@@ -150,7 +150,8 @@ impl Grounding {
     /// *support*): for a derived atom, the bodies of the rules that derived it, back to
     /// basic atoms; for a negated one, a false literal of each of its rules (an
     /// unfounded set: none of them can fire). Regression through actions then stays
-    /// over basic atoms, which actions change.
+    /// over basic atoms, which actions change. A derived literal that does not hold in
+    /// `state` is kept as it is.
     #[must_use]
     pub fn support(&self, state: &State, lits: &[Lit]) -> Vec<Lit> {
         let r = &self.rules;
@@ -175,6 +176,13 @@ impl Grounding {
                 continue;
             }
             seen.push(l);
+            if !l.holds(&closed) {
+                // Not this state's: kept as it is (checked as the world derives it).
+                if !out.contains(&l) {
+                    out.push(l);
+                }
+                continue;
+            }
             if l.positive {
                 if let Some(rule) = r.rules.get(why[l.atom as usize] as usize) {
                     stack.extend(rule.body.iter().rev());
