@@ -66,6 +66,10 @@ pub enum PlanError {
         /// The atom.
         atom: String,
     },
+    /// A problem built in Rust that breaks a rule of the model (PDDL input is checked
+    /// while it is read).
+    #[error("{0}")]
+    Model(#[from] crate::model::ModelError),
     /// The goal cannot be reached, for a reason found before searching.
     #[error("the goal cannot be reached: {0}")]
     Unsolvable(String),

@@ -40,7 +40,7 @@ impl Trace {
             if !x.applicable(&s) {
                 return None;
             }
-            x.apply(&mut s);
+            g.apply(x, &mut s);
             states.push(s.clone());
         }
         Some(Self { plan: plan.to_vec(), states })

@@ -109,8 +109,8 @@ fn more_faults_each_with_its_own_error() {
             |k| matches!(k, ErrorKind::Unsupported(s) if s == "numeric condition `<`"),
         ),
         (
-            DOMAIN.replace("(:types box place)", "(:types box place) (:derived (free ?p) (at ?p ?p))"),
-            |k| matches!(k, ErrorKind::Unsupported(s) if s.starts_with(":derived")),
+            DOMAIN.replace("(:types box place)", "(:types box place) (:durative-action go)"),
+            |k| matches!(k, ErrorKind::Unsupported(s) if s.starts_with(":durative-action")),
         ),
         (format!("{DOMAIN} (extra)"), |k| *k == ErrorKind::Trailing),
         ("(define (problem x))".into(), |k| matches!(k, ErrorKind::Expected { .. })),

@@ -82,7 +82,8 @@ impl GroundAction {
 
     /// Applies its effects to `state`: conditions of conditional effects are read
     /// before anything changes; then deletions, then additions (an atom both deleted
-    /// and added ends up true, as in PDDL).
+    /// and added ends up true, as in PDDL). Derived atoms are left as they were:
+    /// [`super::Grounding::apply`] also closes the state under the rules.
     pub fn apply(&self, state: &mut State) {
         if self.cond.is_empty() {
             for &d in &self.del {

@@ -5,15 +5,29 @@ use std::collections::HashMap;
 
 use foldhash::fast::FixedState;
 
+use super::derive::{Rule, Rules};
 use super::formula::{Dnf, Eval, term};
 use super::reach;
 use super::tables::{self, Objects, UNBOUND, key_into};
 use super::{ActionId, AtomId, CondEffect, GroundAction, Grounding, Leaves, Limits, Lit};
 use crate::PlanError;
-use crate::model::{Atom, Condition, CostTerm, ObjectId, Problem, Term};
+use crate::model::{ActionTemplate, Atom, Condition, CostTerm, ObjectId, Problem, Term};
 use crate::state::State;
 
-pub(super) fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, PlanError> {
+pub(super) fn build(original: &Problem, limits: &Limits) -> Result<Grounding, PlanError> {
+    // Rules of derived predicates ground as actions after the real ones (so reachability
+    // reaches derived atoms through them), and are split off at the end.
+    let real_actions = original.domain.actions.len();
+    let with_rules;
+    let problem = if original.domain.axioms.is_empty() {
+        original
+    } else {
+        let mut p = original.clone();
+        let rules: Vec<ActionTemplate> = p.domain.axioms.iter().flat_map(split_rule).collect();
+        p.domain.actions.extend(rules);
+        with_rules = p;
+        &with_rules
+    };
     let d = &problem.domain;
     let statics = d.static_predicates();
     let objects = Objects::new(problem);
@@ -221,6 +235,8 @@ pub(super) fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, Pla
         }
     }
     let keys: Vec<Box<[u16]>> = order.iter().map(|&o| atoms.key(o).into()).collect();
+    let first_rule = actions.partition_point(|a| usize::from(a.template) < real_actions);
+    let rules = rules(original, actions.split_off(first_rule), &keys)?;
     let mut init = State::new(n);
     for old in 0..n as u32 {
         if atoms.in_init(old) {
@@ -237,7 +253,7 @@ pub(super) fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, Pla
         action_index.entry(k.into_boxed_slice()).or_default().push(i as ActionId);
     }
     let mut g = Grounding {
-        problem: problem.clone(),
+        problem: original.clone(),
         statics,
         keys,
         atom_index,
@@ -248,9 +264,77 @@ pub(super) fn build(problem: &Problem, limits: &Limits) -> Result<Grounding, Pla
         goal,
         leaves: Leaves::Pddl,
         unit_cost,
+        rules,
     };
     g.index();
+    let mut init = std::mem::take(&mut g.init);
+    g.close(&mut init);
+    g.init = init;
     Ok(g)
+}
+
+/// Most rules one `:derived` rule is split into by [`split_rule`].
+const SPLIT: usize = 32;
+
+/// A rule split into one rule per alternative of its body's disjunctions, `exists`
+/// kept around each (so its variables become ones the join binds, as a Datalog
+/// translation does): `(or (and (con ?z ?y) (up ?x ?z)) ...)` under an `exists` is
+/// joined through `con` and `up` instead of trying every object for `?z` and `?y`.
+/// The rule is kept whole when that would make more than [`SPLIT`] rules.
+fn split_rule(rule: &ActionTemplate) -> Vec<ActionTemplate> {
+    let Some(alternatives) = alternatives(&Condition::And(rule.pre.clone())) else {
+        return vec![rule.clone()];
+    };
+    alternatives.into_iter().map(|pre| ActionTemplate { pre, ..rule.clone() }).collect()
+}
+
+/// The alternatives of a condition as conjunctions (`None` past [`SPLIT`]).
+fn alternatives(c: &Condition) -> Option<Vec<Vec<Condition>>> {
+    let out = match c {
+        Condition::Or(parts) => {
+            let mut out = Vec::new();
+            for p in parts {
+                out.extend(alternatives(p)?);
+            }
+            out
+        }
+        Condition::And(parts) => {
+            let mut out: Vec<Vec<Condition>> = vec![Vec::new()];
+            for p in parts {
+                let alts = alternatives(p)?;
+                if out.len() * alts.len() > SPLIT {
+                    return None;
+                }
+                out = out.iter().flat_map(|a| alts.iter().map(move |b| [a.clone(), b.clone()].concat())).collect();
+            }
+            out
+        }
+        Condition::Exists(vars, body) => alternatives(body)?
+            .into_iter()
+            .map(|alt| vec![Condition::Exists(vars.clone(), Box::new(Condition::And(alt)))])
+            .collect(),
+        other => vec![vec![other.clone()]],
+    };
+    (out.len() <= SPLIT).then_some(out)
+}
+
+/// The ground rules, from the rules grounded as actions (one per alternative of a
+/// body), with their strata.
+fn rules(problem: &Problem, ground: Vec<GroundAction>, keys: &[Box<[u16]>]) -> Result<Rules, PlanError> {
+    if problem.domain.axioms.is_empty() {
+        return Ok(Rules::default());
+    }
+    let strata = problem.domain.strata()?;
+    let derived = problem.domain.derived_predicates();
+    let of = |atom: AtomId| keys.get(atom as usize).map_or(0, |k| k[0]);
+    let rules = ground
+        .into_iter()
+        .filter_map(|a| {
+            let head = *a.add.first()?;
+            Some((strata.get(usize::from(of(head))).copied().unwrap_or(0), Rule { head, body: a.pre }))
+        })
+        .collect();
+    Ok(Rules::new(rules, keys.len(), |atom| derived.get(usize::from(of(atom))).copied().unwrap_or(false)))
 }
 
 fn binding_args(binding: &[ObjectId], params: usize) -> Vec<ObjectId> {

@@ -26,6 +26,7 @@
 
 mod action;
 mod build;
+mod derive;
 mod formula;
 mod reach;
 mod tables;
@@ -36,6 +37,7 @@ use std::time::Instant;
 use bt_core::Leaf;
 
 pub use action::{ActionId, AtomId, CondEffect, GroundAction, Lit};
+pub use derive::Rule;
 
 use crate::PlanError;
 use crate::model::{Atom, ObjectId, PredicateId, Problem, TemplateId};
@@ -104,6 +106,8 @@ pub struct Grounding {
     goal: Vec<Lit>,
     leaves: Leaves,
     unit_cost: bool,
+    /// The ground rules of derived predicates.
+    rules: derive::Rules,
 }
 
 impl Grounding {

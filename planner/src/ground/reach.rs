@@ -9,6 +9,8 @@
 //! literal binds range over their type's objects; their count is checked first.
 
 use std::collections::HashSet;
+
+use foldhash::fast::FixedState;
 use std::time::Instant;
 
 use crate::PlanError;
@@ -17,6 +19,9 @@ use crate::model::{ActionTemplate, Condition, Literal, ObjectId, Problem, Templa
 use super::Limits;
 use super::formula::Eval;
 use super::tables::{Atoms, Objects, UNBOUND, key_into};
+
+/// The instances of a schema found so far, by the values of its bound variables.
+type Seen = HashSet<Box<[ObjectId]>, FixedState>;
 
 /// An action template prepared for the join.
 #[derive(Clone, Debug)]
@@ -115,7 +120,7 @@ pub(super) fn reach(
     let mut schemas: Vec<Schema> = d.actions.iter().enumerate().map(|(i, t)| Schema::new(i as TemplateId, t)).collect();
     let search = Search { problem, objects, statics, limits };
     let mut instances: Vec<Instance> = Vec::new();
-    let mut seen: Vec<HashSet<Box<[ObjectId]>>> = vec![HashSet::new(); schemas.len()];
+    let mut seen: Vec<Seen> = vec![Seen::default(); schemas.len()];
     // Instances whose quantified or conditional effects have not all fired yet.
     let mut pending: Vec<(u32, u32)> = Vec::new();
     loop {
@@ -129,7 +134,7 @@ pub(super) fn reach(
                 r.1 = atoms.version(r.0);
             }
             schemas[si].joined = true;
-            let found = search.join(&schemas[si], &atoms)?;
+            let found = search.join(&schemas[si], &atoms, &seen[si])?;
             let t = &d.actions[usize::from(schemas[si].template)];
             for binding in found {
                 let key_vals: Box<[ObjectId]> = schemas[si].bound.iter().map(|&v| binding[usize::from(v)]).collect();
@@ -232,7 +237,7 @@ impl Search<'_> {
 
     /// The bindings of the schema's variables that satisfy its positive literals over
     /// `atoms`, its equalities, static negative literals and, relaxed, its residue.
-    fn join(&self, s: &Schema, atoms: &Atoms) -> Result<Vec<Box<[ObjectId]>>, PlanError> {
+    fn join(&self, s: &Schema, atoms: &Atoms, seen: &Seen) -> Result<Vec<Box<[ObjectId]>>, PlanError> {
         let t = &self.problem.domain.actions[usize::from(s.template)];
         let nvars = t.vars.len();
         let positive: Vec<usize> = (0..s.simple.len()).filter(|&i| s.simple[i].positive).collect();
@@ -250,7 +255,7 @@ impl Search<'_> {
                 let candidates = self.candidates(&s.simple[lit], &binding, atoms);
                 stack.push(Frame { literal: lit, candidates, next: 0, bound_here: Vec::new() });
             } else {
-                self.complete(s, t, &mut binding, atoms, &mut out)?;
+                self.complete(s, t, &mut binding, atoms, seen, &mut out)?;
                 if out.len() > self.limits.actions {
                     return Err(too_large("ground actions", out.len(), self.limits.actions));
                 }
@@ -349,6 +354,7 @@ impl Search<'_> {
         t: &ActionTemplate,
         binding: &mut Vec<ObjectId>,
         atoms: &Atoms,
+        seen: &Seen,
         out: &mut Vec<Box<[ObjectId]>>,
     ) -> Result<(), PlanError> {
         let free: Vec<crate::model::Var> = s
@@ -367,6 +373,7 @@ impl Search<'_> {
         }
         let mut ev = Eval { objects: self.objects, atoms, statics: self.statics, key: Vec::new(), missing: None };
         let mut err = None;
+        let mut key: Vec<ObjectId> = Vec::with_capacity(s.bound.len());
         ev.bindings(&free, binding, &mut |ev, b| {
             let eq_ok = s.eq.iter().all(|&(positive, l, r)| {
                 let v = |x: Term| match x {
@@ -379,7 +386,13 @@ impl Search<'_> {
                 let c = Condition::Literal(l.clone());
                 ev.relaxed(&c, b)
             });
-            if eq_ok && neg_ok && s.residue.iter().all(|c| ev.relaxed(c, b)) {
+            // An instance found in an earlier round needs no second look at its residue.
+            let mut new = || {
+                key.clear();
+                key.extend(s.bound.iter().map(|&v| b[usize::from(v)]));
+                !seen.contains(key.as_slice())
+            };
+            if eq_ok && neg_ok && new() && s.residue.iter().all(|c| ev.relaxed(c, b)) {
                 out.push(b.clone().into_boxed_slice());
                 if out.len() > self.limits.actions {
                     err = Some(too_large("ground actions", out.len(), self.limits.actions));

@@ -3,6 +3,8 @@
 
 use std::collections::HashMap;
 
+use foldhash::fast::FixedState;
+
 use crate::model::{ObjectId, PredicateId, Problem, TypeId};
 
 use super::action::AtomId;
@@ -51,7 +53,7 @@ impl Objects {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Relation {
     pub(super) facts: Vec<AtomId>,
-    index: Vec<HashMap<ObjectId, Vec<AtomId>>>,
+    index: Vec<HashMap<ObjectId, Vec<AtomId>, FixedState>>,
 }
 
 impl Relation {
@@ -65,7 +67,7 @@ impl Relation {
 /// `[predicate, args...]`.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Atoms {
-    index: HashMap<Box<[u16]>, AtomId>,
+    index: HashMap<Box<[u16]>, AtomId, FixedState>,
     keys: Vec<Box<[u16]>>,
     pub(super) relations: Vec<Relation>,
     in_init: Vec<bool>,
@@ -113,7 +115,7 @@ impl Atoms {
         {
             r.facts.push(id);
             if r.index.len() < args.len() {
-                r.index.resize_with(args.len(), HashMap::new);
+                r.index.resize_with(args.len(), HashMap::default);
             }
             for (i, &o) in args.iter().enumerate() {
                 r.index[i].entry(o).or_default().push(id);

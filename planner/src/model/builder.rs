@@ -70,6 +70,8 @@ pub struct ActionBuilder<'d> {
     domain: &'d mut Domain,
     names: &'d Names,
     action: usize,
+    /// Whether `action` indexes [`Domain::axioms`] rather than [`Domain::actions`].
+    axiom: bool,
 }
 
 /// Builds a [`Problem`] over a domain.
@@ -236,6 +238,7 @@ impl DomainBuilder {
             predicates: Vec::new(),
             functions: Vec::new(),
             actions: Vec::new(),
+            axioms: Vec::new(),
             requirements: Vec::new(),
         };
         let names = Names::of(&domain);
@@ -418,12 +421,17 @@ impl DomainBuilder {
             effects: Vec::new(),
             cost: Vec::new(),
         });
-        Ok(ActionBuilder { domain: &mut self.domain, names: &self.names, action })
+        Ok(ActionBuilder { domain: &mut self.domain, names: &self.names, action, axiom: false })
     }
 
     /// The builder of an action declared before.
     pub(crate) fn action_mut(&mut self, id: TemplateId) -> ActionBuilder<'_> {
-        ActionBuilder { domain: &mut self.domain, names: &self.names, action: usize::from(id) }
+        ActionBuilder { domain: &mut self.domain, names: &self.names, action: usize::from(id), axiom: false }
+    }
+
+    /// The builder of a rule declared before with [`DomainBuilder::derived`].
+    pub(crate) fn derived_mut(&mut self, id: usize) -> ActionBuilder<'_> {
+        ActionBuilder { domain: &mut self.domain, names: &self.names, action: id, axiom: true }
     }
 
     /// The domain so far.
@@ -432,21 +440,60 @@ impl DomainBuilder {
         &self.domain
     }
 
-    /// Checks that every action has an effect and returns the domain.
+    /// A rule of the derived predicate `predicate` (`(:derived (p ?x - t ...) body)`),
+    /// with its head's parameters `list` (names and types, one per argument of the
+    /// predicate); its body is added with [`ActionBuilder::condition`] (or `pre`).
     ///
     /// # Errors
-    /// [`ModelError::NoEffects`].
+    /// [`ModelError::UnknownPredicate`], [`ModelError::WrongArity`],
+    /// [`ModelError::DuplicateParameter`], [`ModelError::UnknownType`].
+    pub fn derived(&mut self, predicate: &str, list: &[(&str, &str)]) -> Result<ActionBuilder<'_>, ModelError> {
+        let name = predicate.to_ascii_lowercase();
+        let Some(&p) = self.names.predicates.get(&name) else {
+            let declared = self.domain.predicates.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ");
+            return Err(ModelError::UnknownPredicate { name, declared });
+        };
+        let expected = self.domain.predicates[usize::from(p)].params.len();
+        if list.len() != expected {
+            return Err(ModelError::WrongArity { predicate: name, expected, found: list.len() });
+        }
+        let params = params(&self.domain, &self.names, list)?;
+        let args = (0..params.len()).map(|i| Term::Var(i as u8)).collect();
+        let head = Literal { positive: true, atom: Atom { predicate: p, args } };
+        self.domain.axioms.push(ActionTemplate {
+            name,
+            vars: params.iter().map(|p| p.ty).collect(),
+            params,
+            pre: Vec::new(),
+            effects: vec![Effect { forall: Vec::new(), when: Vec::new(), literal: head }],
+            cost: Vec::new(),
+        });
+        let action = self.domain.axioms.len() - 1;
+        Ok(ActionBuilder { domain: &mut self.domain, names: &self.names, action, axiom: true })
+    }
+
+    /// Checks that every action has an effect, that no action changes a derived
+    /// predicate and that the rules can be stratified, and returns the domain.
+    ///
+    /// # Errors
+    /// [`ModelError::NoEffects`], [`ModelError::DerivedChanged`],
+    /// [`ModelError::NotStratifiable`].
     pub fn build(self) -> Result<Domain, ModelError> {
         if let Some(a) = self.domain.actions.iter().find(|a| a.effects.is_empty()) {
             return Err(ModelError::NoEffects { action: a.name.clone() });
         }
+        self.domain.check_derived()?;
         Ok(self.domain)
     }
 }
 
 impl ActionBuilder<'_> {
     fn template(&self) -> &ActionTemplate {
-        &self.domain.actions[self.action]
+        if self.axiom { &self.domain.axioms[self.action] } else { &self.domain.actions[self.action] }
+    }
+
+    fn template_mut(&mut self) -> &mut ActionTemplate {
+        if self.axiom { &mut self.domain.axioms[self.action] } else { &mut self.domain.actions[self.action] }
     }
 
     /// The variable of a parameter name (`?x` or `x`), or a constant.
@@ -479,7 +526,7 @@ impl ActionBuilder<'_> {
     /// [`ModelError::UnknownParameter`], [`ModelError::TypeMismatch`].
     pub fn pre(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let l = self.literal(true, predicate, args)?;
-        self.domain.actions[self.action].pre.push(Condition::Literal(l));
+        self.template_mut().pre.push(Condition::Literal(l));
         Ok(self)
     }
 
@@ -489,7 +536,7 @@ impl ActionBuilder<'_> {
     /// As [`ActionBuilder::pre`].
     pub fn pre_not(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let l = self.literal(false, predicate, args)?;
-        self.domain.actions[self.action].pre.push(Condition::Literal(l));
+        self.template_mut().pre.push(Condition::Literal(l));
         Ok(self)
     }
 
@@ -499,7 +546,7 @@ impl ActionBuilder<'_> {
     /// As [`ActionBuilder::pre`].
     pub fn effect(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let literal = self.literal(true, predicate, args)?;
-        self.domain.actions[self.action].effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
+        self.template_mut().effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
         Ok(self)
     }
 
@@ -509,7 +556,7 @@ impl ActionBuilder<'_> {
     /// As [`ActionBuilder::pre`].
     pub fn effect_not(&mut self, predicate: &str, args: &[&str]) -> Result<&mut Self, ModelError> {
         let literal = self.literal(false, predicate, args)?;
-        self.domain.actions[self.action].effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
+        self.template_mut().effects.push(Effect { forall: Vec::new(), when: Vec::new(), literal });
         Ok(self)
     }
 
@@ -519,7 +566,7 @@ impl ActionBuilder<'_> {
     /// # Errors
     /// [`ModelError::TooManyVariables`] beyond 255 variables.
     pub fn var(&mut self, ty: TypeId) -> Result<Var, ModelError> {
-        let a = &mut self.domain.actions[self.action];
+        let a = self.template_mut();
         let index = u8::try_from(a.vars.len()).map_err(|_| ModelError::TooManyVariables { action: a.name.clone() })?;
         a.vars.push(ty);
         Ok(Var { index, ty })
@@ -528,25 +575,25 @@ impl ActionBuilder<'_> {
     /// Sets the types of every variable (parameters first), for formulas read with
     /// their own quantified variables.
     pub(crate) fn set_vars(&mut self, types: Vec<TypeId>) {
-        self.domain.actions[self.action].vars = types;
+        self.template_mut().vars = types;
     }
 
     /// Adds a precondition formula (built with variables of this action; the caller
     /// checks its atoms, as the PDDL reader does).
     pub fn condition(&mut self, c: Condition) -> &mut Self {
-        self.domain.actions[self.action].pre.push(c);
+        self.template_mut().pre.push(c);
         self
     }
 
     /// Adds an effect (possibly quantified or conditional).
     pub fn effect_item(&mut self, e: Effect) -> &mut Self {
-        self.domain.actions[self.action].effects.push(e);
+        self.template_mut().effects.push(e);
         self
     }
 
     /// Adds a part of the action's cost.
     pub fn cost(&mut self, c: CostTerm) -> &mut Self {
-        self.domain.actions[self.action].cost.push(c);
+        self.template_mut().cost.push(c);
         self
     }
 }

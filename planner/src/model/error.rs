@@ -160,4 +160,25 @@ pub enum ModelError {
         /// The limit.
         max: usize,
     },
+    /// An action that changes a derived predicate: derived atoms follow from the
+    /// rules alone.
+    #[error("action `{action}` changes `{predicate}`, a derived predicate (only its `:derived` rules make it true)")]
+    DerivedChanged {
+        /// The action.
+        action: String,
+        /// The derived predicate.
+        predicate: String,
+    },
+    /// Derived predicates that depend on their own negation: the rules cannot be
+    /// stratified.
+    #[error(
+        "the rules of derived predicate `{predicate}` depend on its own negation (through `{through}`): \
+         derived predicates must be stratifiable"
+    )]
+    NotStratifiable {
+        /// The derived predicate whose rule closes the cycle.
+        predicate: String,
+        /// The derived predicate negated on the cycle.
+        through: String,
+    },
 }

@@ -14,6 +14,7 @@
 //! Names are case-insensitive, as in PDDL: they are stored in lower case.
 
 pub(crate) mod builder;
+mod derived;
 mod error;
 mod formula;
 
@@ -130,6 +131,11 @@ pub struct Domain {
     pub functions: Vec<Function>,
     /// Action templates, in declaration order (behavior ids after the predicates).
     pub actions: Vec<ActionTemplate>,
+    /// The rules of derived predicates (`:derived`), in declaration order: each is a
+    /// template named after its predicate, with the predicate's parameters, the rule's
+    /// body as precondition and one effect, the head. No action changes a derived
+    /// predicate; its atoms hold exactly when some rule derives them ([`crate::ground::Grounding::close`]).
+    pub axioms: Vec<ActionTemplate>,
     /// The requirements the domain file declares (`:strips`, `:typing`, ...), lower
     /// case; a problem's constructs are checked against them and its own.
     pub requirements: Vec<String>,
@@ -241,11 +247,12 @@ impl Domain {
         false
     }
 
-    /// The predicates no action changes: their truth is fixed by the initial state.
+    /// The predicates no action changes and no rule derives: their truth is fixed by
+    /// the initial state.
     #[must_use]
     pub fn static_predicates(&self) -> Vec<bool> {
         let mut fixed = vec![true; self.predicates.len()];
-        for a in &self.actions {
+        for a in self.actions.iter().chain(&self.axioms) {
             for e in &a.effects {
                 if let Some(f) = fixed.get_mut(usize::from(e.literal.atom.predicate)) {
                     *f = false;

@@ -13,9 +13,13 @@
 //! `(increase (total-cost) N)` or `(increase (total-cost) (f args...))` with static
 //! functions valued in the problem's `:init`, and `(:metric minimize (total-cost))`.
 //!
+//! Derived predicates (`:derived (p ?x - t) CONDITION)`, the same conditions as
+//! preconditions) are read as rules of the domain ([`crate::model::Domain::axioms`]);
+//! an action that changes a derived predicate, or rules that depend on their own
+//! negation (not stratifiable), are refused with the position of the action or rule.
+//!
 //! Refused, each by name with its position: numeric fluents other than action costs,
-//! durative actions, derived predicates (`:derived`), timed initial literals,
-//! preferences and constraints.
+//! durative actions, timed initial literals, preferences and constraints.
 //!
 //! Accepted with a [`PddlWarning`], as other planners read them: a construct used
 //! without its `:requirements` entry, a parameter repeated in a predicate declaration,

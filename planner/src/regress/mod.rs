@@ -106,6 +106,10 @@ pub fn conditions_to(g: &Grounding, trace: &Trace, target: &[Lit]) -> Vec<Vec<Li
     for i in (1..=n).rev() {
         let Some(a) = g.action(trace.plan()[i - 1]) else { continue };
         let Some(before) = trace.state(i - 1) else { continue };
+        // Derived atoms change with the basic ones that support them here.
+        if let Some(after) = trace.state(i) {
+            c = g.support(after, &c);
+        }
         let mut prev: Vec<Lit> = Vec::new();
         for &l in &c {
             if a.must_effects().any(|e| e == l) {
@@ -176,7 +180,7 @@ impl Rule {
 fn successor(g: &Grounding, a: ActionId, s: &State) -> Option<State> {
     let x = g.action(a).filter(|x| x.applicable(s))?;
     let mut t = s.clone();
-    x.apply(&mut t);
+    g.apply(x, &mut t);
     Some(t)
 }
 

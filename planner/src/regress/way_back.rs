@@ -43,7 +43,7 @@ impl Policy {
                         break;
                     }
                     if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
-                        x.apply(&mut s);
+                        g.apply(x, &mut s);
                         done.push(a);
                     }
                 }
@@ -84,8 +84,10 @@ impl Policy {
     ) -> Option<(Vec<ActionId>, Rule)> {
         let goal = Rule::goal(g);
         // A rule with a condition that is false in `t` and that no action makes true
-        // (a product made, a day gone) is out of reach: left out of the score.
-        let within = |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || !g.achievers(l).is_empty());
+        // (a product made, a day gone) is out of reach: left out of the score. Derived
+        // atoms have no achievers but follow the basic ones.
+        let within =
+            |r: &&Rule| r.when.iter().all(|&l| l.holds(t) || g.is_derived(l.atom) || !g.achievers(l).is_empty());
         let near: Vec<&Rule> = std::iter::once(&goal).chain(self.rules.iter()).filter(within).collect();
         let mut nearest = Nearest::new(&near, t);
         // The tree's own actions first, as in `repair`.

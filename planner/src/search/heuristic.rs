@@ -6,10 +6,14 @@
 //! ground action is one relaxed operator, and each of its conditional effects one
 //! more (with the effect's condition added to the preconditions).
 //!
+//! The rules of derived predicates are relaxed operators too, costing nothing;
+//! negated derived atoms (in preconditions, rule bodies and goals) are left out of the
+//! relaxation, as they cannot be achieved by any one operator.
+//!
 //! h_add propagates costs with a priority queue (Dijkstra over the AND/OR graph of
-//! operators and literals), each operator costing 1; h_FF extracts a relaxed plan by
-//! following best supporters back from the goal and counts its operators. The
-//! relaxed plan's operators whose preconditions hold in the state are the *helpful
+//! operators and literals), each action costing 1; h_FF extracts a relaxed plan by
+//! following best supporters back from the goal and counts its actions. The
+//! relaxed plan's actions whose preconditions hold in the state are the *helpful
 //! actions*.
 
 use std::cmp::Reverse;
@@ -28,7 +32,7 @@ pub struct Relaxation {
     op_pre: Vec<(u32, u32)>,
     /// Per operator: the range of its effects in `eff`.
     op_eff: Vec<(u32, u32)>,
-    /// Per operator: the ground action it comes from.
+    /// Per operator: the ground action it comes from ([`NONE`] for a rule).
     op_action: Vec<ActionId>,
     pre: Vec<u32>,
     eff: Vec<u32>,
@@ -61,22 +65,26 @@ impl Relaxation {
         let mut op_action = Vec::new();
         let mut pre: Vec<u32> = Vec::new();
         let mut eff: Vec<u32> = Vec::new();
+        let kept = |l: &Lit| l.positive || !g.is_derived(l.atom);
+        let mut push = |p: &mut dyn Iterator<Item = Lit>, e: &mut dyn Iterator<Item = Lit>, action: ActionId| {
+            let s = pre.len() as u32;
+            pre.extend(p.filter(kept).map(|l| l.index() as u32));
+            op_pre.push((s, pre.len() as u32));
+            let s = eff.len() as u32;
+            eff.extend(e.map(|l| l.index() as u32));
+            op_eff.push((s, eff.len() as u32));
+            op_action.push(action);
+        };
         for (i, a) in g.actions().iter().enumerate() {
-            let mut push = |p: &mut dyn Iterator<Item = Lit>, e: &mut dyn Iterator<Item = Lit>| {
-                let s = pre.len() as u32;
-                pre.extend(p.map(|l| l.index() as u32));
-                op_pre.push((s, pre.len() as u32));
-                let s = eff.len() as u32;
-                eff.extend(e.map(|l| l.index() as u32));
-                op_eff.push((s, eff.len() as u32));
-                op_action.push(i as ActionId);
-            };
-            push(&mut a.pre.iter().copied(), &mut a.must_effects());
+            push(&mut a.pre.iter().copied(), &mut a.must_effects(), i as ActionId);
             for c in &a.cond {
                 let add = c.add.iter().map(|&atom| Lit { atom, positive: true });
                 let del = c.del.iter().map(|&atom| Lit { atom, positive: false });
-                push(&mut a.pre.iter().chain(c.when.iter()).copied(), &mut add.chain(del));
+                push(&mut a.pre.iter().chain(c.when.iter()).copied(), &mut add.chain(del), i as ActionId);
             }
+        }
+        for r in g.rules() {
+            push(&mut r.body.iter().copied(), &mut std::iter::once(Lit { atom: r.head, positive: true }), NONE);
         }
         let nops = op_pre.len();
         let mut counts = vec![0u32; lits + 1];
@@ -108,10 +116,10 @@ impl Relaxation {
             lit_consumers,
             consumers,
             free,
-            goal: g.goal().iter().map(|l| l.index() as u32).collect(),
+            goal: g.goal().iter().filter(|l| kept(l)).map(|l| l.index() as u32).collect(),
             is_goal: {
                 let mut v = vec![false; lits];
-                for l in g.goal() {
+                for l in g.goal().iter().filter(|l| kept(l)) {
                     if let Some(x) = v.get_mut(l.index()) {
                         *x = true;
                     }
@@ -189,9 +197,9 @@ impl Relaxation {
     }
 
     /// An operator whose preconditions cost `pre_cost` in total reaches its effects
-    /// at that cost plus one.
+    /// at that cost plus one (plus nothing for a rule).
     fn fire(&mut self, op: u32, pre_cost: u32) {
-        let c = pre_cost.saturating_add(1);
+        let c = pre_cost.saturating_add(u32::from(self.op_action[op as usize] != NONE));
         let (s, e) = self.op_eff[op as usize];
         for k in s..e {
             let l = self.eff[k as usize] as usize;
@@ -239,13 +247,11 @@ impl Relaxation {
                     stack.push(p);
                 }
             }
-            if applicable {
-                let a = self.op_action[op as usize];
-                if !helpful.contains(&a) {
-                    helpful.push(a);
-                }
+            let a = self.op_action[op as usize];
+            if applicable && a != NONE && !helpful.contains(&a) {
+                helpful.push(a);
             }
         }
-        self.marked_list.len() as u32
+        self.marked_list.iter().filter(|&&op| self.op_action[op as usize] != NONE).count() as u32
     }
 }

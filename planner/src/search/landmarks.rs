@@ -13,6 +13,9 @@
 //! goal literal that is false now, or a landmark ordered before one not accepted yet
 //! that is false now. Helpful here: the applicable actions that make a landmark true
 //! that is not accepted yet and whose predecessors all are.
+//!
+//! Derived atoms (`:derived`) are left out: not landmarks, and not preconditions in the
+//! relaxed problem (relaxing further only finds fewer landmarks, never a false one).
 
 use std::time::Instant;
 
@@ -49,9 +52,10 @@ struct Op {
 fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
     let mut ops = Vec::new();
     let mut of = Vec::new();
+    let basic = |l: &&Lit| !g.is_derived(l.atom);
     for (i, a) in g.actions().iter().enumerate() {
         ops.push(Op {
-            pre: a.pre.iter().map(|l| l.index() as u32).collect(),
+            pre: a.pre.iter().filter(basic).map(|l| l.index() as u32).collect(),
             eff: a.must_effects().map(|l| l.index() as u32).collect(),
         });
         of.push(i as ActionId);
@@ -59,7 +63,7 @@ fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
             let add = c.add.iter().map(|&atom| Lit { atom, positive: true });
             let del = c.del.iter().map(|&atom| Lit { atom, positive: false });
             ops.push(Op {
-                pre: a.pre.iter().chain(c.when.iter()).map(|l| l.index() as u32).collect(),
+                pre: a.pre.iter().chain(c.when.iter()).filter(basic).map(|l| l.index() as u32).collect(),
                 eff: add.chain(del).map(|l| l.index() as u32).collect(),
             });
             of.push(i as ActionId);
@@ -90,7 +94,7 @@ impl Landmarks {
             goal: Vec::new(),
             achievers: Vec::new(),
         };
-        for l in g.goal() {
+        for l in g.goal().iter().filter(|l| !g.is_derived(l.atom)) {
             out.add(l.index() as u32, true);
         }
         let mut reached = vec![false; lits];

@@ -111,7 +111,7 @@ pub fn execute(g: &Grounding, plan: &[ActionId]) -> Option<State> {
         if !x.applicable(&s) {
             return None;
         }
-        x.apply(&mut s);
+        g.apply(x, &mut s);
     }
     Some(s)
 }
@@ -291,7 +291,7 @@ pub fn best_first_to(
 fn child(g: &Grounding, reg: &mut Registry, state: &State, a: ActionId, next: &mut State) -> Option<u32> {
     let action = g.action(a)?;
     next.clone_from(state);
-    action.apply(next);
+    g.apply(action, next);
     let (sid, new) = reg.insert(next);
     new.then_some(sid)
 }

@@ -212,7 +212,7 @@ mod tests {
                 for a in 0..g.actions().len() as u32 {
                     if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
                         let mut n = s.clone();
-                        x.apply(&mut n);
+                        g.apply(x, &mut n);
                         frontier.insert(0, n);
                     }
                 }

@@ -169,7 +169,7 @@ impl Agents {
                 let a = self.options[self.rng.random_range(0..self.options.len())];
                 let mut s = w.state().clone();
                 if let Some(x) = g.action(a) {
-                    x.apply(&mut s);
+                    g.apply(x, &mut s);
                 }
                 w.set_state(s);
                 self.changes.push((before, w.state().clone()));

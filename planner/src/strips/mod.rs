@@ -102,21 +102,25 @@ impl StripsWorld {
         self.g.atom_by_name(predicate, objects).is_some_and(|a| self.state.holds(a))
     }
 
-    /// An external change of the whole state (the actions running go on).
+    /// An external change of the whole state (the actions running go on); derived
+    /// atoms follow its basic ones.
     pub fn set_state(&mut self, state: State) {
         self.state = state;
+        self.g.close(&mut self.state);
     }
 
-    /// An external change: makes `atom` true or false.
+    /// An external change: makes `atom` true or false. Derived atoms follow the basic
+    /// ones: setting one directly changes nothing.
     pub fn set(&mut self, atom: AtomId, value: bool) {
         self.state.set(atom, value);
+        self.g.close(&mut self.state);
     }
 
     /// An external change by names; returns false (and changes nothing) for unknown names.
     pub fn set_named(&mut self, predicate: &str, objects: &[&str], value: bool) -> bool {
         match self.g.atom_by_name(predicate, objects) {
             Some(a) => {
-                self.state.set(a, value);
+                self.set(a, value);
                 true
             }
             None => false,
@@ -208,7 +212,7 @@ impl StripsWorld {
             if self.checked && !ga.applicable(&self.state) {
                 return Some(Status::Failure);
             }
-            ga.apply(&mut self.state);
+            self.g.apply(ga, &mut self.state);
         }
         if let Some(d) = self.done.get_mut(a as usize) {
             *d += 1;

@@ -81,7 +81,7 @@ impl Belief {
                 }
                 NodeKind::Action(_) if status == NodeStatus::Success => {
                     if let Some(action) = ran.iter().find(|&&(at, _)| at == i).and_then(|&(_, a)| g.action(a)) {
-                        action.apply(&mut self.state);
+                        g.apply(action, &mut self.state);
                     }
                 }
                 _ => {}

@@ -85,8 +85,9 @@ pub const LONG_ABOUT: &str = "Synthesizes a reactive behavior tree by backchaini
     preconditions and action per achieving action), and move a new subtree left and up \
     until no action executed before it undoes its preconditions.\n\n\
     Input is a PDDL domain and problem (STRIPS with types, constants, equality, \
-    negative preconditions, action costs, and ADL's or/forall/exists/when compiled away \
-    at grounding; derived predicates and numeric fluents other than total-cost are refused \
+    negative preconditions, action costs, ADL's or/forall/exists/when compiled away \
+    at grounding, and derived predicates (:derived, stratified; the tree checks a derived \
+    condition as the world derives it); numeric fluents other than total-cost are refused \
     with file:line:column), or one of the four brick \
     tasks of Styrud et al. Prints the \
     tree, the expansions made, and whether the final tree, run from the initial state \

@@ -1,5 +1,5 @@
-//! `(define (domain NAME) ...)`: requirements, types, constants, predicates, functions
-//! and actions.
+//! `(define (domain NAME) ...)`: requirements, types, constants, predicates, functions,
+//! actions and the rules of derived predicates.
 
 use super::super::sexp::{Sexp, clip};
 use super::super::{ErrorKind, Pos};
@@ -21,8 +21,12 @@ fn type_of(b: &mut DomainBuilder, t: &Typed<'_>) -> R<TypeId> {
 /// Reads `(define (domain ...) ...)`.
 pub fn domain(s: &Sexp, w: &mut Vec<(Pos, String)>) -> R<Domain> {
     let (name, name_pos, rest) = super::define(s, "domain")?;
-    let secs =
-        sections(rest, &[":requirements", ":types", ":constants", ":predicates", ":functions", ":action"], &[], w)?;
+    let secs = sections(
+        rest,
+        &[":requirements", ":types", ":constants", ":predicates", ":functions", ":action", ":derived"],
+        &[],
+        w,
+    )?;
     let mut req = Requirements::default();
     for (_, _, items) in secs.iter().filter(|s| s.0 == ":requirements") {
         req.add(items)?;
@@ -54,10 +58,96 @@ pub fn domain(s: &Sexp, w: &mut Vec<(Pos, String)>) -> R<Domain> {
     for (_, _, items) in secs.iter().filter(|s| s.0 == ":functions") {
         functions(&mut b, items, &mut req, w)?;
     }
+    let mut action_pos = Vec::new();
     for (_, sec, items) in secs.iter().filter(|s| s.0 == ":action") {
-        action(&mut b, sec, items, &mut req, w)?;
+        action_pos.push(action(&mut b, sec, items, &mut req, w)?);
+    }
+    let mut rule_pos = Vec::new();
+    for (_, sec, items) in secs.iter().filter(|s| s.0 == ":derived") {
+        let have = req.derived;
+        req.need(have, ":derived-predicates", "`:derived`", sec.pos(), w);
+        rule_pos.push(derived(&mut b, sec, items, &mut req, w)?);
+    }
+    // Name the rule or action at fault.
+    if let Err(e) = b.domain().check_derived() {
+        let d = b.domain();
+        let pos = match &e {
+            ModelError::DerivedChanged { action, .. } => {
+                d.actions.iter().position(|a| a.name == *action).map(|i| action_pos[i])
+            }
+            ModelError::NotStratifiable { predicate, through } => {
+                // The rule of `predicate` that names `through`, else its first.
+                let through = d.predicate(through);
+                let names = |a: &crate::model::ActionTemplate| {
+                    let mut found = false;
+                    a.pre.iter().for_each(|c| c.for_each_literal(&mut |l| found |= Some(l.atom.predicate) == through));
+                    found
+                };
+                let rules = || d.axioms.iter().enumerate().filter(|(_, a)| a.name == *predicate);
+                rules().find(|(_, a)| names(a)).or_else(|| rules().next()).map(|(i, _)| rule_pos[i])
+            }
+            _ => None,
+        };
+        return Err((pos.unwrap_or(name_pos), ErrorKind::Model(e)));
     }
     model(name_pos, b.build())
+}
+
+/// The variables of a parameter list (an action's, or a derived predicate's head), and
+/// their `(name, type name)` pairs for the builder.
+fn scope_of(b: &mut DomainBuilder, typed: &[Typed<'_>], owner: &str) -> R<(Scope, Vec<(String, String)>)> {
+    let mut scope = Scope { names: Vec::new(), types: Vec::new(), action: owner.to_string() };
+    let mut pairs = Vec::with_capacity(typed.len());
+    for (i, t) in typed.iter().enumerate() {
+        let ty = type_of(b, t)?;
+        let vname = model(t.pos, check_variable(t.name))?;
+        let index = u8::try_from(i)
+            .map_err(|_| (t.pos, ErrorKind::Model(ModelError::TooManyVariables { action: clip(owner) })))?;
+        scope.names.push((vname.clone(), Var { index, ty }));
+        scope.types.push(ty);
+        pairs.push((vname, b.domain().types[usize::from(ty)].name.clone()));
+    }
+    Ok((scope, pairs))
+}
+
+/// `(:derived (p ?x - t ...) BODY)`: a rule making `p` true where `BODY` holds; returns
+/// the position of its head.
+fn derived(
+    b: &mut DomainBuilder,
+    sec: &Sexp,
+    items: &[Sexp],
+    req: &mut Requirements,
+    w: &mut Vec<(Pos, String)>,
+) -> R<Pos> {
+    let shape = "`(:derived (predicate ?x - type ...) CONDITION)`";
+    let [head, body] = items else {
+        return expected(shape, sec);
+    };
+    let l = list(head, "the derived atom `(predicate ?x - type ...)`")?;
+    let Some((name_s, params)) = l.split_first() else {
+        return expected("the derived atom `(predicate ?x - type ...)`", head);
+    };
+    let name = symbol(name_s, "a predicate name")?;
+    let typed = typed_list(params, true, req, w)?;
+    let (mut scope, pairs) = scope_of(b, &typed, name)?;
+    let pairs: Vec<(&str, &str)> = pairs.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();
+    model(name_s.pos(), b.derived(name, &pairs).map(|_| ()))?;
+    let id = b.domain().axioms.len() - 1;
+    let mut owner = Owner::Domain(b);
+    let mut ctx = Ctx { owner: &mut owner, req, warnings: w };
+    let condition = ctx.condition(&mut scope, body, true)?;
+    let Owner::Domain(b) = owner else { return Ok(head.pos()) };
+    let mut rule = b.derived_mut(id);
+    rule.set_vars(scope.types);
+    match condition {
+        crate::model::Condition::And(parts) => parts.into_iter().for_each(|c| {
+            rule.condition(c);
+        }),
+        c => {
+            rule.condition(c);
+        }
+    }
+    Ok(head.pos())
 }
 
 fn types(b: &mut DomainBuilder, items: &[Sexp], req: &mut Requirements, w: &mut Vec<(Pos, String)>) -> R<()> {
@@ -150,7 +240,7 @@ fn action(
     items: &[Sexp],
     req: &mut Requirements,
     w: &mut Vec<(Pos, String)>,
-) -> R<()> {
+) -> R<Pos> {
     let Some((name_s, rest)) = items.split_first() else {
         return Err((sec.pos(), ErrorKind::Missing("action name".into())));
     };
@@ -182,17 +272,7 @@ fn action(
         Some(p) => typed_list(list(p, "a parameter list `(?x - type ...)`")?, true, req, w)?,
         None => Vec::new(),
     };
-    let mut scope = Scope { names: Vec::new(), types: Vec::new(), action: name.to_string() };
-    let mut pairs = Vec::with_capacity(typed.len());
-    for (i, t) in typed.iter().enumerate() {
-        let ty = type_of(b, t)?;
-        let vname = model(t.pos, check_variable(t.name))?;
-        let index = u8::try_from(i)
-            .map_err(|_| (t.pos, ErrorKind::Model(ModelError::TooManyVariables { action: clip(name) })))?;
-        scope.names.push((vname.clone(), Var { index, ty }));
-        scope.types.push(ty);
-        pairs.push((vname, b.domain().types[usize::from(ty)].name.clone()));
-    }
+    let (mut scope, pairs) = scope_of(b, &typed, name)?;
     let pairs: Vec<(&str, &str)> = pairs.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();
     let id = b.domain().actions.len() as u16;
     model(name_s.pos(), b.action(name, &pairs).map(|_| ()))?;
@@ -210,7 +290,7 @@ fn action(
     if effects.is_empty() {
         return Err((name_s.pos(), ErrorKind::Model(ModelError::NoEffects { action: clip(name) })));
     }
-    let Owner::Domain(b) = owner else { return Ok(()) };
+    let Owner::Domain(b) = owner else { return Ok(name_s.pos()) };
     let mut ab = b.action_mut(id);
     ab.set_vars(scope.types);
     match condition {
@@ -229,5 +309,5 @@ fn action(
     for c in cost {
         ab.cost(c);
     }
-    Ok(())
+    Ok(name_s.pos())
 }

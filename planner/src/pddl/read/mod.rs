@@ -71,6 +71,7 @@ pub(crate) struct Requirements {
     universal: bool,
     conditional: bool,
     costs: bool,
+    derived: bool,
     warned: Vec<&'static str>,
 }
 
@@ -84,7 +85,6 @@ const REFUSED: &[&str] = &[
     ":continuous-effects",
     ":timed-initial-literals",
     ":timed-initial-fluents",
-    ":derived-predicates",
     ":preferences",
     ":constraints",
 ];
@@ -114,6 +114,7 @@ impl Requirements {
                 }
                 ":conditional-effects" => self.conditional = true,
                 ":action-costs" => self.costs = true,
+                ":derived-predicates" => self.derived = true,
                 ":adl" => {
                     self.typing = true;
                     self.negative = true;
@@ -201,7 +202,7 @@ fn typed_list<'a>(
 }
 
 /// Splits `sections` by their keyword, refusing unknown and repeated ones (`:action`
-/// may repeat). `ignored` sections are skipped with a warning.
+/// and `:derived` may repeat). `ignored` sections are skipped with a warning.
 fn sections<'a>(
     sections: &'a [Sexp],
     known: &[&str],
@@ -216,7 +217,7 @@ fn sections<'a>(
         };
         let name = symbol(head, "a section keyword")?;
         if known.contains(&name) {
-            if name != ":action" && out.iter().any(|o| o.0 == name) {
+            if name != ":action" && name != ":derived" && out.iter().any(|o| o.0 == name) {
                 return Err((head.pos(), ErrorKind::Duplicate(name.to_string())));
             }
             out.push((name, s, &items[1..]));
@@ -224,7 +225,6 @@ fn sections<'a>(
             w.push((head.pos(), format!("`{name}` section ignored")));
         } else if name.starts_with(':') {
             let what = match name {
-                ":derived" => ":derived (derived predicates)".to_string(),
                 ":durative-action" => ":durative-action (temporal planning)".to_string(),
                 other => clip(other),
             };
