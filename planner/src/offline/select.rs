@@ -202,7 +202,8 @@ mod tests {
     use std::path::Path;
     use std::sync::Arc;
 
-    use super::super::{Plan, regression, regression_cut};
+    use super::super::Plan;
+    use super::super::closed::{regression, regression_cut};
     use super::reached;
     use crate::ground::Grounding;
     use crate::guide::Trace;

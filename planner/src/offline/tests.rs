@@ -4,7 +4,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{Made, close_backchained_within};
+use super::Made;
+use super::closed::close_backchained_within;
 use crate::ground::Grounding;
 use crate::pddl::{parse_domain, parse_problem};
 use crate::regress::{Budget, Stop};
