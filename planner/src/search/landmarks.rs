@@ -11,8 +11,8 @@
 //! *accepted* on it (true at some state of the path, after every landmark ordered
 //! before them was accepted), plus the accepted ones that must be made true again: a
 //! goal literal that is false now, or a landmark ordered before one not accepted yet
-//! that is false now. Helpful here: the applicable actions that make a landmark true
-//! that is not accepted yet and whose predecessors all are.
+//! that is false now. Helpful here, as in Fast Downward's landmark heuristic: the
+//! applicable actions that make true a landmark the count counts.
 
 use std::time::Instant;
 
@@ -34,8 +34,6 @@ pub struct Landmarks {
     of_lit: Vec<u32>,
     /// Whether each landmark is a goal literal.
     goal: Vec<bool>,
-    /// Per landmark: the actions that make it true.
-    achievers: Vec<Vec<ActionId>>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -46,15 +44,13 @@ struct Op {
     eff: Vec<u32>,
 }
 
-fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
+fn ops_of(g: &Grounding) -> Vec<Op> {
     let mut ops = Vec::new();
-    let mut of = Vec::new();
-    for (i, a) in g.actions().iter().enumerate() {
+    for a in g.actions() {
         ops.push(Op {
             pre: a.pre.iter().map(|l| l.index() as u32).collect(),
             eff: a.must_effects().map(|l| l.index() as u32).collect(),
         });
-        of.push(i as ActionId);
         for c in &a.cond {
             let add = c.add.iter().map(|&atom| Lit { atom, positive: true });
             let del = c.del.iter().map(|&atom| Lit { atom, positive: false });
@@ -62,10 +58,9 @@ fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
                 pre: a.pre.iter().chain(c.when.iter()).map(|l| l.index() as u32).collect(),
                 eff: add.chain(del).map(|l| l.index() as u32).collect(),
             });
-            of.push(i as ActionId);
         }
     }
-    (ops, of)
+    ops
 }
 
 impl Landmarks {
@@ -74,7 +69,7 @@ impl Landmarks {
     #[must_use]
     pub fn new(g: &Grounding, deadline: Option<Instant>) -> Option<Self> {
         let lits = g.atom_count() * 2;
-        let (ops, op_action) = ops_of(g);
+        let ops = ops_of(g);
         let mut consumers: Vec<Vec<u32>> = vec![Vec::new(); lits];
         for (k, op) in ops.iter().enumerate() {
             for &p in &op.pre {
@@ -83,13 +78,7 @@ impl Landmarks {
         }
         let init: Vec<bool> =
             (0..lits).map(|i| Lit { atom: (i / 2) as u32, positive: i % 2 == 1 }.holds(g.init())).collect();
-        let mut out = Self {
-            lits: Vec::new(),
-            before: Vec::new(),
-            of_lit: vec![NONE; lits],
-            goal: Vec::new(),
-            achievers: Vec::new(),
-        };
+        let mut out = Self { lits: Vec::new(), before: Vec::new(), of_lit: vec![NONE; lits], goal: Vec::new() };
         for l in g.goal() {
             out.add(l.index() as u32, true);
         }
@@ -142,21 +131,16 @@ impl Landmarks {
             }
             // The possible first achievers, and the preconditions they all share.
             let mut shared: Option<Vec<u32>> = None;
-            let mut achievers = Vec::new();
-            for (o, op) in ops.iter().enumerate() {
+            for op in &ops {
                 if !op.eff.contains(&l) || !op.pre.iter().all(|&p| reached[p as usize]) {
                     continue;
                 }
                 work += op.pre.len() as u64 + 1;
-                if !achievers.contains(&op_action[o]) {
-                    achievers.push(op_action[o]);
-                }
                 shared = Some(match shared {
                     None => op.pre.clone(),
                     Some(s) => s.into_iter().filter(|p| op.pre.contains(p)).collect(),
                 });
             }
-            out.achievers[k] = achievers;
             for p in shared.unwrap_or_default() {
                 let q = out.add(p, false);
                 if q != k as u32 && !out.before[k].contains(&q) {
@@ -180,7 +164,6 @@ impl Landmarks {
                 self.lits.push(l);
                 self.before.push(Vec::new());
                 self.goal.push(goal);
-                self.achievers.push(Vec::new());
                 id
             }
             id => {
@@ -244,35 +227,27 @@ impl Landmarks {
     pub fn count(&self, g: &Grounding, accepted: &[u64], s: &State, helpful: &mut Vec<ActionId>) -> u32 {
         helpful.clear();
         let is = |k: usize| accepted.get(k / 64).is_some_and(|w| w >> (k % 64) & 1 == 1);
-        let mut h = 0u32;
-        let mut again = vec![false; 0];
+        // The landmarks still to make true: not accepted, or accepted and needed again.
+        let mut future = vec![false; self.lits.len()];
         for k in 0..self.lits.len() {
             if is(k) {
-                if self.goal[k] && !self.holds(k, s) {
-                    h += 1;
-                }
+                future[k] |= self.goal[k] && !self.holds(k, s);
                 continue;
             }
-            h += 1;
-            let mut ready = true;
+            future[k] = true;
             for &p in &self.before[k] {
-                let p = p as usize;
-                if is(p) && !self.holds(p, s) && !self.goal[p] {
-                    if again.len() < self.lits.len() {
-                        again.resize(self.lits.len(), false);
-                    }
-                    if !again[p] {
-                        again[p] = true;
-                        h += 1;
-                    }
+                if is(p as usize) && !self.holds(p as usize, s) {
+                    future[p as usize] = true;
                 }
-                ready &= is(p);
             }
-            if ready {
-                for &a in &self.achievers[k] {
-                    if !helpful.contains(&a) && g.action(a).is_some_and(|x| x.applicable(s)) {
-                        helpful.push(a);
-                    }
+        }
+        let mut h = 0u32;
+        for k in (0..self.lits.len()).filter(|&k| future[k]) {
+            h += 1;
+            let l = self.lits[k];
+            for &a in g.achievers(Lit { atom: l / 2, positive: l % 2 == 1 }) {
+                if !helpful.contains(&a) && g.action(a).is_some_and(|x| x.applicable(s)) {
+                    helpful.push(a);
                 }
             }
         }
