@@ -254,3 +254,43 @@ impl Landmarks {
         h
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domains;
+
+    /// The applicable achiever of `atom` in `s`, applied to `s`.
+    fn step(g: &Grounding, s: &mut State, atom: crate::ground::AtomId) -> ActionId {
+        let a =
+            *g.achievers(Lit { atom, positive: true }).iter().find(|&&a| g.action(a).unwrap().applicable(s)).unwrap();
+        g.action(a).unwrap().apply(s);
+        a
+    }
+
+    #[test]
+    fn the_achiever_of_a_goal_undone_after_it_was_accepted_is_helpful() {
+        // Goal: b1 on b2, b0 on b1. Stack b1 on b2, then pick b1 up again.
+        let g = domains::blocks_world(3).unwrap();
+        let lm = Landmarks::new(&g, None).unwrap();
+        let on12 = g.atom_by_name("on", &["b1", "b2"]).unwrap();
+        let holding1 = g.atom_by_name("holding", &["b1"]).unwrap();
+        let mut s = g.init().clone();
+        let (mut accepted, mut next) = (Vec::new(), Vec::new());
+        lm.initial(&s, &mut accepted);
+        let mut stack = 0;
+        for (k, atom) in [holding1, on12, holding1].into_iter().enumerate() {
+            let a = step(&g, &mut s, atom);
+            if k == 1 {
+                stack = a;
+            }
+            lm.accept(&accepted, &s, &mut next);
+            std::mem::swap(&mut accepted, &mut next);
+        }
+        assert!(!g.goal_holds(&s));
+        let mut helpful = Vec::new();
+        let h = lm.count(&g, &accepted, &s, &mut helpful);
+        assert!(h > 0);
+        assert!(helpful.contains(&stack), "{helpful:?}");
+    }
+}
