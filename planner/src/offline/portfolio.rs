@@ -1,6 +1,6 @@
 //! Search on threads of its own while Algorithm 1 runs ([`crate::Options::parallel`]):
 //! with [`SearchOptions::lazy`], eager search with h_FF within a budget of evaluated
-//! states beside deferred search, the eager plan taken where it finds one within that
+//! states (smaller on large groundings) beside deferred search, the eager plan taken where it finds one within that
 //! budget (so the plan never depends on which thread ends first).
 
 use std::sync::Arc;
@@ -16,6 +16,23 @@ use crate::search::{self, Found, SearchOptions};
 /// within it that deferred search with landmarks did not find in 20 s; past it,
 /// deferred search with landmarks solved more (visitall, childsnack, tetris).
 pub const EAGER_STATES: u64 = 20_000;
+
+/// Entries of the relaxation ([`search::Relaxation::size`]) eager search may visit in
+/// its evaluations, summed, before the deferred search's plan is taken instead: about
+/// 1-2 s on a 2020s core. On large groundings, where one evaluation costs a
+/// millisecond or more (parking: 230,000 entries), 20,000 evaluations would take
+/// longer than the deferred search needs for its plan (parking-sat11 pfile08: 0.7 s),
+/// and the plan waits for eager search's budget. The parcprinter and maintenance
+/// plans eager search found needed at most 25 million.
+pub const EAGER_WORK: u64 = 200_000_000;
+
+/// Eager search's budget of evaluated states on `g`: [`EAGER_STATES`], fewer where
+/// they would visit more than [`EAGER_WORK`] entries. It depends only on `g`, so the
+/// plan does not depend on the machine.
+fn eager_states(g: &Grounding) -> u64 {
+    let size = search::Relaxation::new(g).size().max(1);
+    EAGER_STATES.min(EAGER_WORK / size).max(1)
+}
 
 /// One search on its own thread; dropped, it is stopped and joined.
 struct Running {
@@ -68,7 +85,7 @@ impl Searching {
         if !options.lazy {
             return Some(Self { eager: Some(Running::start(g, options)?), deferred: None });
         }
-        let eager = SearchOptions { lazy: false, max_evaluated: Some(EAGER_STATES), ..options.clone() };
+        let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
         Some(Self { eager: Some(Running::start(g, eager)?), deferred: Some(Running::start(g, options)?) })
     }
 
@@ -92,9 +109,25 @@ pub(super) fn search_plan(g: &Grounding, options: &SearchOptions) -> Result<Foun
     if !options.lazy {
         return search::gbfs(g, options);
     }
-    let eager = SearchOptions { lazy: false, max_evaluated: Some(EAGER_STATES), ..options.clone() };
+    let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
     match search::gbfs(g, &eager) {
         Err(PlanError::OutOfStates { .. } | PlanError::SearchMemory { .. }) => search::gbfs(g, options),
         other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domains;
+
+    #[test]
+    fn eager_search_gets_fewer_states_where_an_evaluation_costs_more() {
+        let small = domains::blocks_world(4).unwrap();
+        assert_eq!(eager_states(&small), EAGER_STATES);
+        let large = domains::blocks_world(40).unwrap();
+        let size = search::Relaxation::new(&large).size();
+        assert!(size > EAGER_WORK / EAGER_STATES, "{size} entries");
+        assert_eq!(eager_states(&large), EAGER_WORK / size);
     }
 }

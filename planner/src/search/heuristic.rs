@@ -136,6 +136,13 @@ impl Relaxation {
         }
     }
 
+    /// The entries one evaluation visits: operators, their preconditions and effects,
+    /// and literals (a measure of its cost that does not depend on the machine).
+    #[must_use]
+    pub fn size(&self) -> u64 {
+        (self.op_pre.len() + self.pre.len() + self.eff.len() + self.cost.len()) as u64
+    }
+
     /// Runs h_add's propagation from `state` until every goal literal has its final
     /// cost (or nothing more can be reached). Returns h_add.
     fn propagate(&mut self, state: &State) -> u32 {

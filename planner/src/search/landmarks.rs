@@ -11,8 +11,8 @@
 //! *accepted* on it (true at some state of the path, after every landmark ordered
 //! before them was accepted), plus the accepted ones that must be made true again: a
 //! goal literal that is false now, or a landmark ordered before one not accepted yet
-//! that is false now. Helpful here: the applicable actions that make a landmark true
-//! that is not accepted yet and whose predecessors all are.
+//! that is false now. Helpful here, as in Fast Downward's landmark heuristic: the
+//! applicable actions that make true a landmark the count counts.
 //!
 //! Derived atoms (`:derived`) are left out: not landmarks, and not preconditions in the
 //! relaxed problem (relaxing further only finds fewer landmarks, never a false one).
@@ -37,8 +37,6 @@ pub struct Landmarks {
     of_lit: Vec<u32>,
     /// Whether each landmark is a goal literal.
     goal: Vec<bool>,
-    /// Per landmark: the actions that make it true.
-    achievers: Vec<Vec<ActionId>>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -49,16 +47,14 @@ struct Op {
     eff: Vec<u32>,
 }
 
-fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
+fn ops_of(g: &Grounding) -> Vec<Op> {
     let mut ops = Vec::new();
-    let mut of = Vec::new();
     let basic = |l: &&Lit| !g.is_derived(l.atom);
-    for (i, a) in g.actions().iter().enumerate() {
+    for a in g.actions() {
         ops.push(Op {
             pre: a.pre.iter().filter(basic).map(|l| l.index() as u32).collect(),
             eff: a.must_effects().map(|l| l.index() as u32).collect(),
         });
-        of.push(i as ActionId);
         for c in &a.cond {
             let add = c.add.iter().map(|&atom| Lit { atom, positive: true });
             let del = c.del.iter().map(|&atom| Lit { atom, positive: false });
@@ -66,10 +62,9 @@ fn ops_of(g: &Grounding) -> (Vec<Op>, Vec<ActionId>) {
                 pre: a.pre.iter().chain(c.when.iter()).filter(basic).map(|l| l.index() as u32).collect(),
                 eff: add.chain(del).map(|l| l.index() as u32).collect(),
             });
-            of.push(i as ActionId);
         }
     }
-    (ops, of)
+    ops
 }
 
 impl Landmarks {
@@ -78,7 +73,7 @@ impl Landmarks {
     #[must_use]
     pub fn new(g: &Grounding, deadline: Option<Instant>) -> Option<Self> {
         let lits = g.atom_count() * 2;
-        let (ops, op_action) = ops_of(g);
+        let ops = ops_of(g);
         let mut consumers: Vec<Vec<u32>> = vec![Vec::new(); lits];
         for (k, op) in ops.iter().enumerate() {
             for &p in &op.pre {
@@ -87,13 +82,7 @@ impl Landmarks {
         }
         let init: Vec<bool> =
             (0..lits).map(|i| Lit { atom: (i / 2) as u32, positive: i % 2 == 1 }.holds(g.init())).collect();
-        let mut out = Self {
-            lits: Vec::new(),
-            before: Vec::new(),
-            of_lit: vec![NONE; lits],
-            goal: Vec::new(),
-            achievers: Vec::new(),
-        };
+        let mut out = Self { lits: Vec::new(), before: Vec::new(), of_lit: vec![NONE; lits], goal: Vec::new() };
         for l in g.goal().iter().filter(|l| !g.is_derived(l.atom)) {
             out.add(l.index() as u32, true);
         }
@@ -146,21 +135,16 @@ impl Landmarks {
             }
             // The possible first achievers, and the preconditions they all share.
             let mut shared: Option<Vec<u32>> = None;
-            let mut achievers = Vec::new();
-            for (o, op) in ops.iter().enumerate() {
+            for op in &ops {
                 if !op.eff.contains(&l) || !op.pre.iter().all(|&p| reached[p as usize]) {
                     continue;
                 }
                 work += op.pre.len() as u64 + 1;
-                if !achievers.contains(&op_action[o]) {
-                    achievers.push(op_action[o]);
-                }
                 shared = Some(match shared {
                     None => op.pre.clone(),
                     Some(s) => s.into_iter().filter(|p| op.pre.contains(p)).collect(),
                 });
             }
-            out.achievers[k] = achievers;
             for p in shared.unwrap_or_default() {
                 let q = out.add(p, false);
                 if q != k as u32 && !out.before[k].contains(&q) {
@@ -184,7 +168,6 @@ impl Landmarks {
                 self.lits.push(l);
                 self.before.push(Vec::new());
                 self.goal.push(goal);
-                self.achievers.push(Vec::new());
                 id
             }
             id => {
@@ -248,38 +231,70 @@ impl Landmarks {
     pub fn count(&self, g: &Grounding, accepted: &[u64], s: &State, helpful: &mut Vec<ActionId>) -> u32 {
         helpful.clear();
         let is = |k: usize| accepted.get(k / 64).is_some_and(|w| w >> (k % 64) & 1 == 1);
-        let mut h = 0u32;
-        let mut again = vec![false; 0];
+        // The landmarks still to make true: not accepted, or accepted and needed again.
+        let mut future = vec![false; self.lits.len()];
         for k in 0..self.lits.len() {
             if is(k) {
-                if self.goal[k] && !self.holds(k, s) {
-                    h += 1;
-                }
+                future[k] |= self.goal[k] && !self.holds(k, s);
                 continue;
             }
-            h += 1;
-            let mut ready = true;
+            future[k] = true;
             for &p in &self.before[k] {
-                let p = p as usize;
-                if is(p) && !self.holds(p, s) && !self.goal[p] {
-                    if again.len() < self.lits.len() {
-                        again.resize(self.lits.len(), false);
-                    }
-                    if !again[p] {
-                        again[p] = true;
-                        h += 1;
-                    }
+                if is(p as usize) && !self.holds(p as usize, s) {
+                    future[p as usize] = true;
                 }
-                ready &= is(p);
             }
-            if ready {
-                for &a in &self.achievers[k] {
-                    if !helpful.contains(&a) && g.action(a).is_some_and(|x| x.applicable(s)) {
-                        helpful.push(a);
-                    }
+        }
+        let mut h = 0u32;
+        for k in (0..self.lits.len()).filter(|&k| future[k]) {
+            h += 1;
+            let l = self.lits[k];
+            for &a in g.achievers(Lit { atom: l / 2, positive: l % 2 == 1 }) {
+                if !helpful.contains(&a) && g.action(a).is_some_and(|x| x.applicable(s)) {
+                    helpful.push(a);
                 }
             }
         }
         h
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domains;
+
+    /// The applicable achiever of `atom` in `s`, applied to `s`.
+    fn step(g: &Grounding, s: &mut State, atom: crate::ground::AtomId) -> ActionId {
+        let a =
+            *g.achievers(Lit { atom, positive: true }).iter().find(|&&a| g.action(a).unwrap().applicable(s)).unwrap();
+        g.action(a).unwrap().apply(s);
+        a
+    }
+
+    #[test]
+    fn the_achiever_of_a_goal_undone_after_it_was_accepted_is_helpful() {
+        // Goal: b1 on b2, b0 on b1. Stack b1 on b2, then pick b1 up again.
+        let g = domains::blocks_world(3).unwrap();
+        let lm = Landmarks::new(&g, None).unwrap();
+        let on12 = g.atom_by_name("on", &["b1", "b2"]).unwrap();
+        let holding1 = g.atom_by_name("holding", &["b1"]).unwrap();
+        let mut s = g.init().clone();
+        let (mut accepted, mut next) = (Vec::new(), Vec::new());
+        lm.initial(&s, &mut accepted);
+        let mut stack = 0;
+        for (k, atom) in [holding1, on12, holding1].into_iter().enumerate() {
+            let a = step(&g, &mut s, atom);
+            if k == 1 {
+                stack = a;
+            }
+            lm.accept(&accepted, &s, &mut next);
+            std::mem::swap(&mut accepted, &mut next);
+        }
+        assert!(!g.goal_holds(&s));
+        let mut helpful = Vec::new();
+        let h = lm.count(&g, &accepted, &s, &mut helpful);
+        assert!(h > 0);
+        assert!(helpful.contains(&stack), "{helpful:?}");
     }
 }

@@ -50,7 +50,7 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
     let (root, _) = reg.insert(start);
     let mut nodes: Vec<Node> = vec![Node { parent: u32::MAX, action: 0 }];
     if g.goal_holds(start) {
-        return Ok(Found { plan: Vec::new(), expanded: 0, stored: 1, initial_h: h0 });
+        return Ok(Found { plan: Vec::new(), expanded: 0, stored: 1, evaluated: 1, initial_h: h0 });
     }
     // The accepted landmarks of every stored state, `words` each.
     let mut accepted: Vec<u64> = Vec::new();
@@ -71,6 +71,7 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
     let mut applicable = Vec::new();
     let mut best = (h0, lm0);
     let mut expanded: u64 = 0;
+    let mut evaluated: u64 = 1;
     // The state being expanded: its id, h_FF and landmark count.
     let mut current = (root, h0, lm0);
     loop {
@@ -115,12 +116,19 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
                 accepted.extend_from_slice(&scratch);
             }
             if g.goal_holds(&next) {
-                return Ok(Found { plan: path(&nodes, sid), expanded, stored: reg.len() as u64, initial_h: h0 });
+                return Ok(Found {
+                    plan: path(&nodes, sid),
+                    expanded,
+                    stored: reg.len() as u64,
+                    evaluated,
+                    initial_h: h0,
+                });
             }
             if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
             }
             let hn = h.h_ff(&next, &mut helpful);
+            evaluated += 1;
             if hn == INFINITE {
                 continue;
             }

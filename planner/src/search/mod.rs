@@ -97,6 +97,8 @@ pub struct Found {
     pub expanded: u64,
     /// States stored (reached for the first time).
     pub stored: u64,
+    /// States whose heuristic values were computed.
+    pub evaluated: u64,
     /// h_FF of the initial state.
     pub initial_h: u32,
 }
@@ -152,7 +154,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
     let (root, _) = reg.insert(&init);
     nodes.push(Node { parent: u32::MAX, action: 0 });
     if g.goal_holds(&init) {
-        return Ok(Found { plan: Vec::new(), expanded: 0, stored: 1, initial_h: h0 });
+        return Ok(Found { plan: Vec::new(), expanded: 0, stored: 1, evaluated: 1, initial_h: h0 });
     }
     // Open lists: (h, generation order, state).
     let mut open: BinaryHeap<Reverse<(u32, u64, u32)>> = BinaryHeap::new();
@@ -166,6 +168,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
     let mut boost = 0u32;
     let mut turn = false;
     let mut expanded: u64 = 0;
+    let mut evaluated: u64 = 1;
     let mut state = State::new(g.atom_count());
     let mut next = State::new(g.atom_count());
     let mut applicable = Vec::new();
@@ -201,7 +204,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
             closed.push(false);
             if g.goal_holds(&next) {
                 let plan = path(&nodes, sid);
-                return Ok(Found { plan, expanded, stored: reg.len() as u64, initial_h: h0 });
+                return Ok(Found { plan, expanded, stored: reg.len() as u64, evaluated, initial_h: h0 });
             }
             if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
@@ -210,6 +213,7 @@ pub fn gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> Resul
                 return Err(PlanError::OutOfStates { evaluated: reg.len() as u64 });
             }
             let hv = h.h_ff(&next, &mut helpful);
+            evaluated += 1;
             helpful_of.push(if hv == INFINITE { Vec::new() } else { helpful.clone() });
             if hv == INFINITE {
                 closed[sid as usize] = true;
