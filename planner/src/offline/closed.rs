@@ -9,7 +9,7 @@ use bt_core::Catalog;
 
 use super::behind::Behind;
 use super::closure_time::close_budget;
-use super::{Made, Plan, finish, fit, select};
+use super::{Made, Plan, finish, select};
 use crate::PlanError;
 use crate::ground::Grounding;
 use crate::guide::Trace;
@@ -41,34 +41,41 @@ pub(super) fn regression<C: Catalog>(
     trace: &Trace,
     until: Option<Instant>,
 ) -> Result<Plan<C>, PlanError> {
-    regression_cut(g, catalog, options, trace, until, true)
+    let plain = crate::regress::Policy::of_trace(&g, trace);
+    let make = |policy: &crate::regress::Policy, closed| policy_plan(&g, &catalog, options, policy, closed);
+    select::closed_to_fit(options, &g, &plain, until, &make)
 }
 
-/// [`regression`], or with its closure cut by node budgets ([`fit::within`]) unless
-/// `by_episodes`.
-pub(super) fn regression_cut<C: Catalog>(
+/// The tree of `policy`'s rules, checked to reach the goal, with its closure report.
+fn policy_plan<C: Catalog>(
+    g: &Arc<Grounding>,
+    catalog: &Arc<C>,
+    options: Options,
+    policy: &crate::regress::Policy,
+    closed: Option<crate::regress::Closed>,
+) -> Result<Plan<C>, PlanError> {
+    let planner = Planner::from_tree(g.clone(), policy.tree(g), options)?;
+    let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
+    p.closed = closed;
+    Ok(p)
+}
+
+/// [`regression`] with its closure made again with fewer nodes until the tree fits
+/// ([`super::fit::within`]): what [`select::closed_to_fit`] is measured against.
+#[cfg(test)]
+pub(super) fn regression_by_budgets<C: Catalog>(
     g: Arc<Grounding>,
     catalog: Arc<C>,
     options: Options,
     trace: &Trace,
     until: Option<Instant>,
-    by_episodes: bool,
 ) -> Result<Plan<C>, PlanError> {
     let plain = crate::regress::Policy::of_trace(&g, trace);
-    let make = |policy: &crate::regress::Policy, closed| -> Result<Plan<C>, PlanError> {
-        let planner = Planner::from_tree(g.clone(), policy.tree(&g), options)?;
-        let mut p = finish(planner, g.clone(), catalog.clone(), options, Made::Regression, Vec::new(), Vec::new(), 0)?;
-        p.closed = closed;
-        Ok(p)
-    };
-    if by_episodes {
-        return select::closed_to_fit(options, &g, &plain, until, &make);
-    }
-    fit::within(options, |nodes| {
+    super::fit::within(options, |nodes| {
         let mut policy = plain.clone();
         let budget = close_budget(Options { close_nodes: nodes, ..options }, until);
         let closed = if nodes == 0 { None } else { Some(crate::regress::close(&g, &mut policy, &budget)?) };
-        make(&policy, closed)
+        policy_plan(&g, &catalog, options, &policy, closed)
     })
 }
 

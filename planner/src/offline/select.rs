@@ -203,7 +203,7 @@ mod tests {
     use std::sync::Arc;
 
     use super::super::Plan;
-    use super::super::closed::{regression, regression_cut};
+    use super::super::closed::{regression, regression_by_budgets};
     use super::reached;
     use crate::ground::Grounding;
     use crate::guide::Trace;
@@ -241,7 +241,7 @@ mod tests {
         let cut = |tenths: usize| {
             let bytes = bare.fit.size.bytes + (whole.fit.size.bytes - bare.fit.size.bytes) * tenths / 10;
             let options = Options { fit: Fit { bytes, ..Options::default().fit }, ..Options::default() };
-            let by_budgets = regression_cut(g.clone(), c.clone(), options, &trace, None, false).unwrap();
+            let by_budgets = regression_by_budgets(g.clone(), c.clone(), options, &trace, None).unwrap();
             let by_groups = regression(g.clone(), c.clone(), options, &trace, None).unwrap();
             assert!(by_groups.fit.fits && by_groups.fit.ways.is_some(), "{}", by_groups.fit);
             (by_budgets, by_groups)
