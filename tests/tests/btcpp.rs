@@ -1,10 +1,10 @@
 //! The differential test against BehaviorTree.CPP 4.10.0: every case recorded by
 //! `tests/btcpp/record.sh` (random trees of every built-in kind, random trees with
 //! `Script` and `ScriptCondition` leaves, and trees from BehaviorTree.CPP's own tests) is run on bt-core with the same leaf scripts, and must
-//! agree on every tick (see `integration_tests::btcpp::run::compare` and
+//! agree on every tick (see `integration_tests::btcpp::compare::compare` and
 //! `docs/behaviortree-cpp.md`).
 
-use integration_tests::btcpp::{btlog, case, run};
+use integration_tests::btcpp::{btlog, case, compare, run};
 
 fn fixtures() -> Vec<(String, case::Recorded)> {
     integration_tests::btcpp::fixtures("btcpp/fixtures", case::parse_fixtures)
@@ -15,7 +15,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
     let all = fixtures();
     let mut random = 0usize;
     let mut scripted = 0usize;
-    let mut total = run::Totals::default();
+    let mut total = compare::Totals::default();
     let mut failures = vec![];
     for (file, rec) in &all {
         if rec.error.is_some() {
@@ -32,7 +32,7 @@ fn bt_core_does_what_behaviortree_cpp_does() {
         }
         // Hook for the importer (issue 17): importing `rec.xml` with the fixtures'
         // catalog (`run::catalog()`) must give exactly `run::build(&rec.case.spec)`.
-        match run::run(&rec.case).and_then(|ours| run::compare(rec, &ours)) {
+        match run::run(&rec.case).and_then(|ours| compare::compare(rec, &ours)) {
             Ok(c) => {
                 total.add(&c);
             }
@@ -69,7 +69,7 @@ fn our_btlogs_are_behaviortree_cpps_but_for_timestamps() {
         logs += 1;
         let theirs = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let result = run::run(&rec.case)
-            .and_then(|ours| run::compare(rec, &ours))
+            .and_then(|ours| compare::compare(rec, &ours))
             .and_then(|diff| btlog::compare(rec, &theirs, &diff).map(|c| (diff, c)));
         match result {
             Ok((diff, c)) => {

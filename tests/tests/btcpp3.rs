@@ -6,7 +6,7 @@
 //! root status, nodes Running and statuses as BehaviorTree.CPP shows them (see
 //! `integration_tests::btcpp::v3::run::compare` and `docs/behaviortree-cpp.md`).
 
-use integration_tests::btcpp::run::Totals;
+use integration_tests::btcpp::compare::Totals;
 use integration_tests::btcpp::v3::{Recorded, parse_fixtures, run};
 
 fn fixtures() -> Vec<(String, Recorded)> {

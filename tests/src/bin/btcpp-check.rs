@@ -7,11 +7,11 @@
 
 use std::process::ExitCode;
 
-use integration_tests::btcpp::{case, run};
+use integration_tests::btcpp::{case, compare, run};
 
 fn main() -> ExitCode {
     let mut bad = 0usize;
-    let mut total = run::Totals::default();
+    let mut total = compare::Totals::default();
     let mut cases = 0usize;
     let mut refused = 0usize;
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -39,7 +39,7 @@ fn main() -> ExitCode {
             cases += 1;
             match run::run(&rec.case)
                 .map_err(|e| format!("{}: {e}\n  spec      {}", rec.case.name, rec.case.spec))
-                .and_then(|ours| run::compare(rec, &ours))
+                .and_then(|ours| compare::compare(rec, &ours))
             {
                 Ok(c) => {
                     total.add(&c);

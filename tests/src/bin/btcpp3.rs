@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use integration_tests::btcpp::run::Totals;
+use integration_tests::btcpp::compare::Totals;
 use integration_tests::btcpp::v3::{generate, parse_fixtures, run};
 
 fn cases(args: &[String]) -> ExitCode {

@@ -17,7 +17,8 @@ use btcpp::btlog::{Log, LogTree, RunLog, Ticking, replay::status};
 use btcpp::xml::{ImportOptions, import_text};
 
 use super::case::{Recorded, Tick};
-use super::run::{self, Comparison};
+use super::compare::Comparison;
+use super::run;
 use super::spec::Kind;
 
 /// How a log compared.

@@ -3,6 +3,7 @@
 
 pub mod btlog;
 pub mod case;
+pub mod compare;
 pub mod generate;
 pub mod run;
 pub mod spec;

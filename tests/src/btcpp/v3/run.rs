@@ -12,7 +12,7 @@ use btcpp::xml::lower::stoi;
 use btcpp::xml::{ImportOptions, Imported, import_text};
 
 use super::super::case::Tick;
-use super::super::run::{Comparison, Ours, Walked, compare_tick};
+use super::super::compare::{Comparison, Ours, Walked, compare_tick};
 use super::{Case, Recorded};
 
 /// The leaves, the blackboard and what happened since the last tick.
