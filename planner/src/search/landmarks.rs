@@ -414,6 +414,52 @@ mod tests {
         a
     }
 
+    /// A tool either hand may grasp, needed to finish; tidying needs it in the left.
+    fn two_hands(goal: &str) -> Grounding {
+        let domain = "(define (domain hands) (:requirements :strips :typing) (:types hand)
+            (:constants left right - hand)
+            (:predicates (free ?h - hand) (holding ?h - hand) (ontable) (done) (tidy))
+            (:action grasp :parameters (?h - hand) :precondition (and (free ?h) (ontable))
+                :effect (and (holding ?h) (not (free ?h)) (not (ontable))))
+            (:action finish :parameters (?h - hand) :precondition (holding ?h) :effect (done))
+            (:action tidy :parameters () :precondition (holding left) :effect (tidy)))";
+        let problem =
+            format!("(define (problem p) (:domain hands) (:init (free left) (free right) (ontable)) (:goal {goal}))");
+        let d = crate::pddl::parse_domain("hands.pddl", domain).unwrap();
+        let p = crate::pddl::parse_problem("p.pddl", &problem, &d).unwrap();
+        Grounding::new(&p).unwrap()
+    }
+
+    #[test]
+    fn grasping_with_either_hand_is_progress_of_the_count() {
+        // No one hand is a landmark, but holding the tool in one of them is.
+        let g = two_hands("(done)");
+        let lm = Landmarks::new(&g, None).unwrap();
+        assert_eq!((lm.len(), lm.disjunctive()), (3, 1), "done, the two hands, ontable");
+        let (mut accepted, mut next, mut helpful) = (Vec::new(), Vec::new(), Vec::new());
+        lm.initial(g.init(), &mut accepted);
+        assert_eq!(lm.count(&g, &accepted, g.init(), &mut helpful), 2);
+        assert_eq!(helpful.len(), 2, "either grasp");
+        for hand in ["left", "right"] {
+            let mut s = g.init().clone();
+            step(&g, &mut s, g.atom_by_name("holding", &[hand]).unwrap());
+            lm.accept(&accepted, &s, &mut next);
+            assert_eq!(lm.count(&g, &next, &s, &mut helpful), 1, "{hand}");
+            // Were the tool back on the table, it would be needed again for `done`.
+            assert_eq!(lm.count(&g, &next, g.init(), &mut helpful), 2, "{hand}");
+        }
+    }
+
+    #[test]
+    fn a_disjunction_overlapping_a_landmark_found_later_is_dropped() {
+        // Tidying makes holding the tool in the left hand a landmark of its own.
+        let g = two_hands("(and (done) (tidy))");
+        let lm = Landmarks::new(&g, None).unwrap();
+        assert_eq!(lm.disjunctive(), 0);
+        let names: Vec<String> = (0..lm.len()).map(|k| lm.name(&g, k)).collect();
+        assert!(names.contains(&"holding(left)".to_string()), "{names:?}");
+    }
+
     #[test]
     fn the_achiever_of_a_goal_undone_after_it_was_accepted_is_helpful() {
         // Goal: b1 on b2, b0 on b1. Stack b1 on b2, then pick b1 up again.
