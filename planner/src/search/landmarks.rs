@@ -1,13 +1,18 @@
 //! Landmarks and the landmark-count heuristic, as LAMA uses them to guide its
 //! search alongside h_FF (Richter, Westphal, "The LAMA planner", JAIR 2010), in a
-//! simpler form: fact landmarks only (no disjunctive ones), found by backchaining
-//! from the goal through the relaxed problem.
+//! simpler form: landmarks of one literal and small disjunctive ones, found by
+//! backchaining from the goal through the relaxed problem.
 //!
 //! A literal is a *landmark* when every plan makes it true at some point. The goal's
 //! literals are; and for a landmark `l` not true initially, every plan reaches `l`
 //! first by an action that is applicable in the relaxed problem without `l`: the
 //! literals all of those *possible first achievers* need are landmarks too, ordered
-//! before `l`. The count of a state reached along a path is the landmarks not yet
+//! before `l` (greedy-necessary orderings: the only kind kept). So is a *disjunctive*
+//! landmark, as in Fast Downward's `lm_rhw`: where every possible first achiever needs
+//! a literal of one predicate and sign (a hand holding the shaker, left or right), one
+//! of those literals holds before `l` is first reached; at most four, none true
+//! initially, none sharing a literal with another landmark. A disjunctive landmark
+//! holds where one of its literals does. The count of a state reached along a path is the landmarks not yet
 //! *accepted* on it (true at some state of the path, after every landmark ordered
 //! before them was accepted), plus the accepted ones that must be made true again: a
 //! goal literal that is false now, or a landmark ordered before one not accepted yet
@@ -357,15 +362,18 @@ fn lit(x: u32) -> Lit {
 /// costs a test per state.
 const MAX_DISJUNCTION: usize = 4;
 
+/// Preconditions of one predicate and sign: (predicate, sign), literals.
+type Group = ((crate::model::PredicateId, u32), Vec<u32>);
+
 /// The disjunctive landmarks the possible first achievers `first` of a landmark need
 /// (each sorted): per predicate and sign of which every achiever has a precondition
 /// outside `shared`, those preconditions together, when they are few and none holds
 /// initially (one of them must hold before the landmark's first achiever).
 fn disjunctions(g: &Grounding, first: &[&Op], shared: &[u32], init: &[bool]) -> Vec<Vec<u32>> {
     let key = |x: u32| (g.atom(x / 2).predicate, x % 2);
-    let mut sets: Option<Vec<((crate::model::PredicateId, u32), Vec<u32>)>> = None;
+    let mut sets: Option<Vec<Group>> = None;
     for op in first {
-        let mut mine: Vec<((crate::model::PredicateId, u32), Vec<u32>)> = Vec::new();
+        let mut mine: Vec<Group> = Vec::new();
         for &p in op.pre.iter().filter(|p| !shared.contains(p)) {
             match mine.iter_mut().find(|(k, _)| *k == key(p)) {
                 Some((_, v)) => v.push(p),
