@@ -3,11 +3,16 @@
 //! "Expanded"/"Evaluated" lines.
 //!
 //! `cargo run --release -p planner --example search_stats -- DOMAIN PROBLEM [eager|deferred|landmarks] [SECONDS]`
+//!
+//! With `landmarks` it also prints how many landmarks, disjunctive landmarks and
+//! orderings were found (Fast Downward prints the same with `lm_rhw(verbosity=debug)`),
+//! and with `LANDMARKS=1` in the environment each landmark and those ordered before it.
 
 use std::time::{Duration, Instant};
 
 use planner::ground::Grounding;
 use planner::pddl::{parse_domain, parse_problem};
+use planner::search::landmarks::Landmarks;
 use planner::search::{SearchOptions, gbfs};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -27,6 +32,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..SearchOptions::default()
     };
     println!("relaxation size {}", planner::search::Relaxation::new(&g).size());
+    if options.landmarks
+        && let Some(lm) = Landmarks::new(&g, options.deadline)
+    {
+        println!("{} landmarks, {} disjunctive, {} orderings", lm.len(), lm.disjunctive(), lm.orderings());
+        if std::env::var_os("LANDMARKS").is_some() {
+            for k in 0..lm.len() {
+                let before: Vec<String> = lm.before(k).iter().map(|&p| lm.name(&g, p as usize)).collect();
+                println!("  {} <- {}", lm.name(&g, k), before.join(", "));
+            }
+        }
+    }
     let start = Instant::now();
     let found = gbfs(&g, &options);
     let t = start.elapsed().as_secs_f64();
