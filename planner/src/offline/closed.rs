@@ -13,7 +13,8 @@ use super::{Made, Plan, finish, select};
 use crate::PlanError;
 use crate::ground::Grounding;
 use crate::guide::Trace;
-use crate::planner::{Options, Planner};
+use crate::options::Options;
+use crate::planner::Planner;
 use crate::regress::Stop;
 
 /// Seed of the disturbed episodes [`better_under_disturbances`] runs (not the

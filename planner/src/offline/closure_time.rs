@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use crate::planner::Options;
+use crate::options::Options;
 
 /// The closure's budget: [`Options::close_nodes`], and the time up to `until`
 /// ([`closure_deadline`]).

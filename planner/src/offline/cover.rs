@@ -8,7 +8,8 @@ use bt_core::Catalog;
 use super::{Plan, finish};
 use crate::ground::Grounding;
 use crate::guide::Trace;
-use crate::planner::{Options, Planner};
+use crate::options::Options;
+use crate::planner::Planner;
 use crate::tree::PlanTree;
 
 /// Conditions of `tree` whose failure fails the whole tree: the root, the children

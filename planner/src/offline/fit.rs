@@ -5,7 +5,7 @@ use bt_core::Catalog;
 
 use super::Plan;
 use crate::PlanError;
-use crate::planner::{Fit, Options};
+use crate::options::{Fit, Options};
 
 pub use bt_formats::image::Size;
 

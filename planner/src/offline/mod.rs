@@ -10,7 +10,8 @@ use bt_core::{Catalog, Node};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
 use crate::guide::Trace;
-use crate::planner::{Expansion, Method, Options, Planner};
+use crate::options::{Method, Options};
+use crate::planner::{Expansion, Planner};
 use crate::search::SearchOptions;
 use crate::strips::{self, StripsWorld, Verdict};
 

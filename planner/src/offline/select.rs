@@ -24,7 +24,7 @@ use super::fit::{self, Fitted};
 use super::{CHOICE_SEED, Plan};
 use crate::PlanError;
 use crate::ground::Grounding;
-use crate::planner::Options;
+use crate::options::Options;
 use crate::regress::{Closed, Policy};
 
 /// The tree of `policy` with its closure report (the offline planner's check that it
