@@ -1,7 +1,9 @@
 //! Search on threads of its own while Algorithm 1 runs ([`crate::Options::parallel`]):
 //! with [`SearchOptions::lazy`], eager search with h_FF within a budget of evaluated
-//! states (smaller on large groundings) beside deferred search, the eager plan taken where it finds one within that
-//! budget (so the plan never depends on which thread ends first).
+//! states (smaller on large groundings), and after it, with landmarks, deferred search
+//! as Fast Downward's lama-first within a budget of its own, beside deferred search;
+//! the first of them in that order to find a plan within its budget gives it (so the
+//! plan never depends on which thread ends first).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -26,6 +28,47 @@ pub const EAGER_STATES: u64 = 20_000;
 /// plans eager search found needed at most 25 million.
 pub const EAGER_WORK: u64 = 200_000_000;
 
+/// States the deferred search as Fast Downward's lama-first (the landmark count's
+/// helpful actions not preferred: [`SearchOptions::landmark_preferred`]) may evaluate
+/// before the deferred search's plan is taken instead. It found pipesworld-tankage
+/// p23's plan in about 8,100 evaluations where the landmark-preferring search found
+/// none in 60 s; parking's plans need the landmarks' helpful actions.
+pub const LAMA_FIRST_STATES: u64 = 20_000;
+
+/// Entries of the goal-relevant relaxation ([`search::Relaxation::relevant_size`]) the
+/// lama-first search's evaluations may visit, summed: a budget of a few seconds
+/// (pipesworld-tankage p23 needed about 610 million).
+pub const LAMA_FIRST_WORK: u64 = 1_000_000_000;
+
+/// The lama-first search's budget of evaluated states on `g`, from its grounding only.
+fn lama_first_states(g: &Grounding) -> u64 {
+    let size = search::Relaxation::new(g).relevant_size().max(1);
+    LAMA_FIRST_STATES.min(LAMA_FIRST_WORK / size).max(1)
+}
+
+/// The searches whose plans are taken before the deferred search's, one after the
+/// other: eager search within its budget, then, where the deferred search prefers the
+/// landmarks' helpful actions, lama-first within its own. [`PlanError::OutOfStates`]
+/// or [`PlanError::SearchMemory`] when neither found a plan within its budget.
+fn first_searches(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> {
+    let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
+    let found = search::gbfs(g, &eager);
+    if !(options.lazy && options.landmarks && options.landmark_preferred) {
+        return found;
+    }
+    match found {
+        Err(PlanError::OutOfStates { .. } | PlanError::SearchMemory { .. }) => {
+            let lama_first = SearchOptions {
+                landmark_preferred: false,
+                max_evaluated: Some(lama_first_states(g)),
+                ..options.clone()
+            };
+            search::gbfs(g, &lama_first)
+        }
+        other => other,
+    }
+}
+
 /// Eager search's budget of evaluated states on `g`: [`EAGER_STATES`], fewer where
 /// they would visit more than [`EAGER_WORK`] entries. It depends only on `g`, so the
 /// plan does not depend on the machine.
@@ -41,12 +84,16 @@ struct Running {
 }
 
 impl Running {
-    fn start(g: &Arc<Grounding>, options: SearchOptions) -> Option<Self> {
+    fn start(
+        g: &Arc<Grounding>,
+        options: SearchOptions,
+        search: fn(&Grounding, &SearchOptions) -> Result<Found, PlanError>,
+    ) -> Option<Self> {
         let stop = Arc::new(AtomicBool::new(false));
         let options = SearchOptions { stop: Some(stop.clone()), ..options };
         let g = g.clone();
         let handle =
-            std::thread::Builder::new().name("planner-search".into()).spawn(move || search::gbfs(&g, &options)).ok()?;
+            std::thread::Builder::new().name("planner-search".into()).spawn(move || search(&g, &options)).ok()?;
         Some(Self { stop, handle: Some(handle) })
     }
 
@@ -83,15 +130,17 @@ impl Searching {
             return None;
         }
         if !options.lazy {
-            return Some(Self { eager: Some(Running::start(g, options)?), deferred: None });
+            return Some(Self { eager: Some(Running::start(g, options, search::gbfs)?), deferred: None });
         }
-        let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
-        Some(Self { eager: Some(Running::start(g, eager)?), deferred: Some(Running::start(g, options)?) })
+        Some(Self {
+            eager: Some(Running::start(g, options.clone(), first_searches)?),
+            deferred: Some(Running::start(g, options, search::gbfs)?),
+        })
     }
 
-    /// Waits for the plan: eager search's where it found one within its budget (or
-    /// proved there is none), else deferred search's (past eager search's budget, its
-    /// memory bound or the deadline).
+    /// Waits for the plan: that of the searches on the first thread ([`first_searches`])
+    /// where one found it within its budget (or proved there is none), else deferred
+    /// search's (past their budgets, their memory bound or the deadline).
     pub(super) fn join(mut self) -> Result<Found, PlanError> {
         let eager = self.eager.take().map(Running::join);
         match (eager, self.deferred.take()) {
@@ -103,14 +152,13 @@ impl Searching {
     }
 }
 
-/// The plan of [`Searching`], searched for on this thread: eager search within its
-/// budget, then deferred search.
+/// The plan of [`Searching`], searched for on this thread: [`first_searches`] within
+/// their budgets, then deferred search.
 pub(super) fn search_plan(g: &Grounding, options: &SearchOptions) -> Result<Found, PlanError> {
     if !options.lazy {
         return search::gbfs(g, options);
     }
-    let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
-    match search::gbfs(g, &eager) {
+    match first_searches(g, options) {
         Err(PlanError::OutOfStates { .. } | PlanError::SearchMemory { .. }) => search::gbfs(g, options),
         other => other,
     }
