@@ -31,7 +31,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         landmarks: mode == "landmarks",
         ..SearchOptions::default()
     };
-    println!("relaxation size {}", planner::search::Relaxation::new(&g).size());
+    let fluents = (0..g.atom_count()).filter(|&a| u32::try_from(a).is_ok_and(|a| !g.is_static(a))).count();
+    let conditional: usize = g.actions().iter().map(|a| a.cond.len()).sum();
+    println!(
+        "ground actions {} ({} conditional effects), atoms {} ({} fluents), relaxation size {} ({} relevant to the goal)",
+        g.actions().len(),
+        conditional,
+        g.atom_count(),
+        fluents,
+        planner::search::Relaxation::new(&g).size(),
+        planner::search::Relaxation::new(&g).relevant_size()
+    );
     if options.landmarks
         && let Some(lm) = Landmarks::new(&g, options.deadline)
     {

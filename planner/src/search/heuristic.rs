@@ -41,6 +41,8 @@ pub struct Relaxation {
     consumers: Vec<u32>,
     /// Operators without preconditions.
     free: Vec<u32>,
+    /// [`Relaxation::size`].
+    full_size: u64,
     goal: Vec<u32>,
     is_goal: Vec<bool>,
     // Scratch, reused by every evaluation.
@@ -55,10 +57,89 @@ pub struct Relaxation {
 
 const NONE: u32 = u32::MAX;
 
+/// Relaxed operators in compressed rows, as [`Relaxation`] keeps them.
+struct Rows {
+    op_pre: Vec<(u32, u32)>,
+    op_eff: Vec<(u32, u32)>,
+    op_action: Vec<ActionId>,
+    pre: Vec<u32>,
+    eff: Vec<u32>,
+}
+
+impl Rows {
+    /// Keeps only what can matter to the goal, as Fast Downward's translator does
+    /// (backward relevance): a literal is relevant when it is a goal or a
+    /// precondition of a relevant operator, an operator when one of its effects is
+    /// relevant. The rest never changes the cost of a goal literal nor its best
+    /// supporters (the order in which relevant operators fire is kept), so h_add,
+    /// h_FF and the helpful actions are the same, for less work per evaluation: a
+    /// delete effect no negative precondition or goal needs, an atom only the plan's
+    /// bookkeeping writes (trucks: `delivered` at times no goal names).
+    fn keep_relevant(&mut self, goal: &[u32], lits: usize) {
+        // Per literal: the operators with it among their effects.
+        let mut producers: Vec<Vec<u32>> = vec![Vec::new(); lits];
+        for (op, &(s, e)) in self.op_eff.iter().enumerate() {
+            for &l in self.eff.get(s as usize..e as usize).unwrap_or(&[]) {
+                if let Some(p) = producers.get_mut(l as usize) {
+                    p.push(op as u32);
+                }
+            }
+        }
+        let mut relevant = vec![false; lits];
+        let mut used = vec![false; self.op_pre.len()];
+        let mut stack: Vec<u32> = Vec::new();
+        for &l in goal {
+            if let Some(r) = relevant.get_mut(l as usize).filter(|r| !**r) {
+                *r = true;
+                stack.push(l);
+            }
+        }
+        while let Some(l) = stack.pop() {
+            for &op in producers.get(l as usize).map_or(&[][..], Vec::as_slice) {
+                let Some(u) = used.get_mut(op as usize).filter(|u| !**u) else { continue };
+                *u = true;
+                let (s, e) = self.op_pre.get(op as usize).copied().unwrap_or((0, 0));
+                for &p in self.pre.get(s as usize..e as usize).unwrap_or(&[]) {
+                    if let Some(r) = relevant.get_mut(p as usize).filter(|r| !**r) {
+                        *r = true;
+                        stack.push(p);
+                    }
+                }
+            }
+        }
+        let mut kept =
+            Rows { op_pre: Vec::new(), op_eff: Vec::new(), op_action: Vec::new(), pre: Vec::new(), eff: Vec::new() };
+        for (op, &keep) in used.iter().enumerate() {
+            let (Some(&(ps, pe)), Some(&(es, ee)), Some(&action)) =
+                (self.op_pre.get(op), self.op_eff.get(op), self.op_action.get(op))
+            else {
+                continue;
+            };
+            if !keep {
+                continue;
+            }
+            let s = kept.pre.len() as u32;
+            kept.pre.extend_from_slice(self.pre.get(ps as usize..pe as usize).unwrap_or(&[]));
+            kept.op_pre.push((s, kept.pre.len() as u32));
+            let s = kept.eff.len() as u32;
+            let effects = self.eff.get(es as usize..ee as usize).unwrap_or(&[]);
+            kept.eff.extend(effects.iter().copied().filter(|&l| relevant.get(l as usize).copied().unwrap_or(false)));
+            kept.op_eff.push((s, kept.eff.len() as u32));
+            kept.op_action.push(action);
+        }
+        *self = kept;
+    }
+}
+
 impl Relaxation {
     /// The relaxed operators of `g`, for its goal.
     #[must_use]
     pub fn new(g: &Grounding) -> Self {
+        Self::build(g, true)
+    }
+
+    /// The relaxed operators of `g`, those irrelevant to the goal left out or not.
+    fn build(g: &Grounding, relevant_only: bool) -> Self {
         let lits = g.atom_count() * 2;
         let mut op_pre = Vec::new();
         let mut op_eff = Vec::new();
@@ -86,6 +167,13 @@ impl Relaxation {
         for r in g.rules() {
             push(&mut r.body.iter().copied(), &mut std::iter::once(Lit { atom: r.head, positive: true }), NONE);
         }
+        let full_size = (op_pre.len() + pre.len() + eff.len() + lits) as u64;
+        let goal: Vec<u32> = g.goal().iter().filter(|l| kept(l)).map(|l| l.index() as u32).collect();
+        let mut ops = Rows { op_pre, op_eff, op_action, pre, eff };
+        if relevant_only {
+            ops.keep_relevant(&goal, lits);
+        }
+        let Rows { op_pre, op_eff, op_action, pre, eff } = ops;
         let nops = op_pre.len();
         let mut counts = vec![0u32; lits + 1];
         for &p in &pre {
@@ -116,7 +204,8 @@ impl Relaxation {
             lit_consumers,
             consumers,
             free,
-            goal: g.goal().iter().filter(|l| kept(l)).map(|l| l.index() as u32).collect(),
+            full_size,
+            goal,
             is_goal: {
                 let mut v = vec![false; lits];
                 for l in g.goal().iter().filter(|l| kept(l)) {
@@ -136,10 +225,19 @@ impl Relaxation {
         }
     }
 
-    /// The entries one evaluation visits: operators, their preconditions and effects,
-    /// and literals (a measure of its cost that does not depend on the machine).
+    /// The entries of the relaxation before the operators and effects irrelevant to the
+    /// goal are left out: operators, their preconditions and effects, and literals (a
+    /// measure of the grounding's size that does not depend on the machine, used for
+    /// search budgets; an evaluation visits at most this many).
     #[must_use]
     pub fn size(&self) -> u64 {
+        self.full_size
+    }
+
+    /// The entries an evaluation visits at most: [`Relaxation::size`] without what is
+    /// irrelevant to the goal.
+    #[must_use]
+    pub fn relevant_size(&self) -> u64 {
         (self.op_pre.len() + self.pre.len() + self.eff.len() + self.cost.len()) as u64
     }
 
@@ -260,5 +358,71 @@ impl Relaxation {
             }
         }
         self.marked_list.iter().filter(|&&op| self.op_action[op as usize] != NONE).count() as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domains;
+    use crate::pddl::{parse_domain, parse_problem};
+
+    /// A delivery with a negative precondition, a conditional effect and a log no goal
+    /// reads (as trucks' `delivered` at every time).
+    const DOMAIN: &str = "(define (domain d) (:requirements :adl)
+        (:predicates (at ?x) (held) (logged ?x) (lit) (dark))
+        (:action pick :parameters (?x) :precondition (and (at ?x) (not (held)))
+            :effect (and (held) (not (at ?x)) (logged ?x) (when (lit) (dark))))
+        (:action drop :parameters (?x) :precondition (held)
+            :effect (and (not (held)) (at ?x) (logged ?x)))
+        (:action switch :parameters () :precondition (not (dark)) :effect (lit)))";
+    const PROBLEM: &str = "(define (problem p) (:domain d) (:objects a b c)
+        (:init (at a)) (:goal (and (at c) (not (dark)))))";
+
+    fn delivery() -> Grounding {
+        let d = parse_domain("d.pddl", DOMAIN).unwrap();
+        Grounding::new(&parse_problem("p.pddl", PROBLEM, &d).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn an_evaluation_leaves_out_what_the_goal_does_not_need() {
+        for g in [delivery(), domains::blocks_world(5).unwrap()] {
+            let h = Relaxation::new(&g);
+            assert!(h.relevant_size() < h.size(), "{} of {}", h.relevant_size(), h.size());
+            assert_eq!(h.size(), Relaxation::build(&g, false).relevant_size());
+        }
+        // Nothing reads `logged` nor `(not (at ?x))`: no effect writes them.
+        let g = delivery();
+        let h = Relaxation::new(&g);
+        let logged = g.atom_by_name("logged", &["a"]).unwrap();
+        let not_at = Lit { atom: g.atom_by_name("at", &["a"]).unwrap(), positive: false };
+        assert!(!h.eff.contains(&(Lit { atom: logged, positive: true }.index() as u32)));
+        assert!(!h.eff.contains(&(not_at.index() as u32)));
+        // `held` is a precondition of `drop`, which reaches the goal `(at c)`.
+        assert!(h.eff.contains(&(Lit { atom: g.atom_by_name("held", &[]).unwrap(), positive: true }.index() as u32)));
+    }
+
+    #[test]
+    fn h_ff_and_helpful_actions_are_those_of_the_whole_relaxation() {
+        for g in [delivery(), domains::blocks_world(5).unwrap(), domains::cellphone().unwrap()] {
+            let mut pruned = Relaxation::new(&g);
+            let mut whole = Relaxation::build(&g, false);
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            let mut s = g.init().clone();
+            let mut seed: u64 = 7;
+            for _ in 0..300 {
+                assert_eq!(pruned.h_add(&s), whole.h_add(&s));
+                assert_eq!(pruned.h_ff(&s, &mut a), whole.h_ff(&s, &mut b));
+                assert_eq!(a, b);
+                let applicable: Vec<&crate::ground::GroundAction> =
+                    g.actions().iter().filter(|x| x.applicable(&s)).collect();
+                if applicable.is_empty() {
+                    s = g.init().clone();
+                    continue;
+                }
+                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                g.apply(applicable[(seed >> 33) as usize % applicable.len()], &mut s);
+            }
+        }
     }
 }

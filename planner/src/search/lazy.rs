@@ -6,10 +6,11 @@
 //!
 //! With [`SearchOptions::landmarks`] it alternates, as LAMA does, between h_FF and the
 //! landmark count ([`super::landmarks`]): four open lists (each heuristic, and each
-//! for the successors by one of the helpful actions of either), taken in turn, the
-//! lists of helpful successors given [`SearchOptions::boost`] turns more whenever
-//! either heuristic reaches a new best. Without it, two lists (h_FF, and helpful
-//! successors) in the same way.
+//! for the successors by one of the helpful actions of either, or of h_FF only without
+//! [`SearchOptions::landmark_preferred`]), taken in turn, the lists of helpful
+//! successors given [`SearchOptions::boost`] turns more whenever either heuristic
+//! reaches a new best. Without it, two lists (h_FF, and helpful successors) in the same
+//! way.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -79,7 +80,7 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
         succ.applicable(g, &state, &mut applicable);
         let (id, hf, hl) = current;
         for &a in &applicable {
-            let preferred = helpful.contains(&a) || lm_helpful.contains(&a);
+            let preferred = helpful.contains(&a) || (options.landmark_preferred && lm_helpful.contains(&a));
             order += 1;
             lists[0].push(Reverse((hf, order, id, a)));
             if preferred {
@@ -127,6 +128,9 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
             if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
             }
+            if options.max_evaluated.is_some_and(|m| evaluated >= m) {
+                return Err(PlanError::OutOfStates { evaluated });
+            }
             let hn = h.h_ff(&next, &mut helpful);
             evaluated += 1;
             if hn == INFINITE {
@@ -144,5 +148,38 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
             current = (sid, hn, hn_lm);
             break;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domains;
+
+    fn deferred(max_evaluated: Option<u64>, landmark_preferred: bool) -> SearchOptions {
+        SearchOptions { lazy: true, landmarks: true, landmark_preferred, max_evaluated, ..SearchOptions::default() }
+    }
+
+    #[test]
+    fn deferred_search_stops_at_its_budget_of_evaluated_states() {
+        let g = domains::blocks_world(6).unwrap();
+        let found = lazy_gbfs_from(&g, g.init(), &deferred(None, true)).unwrap();
+        assert!(found.evaluated > 3, "{found:?}");
+        let e = lazy_gbfs_from(&g, g.init(), &deferred(Some(3), true)).unwrap_err();
+        assert!(matches!(e, PlanError::OutOfStates { evaluated: 3 }), "{e:?}");
+        let within = lazy_gbfs_from(&g, g.init(), &deferred(Some(found.evaluated), true)).unwrap();
+        assert_eq!(within, found);
+    }
+
+    #[test]
+    fn without_landmark_preference_only_h_ff_helpful_successors_are_preferred() {
+        // Both find a valid plan; the searches differ (the preferred lists differ).
+        let g = domains::blocks_world(6).unwrap();
+        let with = lazy_gbfs_from(&g, g.init(), &deferred(None, true)).unwrap();
+        let without = lazy_gbfs_from(&g, g.init(), &deferred(None, false)).unwrap();
+        for f in [&with, &without] {
+            assert!(g.goal_holds(&crate::search::execute(&g, &f.plan).unwrap()));
+        }
+        assert_ne!((with.expanded, with.evaluated), (without.expanded, without.evaluated));
     }
 }

@@ -54,12 +54,15 @@ pub struct SearchOptions {
     /// Deferred evaluation, as LAMA searches: a state is evaluated when it is taken from an
     /// open list, not when it is generated.
     pub lazy: bool,
-    /// Give up ([`PlanError::OutOfStates`]) once this many states were evaluated
-    /// (eager search only).
+    /// Give up ([`PlanError::OutOfStates`]) once this many states were evaluated.
     pub max_evaluated: Option<u64>,
     /// With [`SearchOptions::lazy`]: alternate h_FF with the landmark count
     /// ([`landmarks`]), as LAMA does.
     pub landmarks: bool,
+    /// With [`SearchOptions::landmarks`]: the landmark count's helpful actions lead to
+    /// preferred successors as h_FF's do. Without, only h_FF's do, as in Fast
+    /// Downward's lama-first (its landmark heuristic with `pref=false`).
+    pub landmark_preferred: bool,
     /// Give up as soon as this is set (another thread found what the search was for:
     /// [`crate::plan`] runs search beside Algorithm 1 and stops it when Algorithm 1
     /// finishes first).
@@ -74,6 +77,7 @@ impl Default for SearchOptions {
             boost: 1000,
             lazy: false,
             landmarks: false,
+            landmark_preferred: true,
             max_evaluated: None,
             stop: None,
         }
