@@ -24,6 +24,12 @@ impl Lit {
         self.atom as usize * 2 + usize::from(self.positive)
     }
 
+    /// The literal of index `i` ([`Lit::index`]'s inverse).
+    #[must_use]
+    pub fn from_index(i: u32) -> Self {
+        Self { atom: i / 2, positive: i % 2 == 1 }
+    }
+
     /// The opposite literal.
     #[must_use]
     pub fn negated(self) -> Self {

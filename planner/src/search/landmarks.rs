@@ -86,8 +86,7 @@ impl Landmarks {
                 consumers[p as usize].push(k as u32);
             }
         }
-        let init: Vec<bool> =
-            (0..lits).map(|i| Lit { atom: (i / 2) as u32, positive: i % 2 == 1 }.holds(g.init())).collect();
+        let init: Vec<bool> = (0..lits as u32).map(|i| Lit::from_index(i).holds(g.init())).collect();
         let mut out = Self { lits: Vec::new(), before: Vec::new(), of_lit: vec![NONE; lits], goal: Vec::new() };
         for l in g.goal().iter().filter(|l| !g.is_derived(l.atom)) {
             out.add(l.index() as u32, true);
@@ -267,7 +266,7 @@ impl Landmarks {
     #[must_use]
     pub fn name(&self, g: &Grounding, k: usize) -> String {
         let names: Vec<String> =
-            self.lits.get(k).map_or(&[][..], Vec::as_slice).iter().map(|&x| g.lit_name(lit(x))).collect();
+            self.lits.get(k).map_or(&[][..], Vec::as_slice).iter().map(|&x| g.lit_name(Lit::from_index(x))).collect();
         names.join(" | ")
     }
 
@@ -290,7 +289,7 @@ impl Landmarks {
     }
 
     fn holds(&self, k: usize, s: &State) -> bool {
-        self.lits.get(k).is_some_and(|l| l.iter().any(|&x| lit(x).holds(s)))
+        self.lits.get(k).is_some_and(|l| l.iter().any(|&x| Lit::from_index(x).holds(s)))
     }
 
     /// The landmarks accepted at the start: those true in `s` with nothing before them
@@ -342,7 +341,7 @@ impl Landmarks {
         for k in (0..self.lits.len()).filter(|&k| future[k]) {
             h += 1;
             for &x in &self.lits[k] {
-                for &a in g.achievers(lit(x)) {
+                for &a in g.achievers(Lit::from_index(x)) {
                     if !helpful.contains(&a) && g.action(a).is_some_and(|y| y.applicable(s)) {
                         helpful.push(a);
                     }
@@ -351,11 +350,6 @@ impl Landmarks {
         }
         h
     }
-}
-
-/// The literal of index `x`.
-fn lit(x: u32) -> Lit {
-    Lit { atom: x / 2, positive: x % 2 == 1 }
 }
 
 /// Most literals of a disjunctive landmark: larger disjunctions say little, and each
@@ -370,7 +364,10 @@ type Group = ((crate::model::PredicateId, u32), Vec<u32>);
 /// outside `shared`, those preconditions together, when they are few and none holds
 /// initially (one of them must hold before the landmark's first achiever).
 fn disjunctions(g: &Grounding, first: &[&Op], shared: &[u32], init: &[bool]) -> Vec<Vec<u32>> {
-    let key = |x: u32| (g.atom(x / 2).predicate, x % 2);
+    let key = |x: u32| {
+        let l = Lit::from_index(x);
+        (g.atom(l.atom).predicate, u32::from(l.positive))
+    };
     let mut sets: Option<Vec<Group>> = None;
     for op in first {
         let mut mine: Vec<Group> = Vec::new();
