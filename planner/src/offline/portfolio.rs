@@ -45,22 +45,23 @@ pub const LANDMARK_PREFERRED_STATES: u64 = 20_000;
 /// evaluations, about 1.2 billion entries, and only from this search.
 pub const LANDMARK_PREFERRED_WORK: u64 = 2_000_000_000;
 
-/// The landmark-preferring search's budget of evaluated states on `g`, from its
-/// grounding only.
-fn landmark_preferred_states(g: &Grounding) -> u64 {
-    let size = search::Relaxation::new(g).relevant_size().max(1);
-    LANDMARK_PREFERRED_STATES.min(LANDMARK_PREFERRED_WORK / size).max(1)
+/// The landmark-preferring search's budget of evaluated states, from the grounding's
+/// relaxation `h` only.
+fn landmark_preferred_states(h: &search::Relaxation) -> u64 {
+    LANDMARK_PREFERRED_STATES.min(LANDMARK_PREFERRED_WORK / h.relevant_size().max(1)).max(1)
 }
 
 /// The three searches' options, taken in this order (see the module docs): eager,
 /// deferred, and lama-first where the deferred search prefers the landmarks' helpful
 /// actions (`None` otherwise; the deferred search then has no budget).
 fn three(g: &Grounding, options: &SearchOptions) -> (SearchOptions, SearchOptions, Option<SearchOptions>) {
-    let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(g)), ..options.clone() };
+    // The budgets depend only on the grounding's size, so the plan not on the machine.
+    let h = search::Relaxation::new(g);
+    let eager = SearchOptions { lazy: false, max_evaluated: Some(eager_states(&h)), ..options.clone() };
     if !(options.landmarks && options.landmark_preferred) {
         return (eager, options.clone(), None);
     }
-    let deferred = SearchOptions { max_evaluated: Some(landmark_preferred_states(g)), ..options.clone() };
+    let deferred = SearchOptions { max_evaluated: Some(landmark_preferred_states(&h)), ..options.clone() };
     (eager, deferred, Some(SearchOptions { landmark_preferred: false, ..options.clone() }))
 }
 
@@ -70,12 +71,10 @@ fn out_of_budget(r: &Result<Found, PlanError>) -> bool {
     matches!(r, Err(PlanError::OutOfStates { .. } | PlanError::SearchMemory { .. }))
 }
 
-/// Eager search's budget of evaluated states on `g`: [`EAGER_STATES`], fewer where
-/// they would visit more than [`EAGER_WORK`] entries. It depends only on `g`, so the
-/// plan does not depend on the machine.
-fn eager_states(g: &Grounding) -> u64 {
-    let size = search::Relaxation::new(g).size().max(1);
-    EAGER_STATES.min(EAGER_WORK / size).max(1)
+/// Eager search's budget of evaluated states: [`EAGER_STATES`], fewer where they
+/// would visit more than [`EAGER_WORK`] entries of the grounding's relaxation `h`.
+fn eager_states(h: &search::Relaxation) -> u64 {
+    EAGER_STATES.min(EAGER_WORK / h.size().max(1)).max(1)
 }
 
 /// One search on its own thread; dropped, it is stopped and joined.
@@ -211,10 +210,10 @@ mod tests {
     #[test]
     fn eager_search_gets_fewer_states_where_an_evaluation_costs_more() {
         let small = domains::blocks_world(4).unwrap();
-        assert_eq!(eager_states(&small), EAGER_STATES);
+        assert_eq!(eager_states(&search::Relaxation::new(&small)), EAGER_STATES);
         let large = domains::blocks_world(40).unwrap();
         let size = search::Relaxation::new(&large).size();
         assert!(size > EAGER_WORK / EAGER_STATES, "{size} entries");
-        assert_eq!(eager_states(&large), EAGER_WORK / size);
+        assert_eq!(eager_states(&search::Relaxation::new(&large)), EAGER_WORK / size);
     }
 }
