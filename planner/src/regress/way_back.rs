@@ -283,10 +283,10 @@ fn novel(steps: &[ActionId], own: &[ActionId]) -> usize {
 /// [`MIN_SEARCH`]), so that a state from which a plan is hard to find, or to prove
 /// absent, does not use up the time of all the others. Where a way back is `known`
 /// already, the search can only find a cheaper one, while the states not yet looked at
-/// may have none: it gets [`KNOWN_SHARE`] of that. (In ged a way back that undoes a cut
-/// started out of turn is found at once, and a new plan to the goal was searched for
-/// its whole eighth and not found: the closure looked at a third of the states it
-/// reaches without a deadline.)
+/// may have none: it gets [`KNOWN_SHARE`] of that. (In ged a way back from a cut
+/// started out of turn is found at once, and a new plan to the goal is seldom found
+/// within a search's eighth: with the whole eighth, the closure of d-11-6 looks at 27 to
+/// 40 of the 69 states it looks at without a deadline, with a quarter of it all 69.)
 fn search_deadline(closure: Option<Instant>, now: Instant, known: bool) -> Option<Instant> {
     let share = if known { KNOWN_SHARE } else { 1 };
     closure.map(|d| d.min(now + (d.saturating_duration_since(now) / (8 * share)).max(MIN_SEARCH / share)))
