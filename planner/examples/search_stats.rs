@@ -2,9 +2,11 @@
 //! plan's length and the time per evaluation, to compare with Fast Downward's
 //! "Expanded"/"Evaluated" lines.
 //!
-//! `cargo run --release -p planner --example search_stats -- DOMAIN PROBLEM [eager|deferred|landmarks] [SECONDS]`
+//! `cargo run --release -p planner --example search_stats -- DOMAIN PROBLEM [eager|deferred|landmarks|lama-first] [SECONDS]`
 //!
-//! With `landmarks` it also prints how many landmarks, disjunctive landmarks and
+//! `landmarks` prefers the landmark count's helpful actions too, `lama-first` only
+//! h_FF's (as Fast Downward's lama-first; the planner's third search).
+//! With `landmarks` or `lama-first` it also prints how many landmarks, disjunctive landmarks and
 //! orderings were found (Fast Downward prints the same with `lm_rhw(verbosity=debug)`),
 //! and with `LANDMARKS=1` in the environment each landmark and those ordered before it.
 
@@ -18,7 +20,7 @@ use planner::search::{SearchOptions, gbfs};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [domain, problem, rest @ ..] = args.as_slice() else {
-        return Err("usage: search_stats DOMAIN PROBLEM [eager|deferred|landmarks] [SECONDS]".into());
+        return Err("usage: search_stats DOMAIN PROBLEM [eager|deferred|landmarks|lama-first] [SECONDS]".into());
     };
     let mode = rest.first().map_or("landmarks", String::as_str);
     let seconds: f64 = rest.get(1).map_or(Ok(30.0), |s| s.parse())?;
@@ -28,7 +30,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = SearchOptions {
         deadline: Some(Instant::now() + Duration::from_secs_f64(seconds)),
         lazy: mode != "eager",
-        landmarks: mode == "landmarks",
+        landmarks: mode == "landmarks" || mode == "lama-first",
+        landmark_preferred: mode != "lama-first",
         ..SearchOptions::default()
     };
     let fluents = (0..g.atom_count()).filter(|&a| u32::try_from(a).is_ok_and(|a| !g.is_static(a))).count();

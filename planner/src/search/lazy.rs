@@ -128,7 +128,7 @@ pub fn lazy_gbfs_from(g: &Grounding, start: &State, options: &SearchOptions) -> 
             if options.over() {
                 return Err(PlanError::Timeout { stage: "searching for a plan" });
             }
-            if options.max_evaluated.is_some_and(|m| evaluated >= m) {
+            if options.evaluated_enough(evaluated) {
                 return Err(PlanError::OutOfStates { evaluated });
             }
             let hn = h.h_ff(&next, &mut helpful);
@@ -169,6 +169,14 @@ mod tests {
         assert!(matches!(e, PlanError::OutOfStates { evaluated: 3 }), "{e:?}");
         let within = lazy_gbfs_from(&g, g.init(), &deferred(Some(found.evaluated), true)).unwrap();
         assert_eq!(within, found);
+        // A bound another thread may lower acts as the same bound set from the start.
+        let live = |n: u64| SearchOptions {
+            max_evaluated_live: Some(std::sync::Arc::new(std::sync::atomic::AtomicU64::new(n))),
+            ..deferred(None, true)
+        };
+        let e = lazy_gbfs_from(&g, g.init(), &live(3)).unwrap_err();
+        assert!(matches!(e, PlanError::OutOfStates { evaluated: 3 }), "{e:?}");
+        assert_eq!(lazy_gbfs_from(&g, g.init(), &live(found.evaluated)).unwrap(), found);
     }
 
     #[test]

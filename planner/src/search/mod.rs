@@ -31,7 +31,7 @@ mod successors;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 pub use heuristic::{INFINITE, Relaxation};
@@ -56,6 +56,12 @@ pub struct SearchOptions {
     pub lazy: bool,
     /// Give up ([`PlanError::OutOfStates`]) once this many states were evaluated.
     pub max_evaluated: Option<u64>,
+    /// With [`SearchOptions::lazy`]: as [`SearchOptions::max_evaluated`], but another
+    /// thread may lower it while the search runs. The outcome is the same as with the
+    /// lowered bound from the start (a plan found within it, or
+    /// [`PlanError::OutOfStates`]), however late it is lowered, so a portfolio can
+    /// compare searches by their evaluations and not by which thread ends first.
+    pub max_evaluated_live: Option<Arc<AtomicU64>>,
     /// With [`SearchOptions::lazy`]: alternate h_FF with the landmark count
     /// ([`landmarks`]), as LAMA does.
     pub landmarks: bool,
@@ -79,6 +85,7 @@ impl Default for SearchOptions {
             landmarks: false,
             landmark_preferred: true,
             max_evaluated: None,
+            max_evaluated_live: None,
             stop: None,
         }
     }
@@ -88,7 +95,15 @@ impl SearchOptions {
     /// Whether the search must end now: past its deadline, or told to stop.
     fn over(&self) -> bool {
         self.deadline.is_some_and(|d| Instant::now() >= d)
-            || self.stop.as_ref().is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+            || self.stop.as_ref().is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+
+    /// Whether a deferred search that has evaluated `evaluated` states must give up
+    /// before evaluating another: at [`SearchOptions::max_evaluated`] or
+    /// [`SearchOptions::max_evaluated_live`].
+    fn evaluated_enough(&self, evaluated: u64) -> bool {
+        self.max_evaluated.is_some_and(|m| evaluated >= m)
+            || self.max_evaluated_live.as_ref().is_some_and(|m| evaluated >= m.load(Ordering::Relaxed))
     }
 }
 
