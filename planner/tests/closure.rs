@@ -364,7 +364,7 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
     assert_eq!(policy.first(&t), None);
     // The plan's rest without the stamp, up to where the rule that finishes holds.
     // The tree was 4 steps from the goal before the agent stamped.
-    let (resumed, rule) = policy.resume(&g, &t, 4).expect("the plan's rest reaches the goal");
+    let (resumed, rule) = policy.resume(&g, &t, 4, &policy.actions()).expect("the plan's rest reaches the goal");
     let names: Vec<String> = resumed.iter().map(|&a| g.action_name(a)).collect();
     assert_eq!(names, ["go01", "go12"]);
     assert_eq!((g.action_name(rule.action), rule.distance), ("finish".to_string(), 1));
@@ -374,13 +374,49 @@ fn a_plan_resumes_without_the_step_a_disturbance_did_out_of_turn() {
         g.action(a).unwrap().apply(&mut u);
     }
     assert_eq!(policy.first(&u), None);
-    let (resumed, rule) = policy.resume(&g, &u, 3).unwrap();
+    let (resumed, rule) = policy.resume(&g, &u, 3, &policy.actions()).unwrap();
     assert_eq!(resumed.iter().map(|&a| g.action_name(a)).collect::<Vec<_>>(), ["go12"]);
     assert_eq!(rule.distance, 1);
     // Nowhere (no place, no stamp), no rest of the plan reaches the goal.
     let mut w = g.init().clone();
     w.clear();
-    assert_eq!(policy.resume(&g, &w, 4), None);
+    assert_eq!(policy.resume(&g, &w, 4, &policy.actions()), None);
+}
+
+/// Orders that each take a stack: the one the world starts with, or one opened.
+const STACKS_DOMAIN: &str = "(define (domain stacks) (:requirements :strips)
+  (:predicates (stack) (no-stack) (waiting-a) (waiting-b) (started-a) (started-b) (done))
+  (:action open :precondition (no-stack) :effect (and (stack) (not (no-stack))))
+  (:action start-a :precondition (and (stack) (waiting-a))
+    :effect (and (started-a) (no-stack) (not (stack)) (not (waiting-a))))
+  (:action start-b :precondition (and (stack) (waiting-b))
+    :effect (and (started-b) (no-stack) (not (stack)) (not (waiting-b))))
+  (:action finish :precondition (and (started-a) (started-b)) :effect (done)))";
+const STACKS_PROBLEM: &str =
+    "(define (problem p) (:domain stacks) (:init (stack) (waiting-a) (waiting-b)) (:goal (done)))";
+
+#[test]
+fn a_plan_resumes_with_the_step_that_makes_its_next_one_possible_again() {
+    // An agent starts order b out of turn on the stack the plan meant for a: the
+    // plan's next step cannot be done, but is one of the tree's actions away (a stack
+    // opened), and b's own turn is then left out.
+    let g = Grounding::new(&problem_of(STACKS_DOMAIN, STACKS_PROBLEM)).unwrap();
+    let id = |name: &str| (0..g.actions().len() as u32).find(|&a| g.action_name(a) == name).unwrap();
+    let plan = [id("start-a"), id("open"), id("start-b"), id("finish")];
+    let policy = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
+    let mut t = g.init().clone();
+    g.action(id("start-b")).unwrap().apply(&mut t);
+    assert_eq!(policy.first(&t), None);
+    let (resumed, rule) = policy.resume(&g, &t, 4, &policy.actions()).expect("the plan's rest reaches the goal");
+    let names: Vec<String> = resumed.iter().map(|&a| g.action_name(a)).collect();
+    assert_eq!(names, ["open", "start-a"]);
+    assert_eq!((g.action_name(rule.action), rule.distance), ("finish".to_string(), 1));
+    // The closed tree reaches the goal from there by that way.
+    let mut closed = policy.clone();
+    regress::close(&g, &mut closed, &Budget::default()).unwrap();
+    let path = closed.path(&g, &t);
+    assert!(g.goal_holds(path.last().unwrap()), "{} states", path.len());
+    assert_eq!(path.len(), 4);
 }
 
 #[test]

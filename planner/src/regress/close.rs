@@ -1,10 +1,10 @@
 //! Closing a regression tree over disturbances ([`close`]), or the rules in front of
 //! another tree ([`close_with`]): see the docs of [`crate::regress`].
 
-use std::collections::HashSet;
+use std::collections::{HashSet, VecDeque};
 use std::time::Instant;
 
-use super::way_back::way_back;
+use super::way_back::{near_way_back, way_back};
 use super::{Policy, successor};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
@@ -205,6 +205,15 @@ pub fn close_with(
 }
 
 /// One pass of [`close_with`]: false when a budget ran out.
+///
+/// The states where the tree fails are served in two rounds: first those with a way
+/// back that needs no new plan ([`near_way_back`]: a few actions, or the tree's own
+/// plan rejoined), at every depth; then, in the order they were met, those that need a
+/// new plan to the goal, whose search takes many times longer and whose rules take
+/// many more nodes. So a few such states (in openstacks, a machine set up out of turn
+/// from the initial state: a new plan of a hundred steps each) do not use up the time
+/// and the nodes that would have served many states a few of the plan's steps away (an
+/// order started out of turn).
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -227,6 +236,9 @@ fn pass(
     let mut acts = tree.actions(policy);
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
+    // States whose only ways back need a new plan, with their depth and the state the
+    // disturbance came from: served once no other state is left.
+    let mut later: VecDeque<(usize, State, State)> = VecDeque::new();
     let over = |d: &Closed, size: usize| {
         if d.plans >= budget.plans {
             Some(Stop::Plans)
@@ -255,64 +267,118 @@ fn pass(
                     if ever.insert(t.clone()) {
                         done.states += 1;
                     }
-                    let (mut path, mut reached) = tree.run(g, policy, &t)?;
-                    let mut added = false;
-                    // The tree's size with a way back's rules, counted once.
-                    let mut grown = None;
-                    if !reached {
-                        let own = tree.actions(policy);
-                        if policy.push_undo(g, &levels[depth][k].0, &t, &own) {
-                            let (undone, ok) = tree.run(g, policy, &t)?;
-                            if ok {
-                                done.undo += 1;
-                                (path, reached) = (undone, true);
-                            } else {
-                                policy.pop_undo();
+                    let from = levels[depth][k].0.clone();
+                    match serve(g, policy, tree, budget, done, (&from, &t), &mut size, false)? {
+                        Served::Later => later.push_back((depth, from, t)),
+                        Served::Not => {}
+                        Served::Path(path, added) => {
+                            follow(&mut levels, &mut seen, depth, t, path);
+                            if added && more_actions(&mut acts, tree.actions(policy)) {
+                                // New actions: first in the states looked at before.
+                                continue 'scan;
                             }
                         }
-                        if !reached {
-                            let back = way_back(g, policy, &levels[depth][k].0, &t, &own, budget, done);
-                            let Some((steps, rule)) = back else { continue };
-                            let Some(trace) = Trace::from_state(g, &t, &steps) else { continue };
-                            let before = policy.clone();
-                            policy.add_path(g, &trace, &rule);
-                            let nodes = tree.nodes(g, policy);
-                            if nodes.saturating_sub(size) > budget.nodes / WAY_BACK_SHARE {
-                                // One hard state would use up the nodes meant for many.
-                                *policy = before;
-                                done.too_long += 1;
-                                continue;
-                            }
-                            grown = Some(nodes);
-                            done.plans += 1;
-                            path = tree.run(g, policy, &t)?.0;
-                        }
-                        size = grown.unwrap_or_else(|| tree.nodes(g, policy));
-                        added = true;
-                    }
-                    if let Some(level) = levels.get_mut(depth + 1) {
-                        level.push((t, 0));
-                        for p in path {
-                            if seen.insert(p.clone()) {
-                                level.push((p, 0));
-                            }
-                        }
-                    }
-                    let grown = acts.len();
-                    if added {
-                        for x in tree.actions(policy) {
-                            if !acts.contains(&x) {
-                                acts.push(x);
-                            }
-                        }
-                    }
-                    if acts.len() > grown {
-                        // New actions: first in the states looked at before.
-                        continue 'scan;
                     }
                 }
             }
         }
-        return Ok(true);
+        let Some((depth, from, t)) = later.pop_front() else { return Ok(true) };
+        if let Some(stop) = over(done, size) {
+            done.stopped = Some(stop);
+            return Ok(false);
+        }
+        if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, true)? {
+            follow(&mut levels, &mut seen, depth, t, path);
+            if added {
+                more_actions(&mut acts, tree.actions(policy));
+            }
+        }
     }
+}
+
+/// Puts `t`, a state `depth` disturbances led to, and the states the tree passes
+/// through from it into the next level, where there is one.
+fn follow(levels: &mut [Vec<(State, usize)>], seen: &mut HashSet<State>, depth: usize, t: State, path: Vec<State>) {
+    if let Some(level) = levels.get_mut(depth + 1) {
+        level.push((t, 0));
+        for p in path {
+            if seen.insert(p.clone()) {
+                level.push((p, 0));
+            }
+        }
+    }
+}
+
+/// Appends to `acts` those of `now` it does not have; whether there were any.
+fn more_actions(acts: &mut Vec<ActionId>, now: Vec<ActionId>) -> bool {
+    let before = acts.len();
+    for x in now {
+        if !acts.contains(&x) {
+            acts.push(x);
+        }
+    }
+    acts.len() > before
+}
+
+/// What [`serve`] did for a state a disturbance led to.
+enum Served {
+    /// The tree reaches the goal from it, or does after the rules added: the states
+    /// it passes through, and whether rules were added.
+    Path(Vec<State>, bool),
+    /// The tree fails there and its only ways back need a new plan: left for later.
+    Later,
+    /// The tree fails there and no way back was added (none, or too long).
+    Not,
+}
+
+/// Serves `t`, the state a disturbance led to from `s`: where the tree fails from it,
+/// adds an undo rule or the rules of a way back (with `new_plan` false only one that
+/// needs no new plan), and counts what it did in `done` and the tree's `size`.
+#[allow(clippy::too_many_arguments)]
+fn serve(
+    g: &Grounding,
+    policy: &mut Policy,
+    tree: &mut dyn Closable,
+    budget: &Budget,
+    done: &mut Closed,
+    (s, t): (&State, &State),
+    size: &mut usize,
+    new_plan: bool,
+) -> Result<Served, PlanError> {
+    let (path, reached) = tree.run(g, policy, t)?;
+    if reached {
+        return Ok(Served::Path(path, false));
+    }
+    let own = tree.actions(policy);
+    if policy.push_undo(g, s, t, &own) {
+        let (undone, ok) = tree.run(g, policy, t)?;
+        if ok {
+            done.undo += 1;
+            *size = tree.nodes(g, policy);
+            return Ok(Served::Path(undone, true));
+        }
+        policy.pop_undo();
+    }
+    let back = if new_plan {
+        way_back(g, policy, s, t, &own, budget, done)
+    } else {
+        match near_way_back(g, policy, s, t, &own, budget) {
+            Some(way) => Some(way),
+            None => return Ok(Served::Later),
+        }
+    };
+    let Some((steps, rule)) = back else { return Ok(Served::Not) };
+    let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
+    let before = policy.clone();
+    policy.add_path(g, &trace, &rule);
+    let nodes = tree.nodes(g, policy);
+    if nodes.saturating_sub(*size) > budget.nodes / WAY_BACK_SHARE {
+        // One hard state would use up the nodes meant for many.
+        *policy = before;
+        done.too_long += 1;
+        return Ok(Served::Not);
+    }
+    *size = nodes;
+    done.plans += 1;
+    Ok(Served::Path(tree.run(g, policy, t)?.0, true))
 }

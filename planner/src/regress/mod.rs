@@ -42,19 +42,25 @@
 //! disturbances deep, the states with fewer disturbances first. A new action that a
 //! way back brings is tried at once in every state looked at before, the nearest the
 //! initial state first (an agent can do it there too). The way back is a path of at
-//! most two actions to a state where a rule holds; else a longer one found by search on the unmet conditions of the
-//! rules ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of
-//! turn, the plan's later steps lead back to its rules long before the goal), taken
-//! when it leaves the world no farther from the goal than before the disturbance;
-//! else the rest of a plan already added without the steps that can no longer be done
-//! ([`Policy::resume`]: the disturbance did one of them for good), taken on the same
-//! condition, with no search; else the cheapest of these ways and a new plan to the
-//! goal (greedy best-first search with h_FF), where a way costs its steps to the goal
-//! plus one for every action the tree does not have yet, the new plan on a tie, since
-//! rules regressed from the goal hold in more states. The ways back try the tree's own
-//! actions before any others, and the cost counts new ones, because a tree with fewer
-//! distinct actions gives an external agent fewer to do, and its closure fewer states
-//! to look at.
+//! most two actions to a state where a rule holds; else the rest of a plan already
+//! added without the steps that were done out of turn ([`Policy::resume`]: a step
+//! that cannot be done is left out where what it adds holds, or done after the one
+//! action of the tree that makes it possible again, such as a stack opened for an
+//! order when an agent started another on the one the plan meant for it), taken when
+//! it leaves the world no farther from the goal than before the disturbance, with no
+//! search; else a longer one found by search on the unmet conditions of the rules
+//! ([`Policy::rejoin`]: where a disturbance did a step of a long plan out of turn, the
+//! plan's later steps lead back to its rules long before the goal), taken on the same
+//! condition; else the cheapest of these ways and a new plan to the goal (greedy
+//! best-first search with h_FF), where a way costs its steps to the goal plus one for
+//! every action the tree does not have yet, the new plan on a tie, since rules
+//! regressed from the goal hold in more states. The states that need a new plan are
+//! served last, once every state with a shorter way back was: a new plan's search
+//! takes many times as long and its rules many more nodes, and a few such states
+//! would otherwise use up the time and the nodes meant for many others. The ways back
+//! try the tree's own actions before any others, and the cost counts new ones, because
+//! a tree with fewer distinct actions gives an external agent fewer to do, and its
+//! closure fewer states to look at.
 //!
 //! Before any of these, an *undo rule* ([`Policy::undo_rules`]): where the agent's
 //! action can be undone by one action (an object picked up out of turn, put back),

@@ -1,7 +1,7 @@
 //! Ways back from a state a disturbance led to, to a state where one of the tree's
-//! rules holds: a short path ([`repair`]), a search on the rules' unmet conditions
-//! ([`Policy::rejoin`]), the rest of a plan already added ([`Policy::resume`]), or a
-//! new plan to the goal ([`way_back`] chooses).
+//! rules holds: a short path ([`repair`]), the rest of a plan already added
+//! ([`Policy::resume`]), a search on the rules' unmet conditions ([`Policy::rejoin`]),
+//! or a new plan to the goal ([`way_back`] chooses).
 
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
@@ -19,17 +19,20 @@ const REJOIN_STATES: usize = 5_000;
 
 impl Policy {
     /// A way back to the rules from `t` that follows the end of one of the plans
-    /// added, leaving out the steps that cannot be done in turn, and the rule it leads
-    /// to: where a disturbance did a step out of turn (a product made, an order
-    /// started) that no action undoes, the plan's rest without that step often still
-    /// reaches the goal, found with no search, and soon meets the plan's own states.
+    /// added, and the rule it leads to: where a disturbance did a step out of turn (a
+    /// product made, an order started) that no action undoes, the plan's rest without
+    /// that step often still reaches the goal, found with no search, and soon meets
+    /// the plan's own states. A step that cannot be done is left out where what it
+    /// adds holds (done out of turn, or no longer needed), else done after the first of
+    /// the actions `own` that makes it possible again (an order the agent started took
+    /// the stack the plan opened for another: one more opened), else left out.
     /// `distance` is how far from the goal the tree was before the disturbance: the
     /// first plan and the eight latest are tried from that far before their end (and
     /// up to two steps earlier, the latest start whose rest reaches the goal); the way
     /// is cut at the first state where a rule holds (or the goal), and the shortest way
     /// to the goal kept. A few runs along each plan: no search.
     #[must_use]
-    pub fn resume(&self, g: &Grounding, t: &State, distance: u32) -> Option<(Vec<ActionId>, Rule)> {
+    pub fn resume(&self, g: &Grounding, t: &State, distance: u32, own: &[ActionId]) -> Option<(Vec<ActionId>, Rule)> {
         let n = self.plans.len();
         let recent = n.saturating_sub(RESUME_PLANS).max(1);
         let mut best: Option<Vec<ActionId>> = None;
@@ -42,10 +45,23 @@ impl Policy {
                     if g.goal_holds(&s) {
                         break;
                     }
-                    if let Some(x) = g.action(a).filter(|x| x.applicable(&s)) {
-                        g.apply(x, &mut s);
-                        done.push(a);
+                    let Some(x) = g.action(a) else { continue };
+                    if !x.applicable(&s) {
+                        // Done out of turn (what it adds holds), or one action of the
+                        // tree's away: a stack opened for an order another one took.
+                        if x.add.iter().all(|&atom| s.holds(atom)) {
+                            continue;
+                        }
+                        let Some((b, after)) =
+                            own.iter().find_map(|&b| successor(g, b, &s).filter(|u| x.applicable(u)).map(|u| (b, u)))
+                        else {
+                            continue;
+                        };
+                        s = after;
+                        done.push(b);
                     }
+                    g.apply(x, &mut s);
+                    done.push(a);
                 }
                 if g.goal_holds(&s) {
                     if best.as_ref().is_none_or(|b| done.len() < b.len()) {
@@ -206,11 +222,71 @@ impl<'r> Nearest<'r> {
     }
 }
 
-/// A way back for `t`, the state a disturbance led to from `s`: a short way back to the
-/// rules; else a longer way back, or the rest of a plan, that is no farther from the
-/// goal than the tree was before the disturbance; else the cheapest of those and a new
-/// plan (see the module docs). `own` is the tree's actions. `None` when there is none
-/// (counted in `done` as a dead end, or as given up when the search ran out of time).
+/// A way back: its actions, and the rule it leads to.
+pub(super) type Way = (Vec<ActionId>, Rule);
+
+/// The ways back for `t`, the state a disturbance led to from `s`, that need no new
+/// plan: a short way back to the rules, else a longer way back or the rest of a plan
+/// that is no farther from the goal than the tree was before the disturbance
+/// (`Ok`); else (`Err`) the cheapest of those found, to weigh against a new plan.
+fn near(
+    g: &Grounding,
+    policy: &Policy,
+    s: &State,
+    t: &State,
+    own: &[ActionId],
+    deadline: Option<Instant>,
+) -> Result<Way, Option<Way>> {
+    if let Some(way) = repair(g, policy, t, own) {
+        return Ok(way);
+    }
+    let before = policy.first(s).map(|r| r.distance);
+    let no_farther = |way: &Option<Way>| {
+        way.as_ref().zip(before).is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
+    };
+    // The rest of a plan first: a few runs along it, where the search below stores up
+    // to thousands of states, scoring each against every rule.
+    let resumed = before.and_then(|d| policy.resume(g, t, d, own));
+    if no_farther(&resumed) {
+        return resumed.ok_or(None);
+    }
+    let rejoined = policy.rejoin(g, t, own, deadline);
+    if no_farther(&rejoined) {
+        return rejoined.ok_or(None);
+    }
+    Err(cheaper(own, resumed, rejoined))
+}
+
+/// The cheaper of two ways, where a way costs its length to the goal plus one for every
+/// action it brings that the tree (`own`) does not have yet; `a` on a tie.
+fn cheaper(own: &[ActionId], a: Option<Way>, b: Option<Way>) -> Option<Way> {
+    let cost = |(steps, r): &Way| steps.len() + r.distance as usize + novel(steps, own);
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
+        (a, b) => a.or(b),
+    }
+}
+
+/// A way back for `t` that needs no new plan ([`near`]), or `None`: [`close`] serves
+/// the states that have one before those that need a new plan to the goal, whose
+/// rules take many more nodes and whose search takes many times longer.
+///
+/// [`close`]: super::close
+pub(super) fn near_way_back(
+    g: &Grounding,
+    policy: &Policy,
+    s: &State,
+    t: &State,
+    own: &[ActionId],
+    budget: &Budget,
+) -> Option<Way> {
+    near(g, policy, s, t, own, search_deadline(budget.deadline, Instant::now(), false)).ok()
+}
+
+/// A way back for `t`, the state a disturbance led to from `s`: one that needs no new
+/// plan ([`near`]); else the cheapest of those and a new plan (see the module docs).
+/// `own` is the tree's actions. `None` when there is none (counted in `done` as a dead
+/// end, or as given up when the search ran out of time).
 pub(super) fn way_back(
     g: &Grounding,
     policy: &Policy,
@@ -219,55 +295,32 @@ pub(super) fn way_back(
     own: &[ActionId],
     budget: &Budget,
     done: &mut Closed,
-) -> Option<(Vec<ActionId>, Rule)> {
+) -> Option<Way> {
     let deadline = search_deadline(budget.deadline, Instant::now(), false);
-    repair(g, policy, t, own).or_else(|| {
-        let rejoined = policy.rejoin(g, t, own, deadline);
-        // No nearer the goal than before the disturbance: as good as the plan the tree
-        // was on, and no search needed.
-        let before = policy.first(s).map(|r| r.distance);
-        let no_farther = |way: &Option<(Vec<ActionId>, Rule)>| {
-            way.as_ref().zip(before).is_some_and(|((p, r), d)| p.len() + r.distance as usize <= d as usize)
-        };
-        if no_farther(&rejoined) {
-            return rejoined;
+    let known = match near(g, policy, s, t, own, deadline) {
+        Ok(way) => return Some(way),
+        Err(known) => known,
+    };
+    // Both `None` without a closure deadline, else both `Some`.
+    let deadline =
+        if known.is_some() { search_deadline(budget.deadline, Instant::now(), true).min(deadline) } else { deadline };
+    let options = SearchOptions { deadline, ..SearchOptions::default() };
+    match search::gbfs_from(g, t, &options) {
+        // On a tie the plan: rules regressed from the goal hold in more states than
+        // those from another rule.
+        Ok(found) => cheaper(own, Some((found.plan, Rule::goal(g))), known),
+        Err(PlanError::NoPlan(_)) if known.is_none() => {
+            done.dead_ends += 1;
+            None
         }
-        // A way's length to the goal, plus one for every action it brings that the tree
-        // does not have yet.
-        let cost = |(steps, r): &(Vec<ActionId>, Rule)| steps.len() + r.distance as usize + novel(steps, own);
-        let cheaper = |a: Option<(Vec<ActionId>, Rule)>, b: Option<(Vec<ActionId>, Rule)>| match (a, b) {
-            (Some(a), Some(b)) => Some(if cost(&b) < cost(&a) { b } else { a }),
-            (a, b) => a.or(b),
-        };
-        let resumed = before.and_then(|d| policy.resume(g, t, d));
-        if no_farther(&resumed) {
-            return cheaper(resumed, rejoined);
-        }
-        let known = cheaper(resumed, rejoined);
-        // Both `None` without a closure deadline, else both `Some`.
-        let deadline = if known.is_some() {
-            search_deadline(budget.deadline, Instant::now(), true).min(deadline)
-        } else {
-            deadline
-        };
-        let options = SearchOptions { deadline, ..SearchOptions::default() };
-        match search::gbfs_from(g, t, &options) {
-            // On a tie the plan: rules regressed from the goal hold in more states than
-            // those from another rule.
-            Ok(found) => cheaper(Some((found.plan, Rule::goal(g))), known),
-            Err(PlanError::NoPlan(_)) if known.is_none() => {
-                done.dead_ends += 1;
-                None
+        // One hard state does not end the closure: the others may be easy.
+        Err(_) => {
+            if known.is_none() {
+                done.given_up += 1;
             }
-            // One hard state does not end the closure: the others may be easy.
-            Err(_) => {
-                if known.is_none() {
-                    done.given_up += 1;
-                }
-                known
-            }
+            known
         }
-    })
+    }
 }
 
 /// How many distinct actions of `steps` are not in `own`.
