@@ -58,7 +58,7 @@ pub(super) fn closed_to_fit<C: Catalog>(
         if options.close_nodes == 0 || options.fit.strict {
             return Ok(bare);
         }
-        return one_act(g, plain, bare, options.close_nodes, make, &measure);
+        return one_act(g, plain, bare, (options.close_nodes, until), make, &measure);
     }
     let budget = fit::first_budget(options, bare.fit.size);
     let mut policy = plain.clone();
@@ -92,18 +92,20 @@ pub(super) fn closed_to_fit<C: Catalog>(
 /// no closure over three acts fits, and this one is small (a return rule has the
 /// conditions of one action, where a way back's rules carry all those of the rule it
 /// leads to). They may add an eighth ([`crate::regress::ONE_ACT_SHARE`]) of the
-/// closure's node budget `close_nodes`, or of the tree's nodes where it has more.
+/// closure's node budget `close_nodes`, or of the tree's nodes where it has more,
+/// within the closure's states and its time (`until`).
 fn one_act<C: Catalog>(
     g: &Arc<Grounding>,
     plain: &Policy,
     bare: Plan<C>,
-    close_nodes: usize,
+    (close_nodes, until): (usize, Option<Instant>),
     make: &Make<'_, C>,
     measure: &dyn Fn(Plan<C>) -> Result<Plan<C>, PlanError>,
 ) -> Result<Plan<C>, PlanError> {
     let mut policy = plain.clone();
     let nodes = bare.fit.size.nodes.max(close_nodes) / crate::regress::ONE_ACT_SHARE;
-    let done = crate::regress::close_one_act(g, &mut policy, nodes);
+    let budget = crate::regress::Budget { nodes, deadline: until, ..crate::regress::Budget::default() };
+    let done = crate::regress::close_one_act(g, &mut policy, &budget);
     if done.rules == 0 {
         return Ok(bare);
     }

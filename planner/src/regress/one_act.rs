@@ -15,8 +15,9 @@
 //! from every state it can come from.
 
 use std::collections::HashSet;
+use std::time::Instant;
 
-use super::{Policy, Rule, successor};
+use super::{Budget, Policy, Rule, successor};
 use crate::ground::{ActionId, Grounding, Lit};
 use crate::state::State;
 
@@ -37,14 +38,16 @@ pub struct OneAct {
 
 /// Adds return rules to `policy` (see the module docs): from each state the tree passes
 /// through from the initial state, each of the tree's actions an agent can do there,
-/// in order; where no rule (nor return rule) holds in the state it leads to, the first
-/// of the tree's own actions applicable there that makes one of its own conditions
-/// false, has no conditional effects, keeps the return rules from taking turns
+/// in order; where no rule (nor return rule) holds in the state it leads to, an action
+/// that makes true again a fact the act made false (or false again one it made true),
+/// the tree's own first, that makes one of its own conditions false, has no
+/// conditional effects, keeps the return rules from taking turns
 /// ([`Policy::returns_take_turns`]) and leads to a state where a rule of the plan holds.
 /// From there the rules reach the goal (each leads to one nearer it; see the module
 /// docs of [`crate::regress`]). Stops once the rules would add more than
-/// `max_nodes` planner nodes (each `Sequence`, its conditions and its action).
-pub fn close_one_act(g: &Grounding, policy: &mut Policy, max_nodes: usize) -> OneAct {
+/// `budget.nodes` planner nodes (each `Sequence`, its conditions and its action), once
+/// it has looked at `budget.states` states one act away, or at `budget.deadline`.
+pub fn close_one_act(g: &Grounding, policy: &mut Policy, budget: &Budget) -> OneAct {
     let mut done = OneAct::default();
     let own = policy.actions();
     let mut seen: HashSet<State> = HashSet::new();
@@ -55,10 +58,14 @@ pub fn close_one_act(g: &Grounding, policy: &mut Policy, max_nodes: usize) -> On
             if !seen.insert(t.clone()) || policy.next(&t).is_some() || g.goal_holds(&t) {
                 continue;
             }
+            if seen.len() > budget.states || budget.deadline.is_some_and(|d| Instant::now() >= d) {
+                done.budget_reached = true;
+                return done;
+            }
             done.failing += 1;
             let Some(rule) = return_rule(g, policy, &s, &t, &own) else { continue };
             let cost = 2 + rule.when.len();
-            if added + cost > max_nodes {
+            if added + cost > budget.nodes {
                 done.budget_reached = true;
                 return done;
             }
@@ -71,9 +78,8 @@ pub fn close_one_act(g: &Grounding, policy: &mut Policy, max_nodes: usize) -> On
     done
 }
 
-/// The return rule for `t`, one act from `s` (see [`close_one_act`]): one of `own`
-/// where one serves, else an action that makes a fact of `s` true again that `t` lacks
-/// (or false again).
+/// The return rule for `t`, one act from `s` (see [`close_one_act`]), if an action
+/// serves.
 fn return_rule(g: &Grounding, policy: &Policy, s: &State, t: &State, own: &[ActionId]) -> Option<Rule> {
     let serves = |u: ActionId| -> Option<Rule> {
         let x = g.action(u).filter(|x| x.cond.is_empty() && x.applicable(t))?;
@@ -90,9 +96,9 @@ fn return_rule(g: &Grounding, policy: &Policy, s: &State, t: &State, own: &[Acti
     };
     let lost = s.iter().filter(|&a| !t.holds(a)).map(|atom| Lit { atom, positive: true });
     let gained = t.iter().filter(|&a| !s.holds(a)).map(|atom| Lit { atom, positive: false });
-    own.iter().copied().find_map(serves).or_else(|| {
-        lost.chain(gained).find_map(|l| g.achievers(l).iter().copied().filter(|u| !own.contains(u)).find_map(serves))
-    })
+    let undoing: Vec<ActionId> = lost.chain(gained).flat_map(|l| g.achievers(l).iter().copied()).collect();
+    let theirs = undoing.iter().copied().filter(|u| own.contains(u));
+    theirs.chain(undoing.iter().copied().filter(|u| !own.contains(u))).find_map(serves)
 }
 
 impl Policy {
@@ -179,7 +185,8 @@ pub(crate) mod star {
         let to_c = successor(&g, named(&g, "move(x, c)"), g.init()).unwrap();
         let reaches = |p: &Policy, s: &State| p.path(&g, s).last().is_some_and(|l| g.goal_holds(l));
         assert!(!reaches(&policy, &to_b) && !reaches(&policy, &to_c));
-        let done = close_one_act(&g, &mut policy, 100);
+        let room = |nodes| Budget { nodes, ..Budget::default() };
+        let done = close_one_act(&g, &mut policy, &room(100));
         assert!(done.rules >= 2 && !done.budget_reached, "{done:?}");
         assert!(reaches(&policy, &to_b) && reaches(&policy, &to_c));
         // b to x is the tree's own action; c to x is not, and comes in only for the
@@ -190,7 +197,7 @@ pub(crate) mod star {
         assert_eq!(policy.path(&g, g.init()).len(), plan.len() + 1);
         // No room for a rule: none added.
         let mut bare = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
-        let none = close_one_act(&g, &mut bare, 2);
+        let none = close_one_act(&g, &mut bare, &room(2));
         assert!(none.rules == 0 && none.budget_reached && bare.undo_rules().is_empty(), "{none:?}");
     }
 
