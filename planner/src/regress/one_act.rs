@@ -25,6 +25,12 @@ use crate::state::State;
 /// or of the tree's nodes where it has more.
 pub const ONE_ACT_SHARE: usize = 8;
 
+/// States one act away [`close_one_act`] looks at, at most, per state of the tree's
+/// path: a robot on a grid has four moves. Where actions are many (openstacks: an
+/// order can be started or a product made from most states) the rules would be scanned
+/// for tens of thousands of states for next to no return rule.
+pub const STATES_PER_STEP: usize = 4;
+
 /// What [`close_one_act`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OneAct {
@@ -46,19 +52,22 @@ pub struct OneAct {
 /// From there the rules reach the goal (each leads to one nearer it; see the module
 /// docs of [`crate::regress`]). Stops once the rules would add more than
 /// `budget.nodes` planner nodes (each `Sequence`, its conditions and its action), once
-/// it has looked at `budget.states` states one act away, or at `budget.deadline`.
+/// it has looked at `budget.states` states one act away or [`STATES_PER_STEP`] per
+/// state of the path, or at `budget.deadline`.
 pub fn close_one_act(g: &Grounding, policy: &mut Policy, budget: &Budget) -> OneAct {
     let mut done = OneAct::default();
     let own = policy.actions();
     let mut seen: HashSet<State> = HashSet::new();
     let mut added = 0;
-    for s in policy.path(g, g.init()) {
+    let path = policy.path(g, g.init());
+    let states = budget.states.min(path.len().saturating_mul(STATES_PER_STEP));
+    for s in path {
         for &a in &own {
             let Some(t) = successor(g, a, &s) else { continue };
             if !seen.insert(t.clone()) || policy.next(&t).is_some() || g.goal_holds(&t) {
                 continue;
             }
-            if seen.len() > budget.states || budget.deadline.is_some_and(|d| Instant::now() >= d) {
+            if seen.len() > states || budget.deadline.is_some_and(|d| Instant::now() >= d) {
                 done.budget_reached = true;
                 return done;
             }
