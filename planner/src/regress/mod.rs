@@ -88,7 +88,7 @@ mod way_back;
 pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, Stop, close, close_with};
 #[cfg(test)]
 pub(crate) use one_act::star as one_act_star;
-pub use one_act::{ONE_ACT_SHARE, OneAct, close_one_act};
+pub use one_act::{ONE_ACT_SHARE, OneAct, STATES_PER_STEP, close_one_act};
 
 use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;

@@ -47,8 +47,8 @@ pub struct OneAct {
 /// in order; where no rule (nor return rule) holds in the state it leads to, an action
 /// that makes true again a fact the act made false (or false again one it made true),
 /// the tree's own first, that makes one of its own conditions false, has no
-/// conditional effects, keeps the return rules from taking turns
-/// ([`Policy::returns_take_turns`]) and leads to a state where a rule of the plan holds.
+/// conditional effects, forms no cycle with the other return rules in which they could
+/// take turns, and leads to a state where a rule of the plan holds.
 /// From there the rules reach the goal (each leads to one nearer it; see the module
 /// docs of [`crate::regress`]). Stops once the rules would add more than
 /// `budget.nodes` planner nodes (each `Sequence`, its conditions and its action), once
