@@ -36,7 +36,8 @@ pub(super) type Make<'a, C> = dyn Fn(&Policy, Option<Closed>) -> Result<Plan<C>,
 /// fits); where it does not fit, cut to fit [`Options::fit`] by the disturbed episodes
 /// its groups of rules save per byte, or by the closure's own order where that keeps as
 /// many of the planner's own episodes (see the module docs); without any closure where
-/// not one group fits.
+/// not one group fits. Where the tree does not fit even without a closure (and the fit
+/// is not strict), it gets only the small closure of return rules ([`one_act`]).
 ///
 /// # Errors
 /// From `make` and the closure.
@@ -53,7 +54,11 @@ pub(super) fn closed_to_fit<C: Catalog>(
     };
     let bare = measure(make(plain, None)?)?;
     if options.close_nodes == 0 || !bare.fit.fits {
-        return Ok(Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..bare.fit }, ..bare });
+        let bare = Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..bare.fit }, ..bare };
+        if options.close_nodes == 0 || options.fit.strict {
+            return Ok(bare);
+        }
+        return one_act(g, plain, bare, (options.close_nodes, until), make, &measure);
     }
     let budget = fit::first_budget(options, bare.fit.size);
     let mut policy = plain.clone();
@@ -80,6 +85,40 @@ pub(super) fn closed_to_fit<C: Catalog>(
     }
     chosen.first = bare.first;
     Ok(chosen)
+}
+
+/// `bare`, the tree of `plain` that does not fit even without a closure, with the
+/// rules back by one action of [`crate::regress::close_one_act`], where it adds any:
+/// no closure over three acts fits, and this one is small (a return rule has the
+/// conditions of one action, where a way back's rules carry all those of the rule it
+/// leads to). They may add an eighth ([`crate::regress::ONE_ACT_SHARE`]) of the
+/// closure's node budget `close_nodes`, or of the tree's nodes where it has more,
+/// within the closure's states and its time (`until`).
+fn one_act<C: Catalog>(
+    g: &Arc<Grounding>,
+    plain: &Policy,
+    bare: Plan<C>,
+    (close_nodes, until): (usize, Option<Instant>),
+    make: &Make<'_, C>,
+    measure: &dyn Fn(Plan<C>) -> Result<Plan<C>, PlanError>,
+) -> Result<Plan<C>, PlanError> {
+    let mut policy = plain.clone();
+    let nodes = bare.fit.size.nodes.max(close_nodes) / crate::regress::ONE_ACT_SHARE;
+    let budget = crate::regress::Budget { nodes, deadline: until, ..crate::regress::Budget::default() };
+    let done = crate::regress::close_one_act(g, &mut policy, &budget);
+    if done.rules == 0 {
+        return Ok(bare);
+    }
+    let closed = Closed {
+        states: done.failing,
+        undo: done.rules,
+        complete: !done.budget_reached,
+        stopped: done.budget_reached.then_some(crate::regress::Stop::Nodes),
+        one_act: true,
+        ..Closed::default()
+    };
+    let p = measure(make(&policy, Some(closed))?)?;
+    Ok(Plan { first: bare.first, ..p })
 }
 
 /// The tree of `policy` with group 0 and as many of `order`'s groups, from its start,
@@ -259,5 +298,36 @@ mod tests {
         let (b, k) = (reached(&budgets, &g).unwrap(), reached(&groups, &g).unwrap());
         assert!(b < k && k == 20, "the planner's own episodes: by budgets {b}, by episodes {k}");
         assert!(benchmark(&budgets) <= benchmark(&groups));
+    }
+
+    #[test]
+    fn a_tree_that_does_not_fit_gets_rules_back_by_one_action() {
+        use crate::regress::one_act_star as star;
+        let d = parse_domain("domain.pddl", star::DOMAIN).unwrap();
+        let problem = parse_problem("star.pddl", star::STAR, &d).unwrap();
+        let g = Arc::new(Grounding::new(&problem).unwrap());
+        let c = Arc::new(PddlCatalog::new(&problem));
+        let name = |n: &str| (0..g.actions().len()).map(|k| k as u32).find(|&a| g.action_name(a) == n).unwrap();
+        let plan: Vec<u32> = ["move(x, a)", "move(a, x)", "move(x, b)", "move(b, x)", "move(x, c)"].map(name).to_vec();
+        let trace = Trace::new(&g, &plan).unwrap();
+        // Room for no tree at all: without a closure, as before, a disturbed episode
+        // whose agent moves the robot to b or c before a is visited fails.
+        let tiny = Options { fit: Fit { bytes: 16, ..Fit::DEFAULT }, ..Options::default() };
+        let bare = regression(g.clone(), c.clone(), Options { close_nodes: 0, ..tiny }, &trace, None).unwrap();
+        let back = regression(g.clone(), c.clone(), tiny, &trace, None).unwrap();
+        assert!(!back.fit.fits && back.closed.is_some_and(|c| c.one_act && c.undo >= 2), "{:?}", back.closed);
+        assert_eq!(back.executed, bare.executed);
+        let settings = crate::coverage::Settings::default();
+        let reached = |p: &Plan<PddlCatalog>| {
+            crate::coverage::disturbed(&p.nodes, &p.values, c.as_ref(), &g, p.goal_ticks.unwrap(), &settings)
+                .unwrap()
+                .reached
+        };
+        let (b, k) = (reached(&bare), reached(&back));
+        assert!(b < k && k == settings.episodes, "disturbed episodes reaching the goal: {b} bare, {k} with the rules");
+        // A strict fit gets no closure: the tree is refused elsewhere.
+        let strict = Options { fit: Fit { strict: true, ..tiny.fit }, ..tiny };
+        let p = regression(g.clone(), c.clone(), strict, &trace, None).unwrap();
+        assert!(p.closed.is_none());
     }
 }

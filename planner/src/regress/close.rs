@@ -62,6 +62,10 @@ pub struct Closed {
     /// back that was too long, or was cut short by its time or states and its rules did
     /// worse under disturbances than the tree alone.
     pub kept: bool,
+    /// Whether this is the closure of a tree over its node budget, over one act only
+    /// ([`super::close_one_act`]): [`Closed::states`] counts the states one act from the
+    /// tree's path where it failed, [`Closed::undo`] the rules back added for them.
+    pub one_act: bool,
 }
 
 /// The budget that ended a closure early ([`Closed::stopped`]).
@@ -93,6 +97,15 @@ impl std::fmt::Display for Closed {
     /// reached` (counts in words).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         use crate::wording::count;
+        if self.one_act {
+            write!(
+                f,
+                "closed over one act of disturbance: {} back by one action, for {} one act from the tree's path where it failed",
+                count(self.undo, "rule"),
+                count(self.states, "state")
+            )?;
+            return if self.complete { Ok(()) } else { write!(f, ", budget reached") };
+        }
         write!(
             f,
             "closed over disturbances: {} added from {} looked at",

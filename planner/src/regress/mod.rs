@@ -71,6 +71,13 @@
 //! (see [`Policy::undo_rules`]), and the tree acts on them only where no other rule
 //! holds, so the rules' progress argument above is untouched.
 //!
+//! A tree already over the node budget (a long plan's: visitall's 30x30 grid) gets
+//! none of these, only *return rules* ([`close_one_act`]): from the states one act of
+//! an agent leads to where no rule holds, one action (the tree's own where one serves)
+//! to a state where a rule holds, as a rule after all the others with that action's
+//! preconditions. They need not restore the state exactly, and may change a fact in
+//! opposite directions, but never form a cycle that could take turns for ever.
+//!
 //! All within a budget of plans, nodes and time (the tree is correct at every point,
 //! so running out of budget leaves a tree that is only less robust); a way back whose
 //! rules would take more than an eighth of the node budget is left out, so that a few
@@ -81,9 +88,13 @@
 
 mod close;
 mod groups;
+mod one_act;
 mod way_back;
 
 pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, Stop, close, close_with};
+#[cfg(test)]
+pub(crate) use one_act::star as one_act_star;
+pub use one_act::{ONE_ACT_SHARE, OneAct, STATES_PER_STEP, close_one_act};
 
 use crate::ground::{ActionId, Grounding, Lit};
 use crate::guide::Trace;
