@@ -219,14 +219,15 @@ pub fn close_with(
 
 /// One pass of [`close_with`]: false when a budget ran out.
 ///
-/// The states where the tree fails are served in two rounds: first those with a way
-/// back that needs no new plan ([`near_way_back`]: a few actions, or the tree's own
-/// plan rejoined), at every depth; then, in the order they were met, those that need a
-/// new plan to the goal, whose search takes many times longer and whose rules take
-/// many more nodes. So a few such states (in openstacks, a machine set up out of turn
-/// from the initial state: a new plan of a hundred steps each) do not use up the time
-/// and the nodes that would have served many states a few of the plan's steps away (an
-/// order started out of turn).
+/// The states where the tree fails are served depth by depth, in two rounds at each
+/// depth: first those with a way back that needs no new plan ([`near_way_back`]: a few
+/// actions, or the tree's own plan rejoined); then, in the order they were met, those
+/// that need a new plan to the goal, whose search takes many times longer and whose
+/// rules take many more nodes. So a few such states (in openstacks, a machine set up
+/// out of turn from the initial state: a new plan of a hundred steps each) do not use up
+/// the time and the nodes that would have served many states a few of the plan's steps
+/// away (an order started out of turn), and the rules still come nearest the tree's
+/// path first, the order in which a closure that does not fit is cut.
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -294,18 +295,22 @@ fn pass(
                     }
                 }
             }
-        }
-        let Some((depth, from, t)) = later.pop_front() else { return Ok(true) };
-        if let Some(stop) = over(done, size) {
-            done.stopped = Some(stop);
-            return Ok(false);
-        }
-        if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, true)? {
-            follow(&mut levels, &mut seen, depth, t, path);
-            if added {
-                more_actions(&mut acts, tree.actions(policy));
+            // This depth's states that need a new plan, before the next depth's.
+            let Some(i) = later.iter().position(|l| l.0 <= depth) else { continue };
+            let Some((depth, from, t)) = later.remove(i) else { continue };
+            if let Some(stop) = over(done, size) {
+                done.stopped = Some(stop);
+                return Ok(false);
             }
+            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, true)? {
+                follow(&mut levels, &mut seen, depth, t, path);
+                if added {
+                    more_actions(&mut acts, tree.actions(policy));
+                }
+            }
+            continue 'scan;
         }
+        return Ok(true);
     }
 }
 

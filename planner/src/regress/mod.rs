@@ -55,9 +55,9 @@
 //! best-first search with h_FF), where a way costs its steps to the goal plus one for
 //! every action the tree does not have yet, the new plan on a tie, since rules
 //! regressed from the goal hold in more states. The states that need a new plan are
-//! served last, once every state with a shorter way back was: a new plan's search
-//! takes many times as long and its rules many more nodes, and a few such states
-//! would otherwise use up the time and the nodes meant for many others. The ways back
+//! served after every state as many disturbances deep with a shorter way back: a new
+//! plan's search takes many times as long and its rules many more nodes, and a few
+//! such states would otherwise use up the time and the nodes meant for many others. The ways back
 //! try the tree's own actions before any others, and the cost counts new ones, because
 //! a tree with fewer distinct actions gives an external agent fewer to do, and its
 //! closure fewer states to look at.
