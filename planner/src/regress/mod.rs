@@ -57,10 +57,10 @@
 //! regressed from the goal hold in more states. The states that need a new plan are
 //! served after every state as many disturbances deep with a shorter way back: a new
 //! plan's search takes many times as long and its rules many more nodes, and a few
-//! such states would otherwise use up the time and the nodes meant for many others. The ways back
-//! try the tree's own actions before any others, and the cost counts new ones, because
-//! a tree with fewer distinct actions gives an external agent fewer to do, and its
-//! closure fewer states to look at.
+//! such states would otherwise use up the time and the nodes meant for many others.
+//! The ways back try the tree's own actions before any others, and the cost counts new
+//! ones, because a tree with fewer distinct actions gives an external agent fewer to
+//! do, and its closure fewer states to look at.
 //!
 //! Before any of these, an *undo rule* ([`Policy::undo_rules`]): where the agent's
 //! action can be undone by one action (an object picked up out of turn, put back),
@@ -92,11 +92,25 @@ mod one_act;
 mod way_back;
 
 pub use close::{Budget, Closable, Closed, MAX_DISTURBANCES, RulesOnly, Stop, close, close_with};
+
+/// Whether `x` makes one of its own preconditions false: a rule with `x`'s
+/// preconditions as its conditions acts again only after something else made them true.
+fn falsifies_own_condition(x: &GroundAction) -> bool {
+    x.pre.iter().any(|l| if l.positive { x.del.contains(&l.atom) } else { x.add.contains(&l.atom) })
+}
+
+/// `candidates`, the tree's actions (`own`) among them first: a way back by those gives
+/// an agent no new action to do.
+fn own_first<'a>(candidates: &'a [ActionId], own: &'a [ActionId]) -> impl Iterator<Item = ActionId> + 'a {
+    let (theirs, others) =
+        (candidates.iter().filter(|u| own.contains(u)), candidates.iter().filter(|u| !own.contains(u)));
+    theirs.chain(others).copied()
+}
 #[cfg(test)]
 pub(crate) use one_act::star as one_act_star;
 pub use one_act::{ONE_ACT_SHARE, OneAct, STATES_PER_STEP, close_one_act};
 
-use crate::ground::{ActionId, Grounding, Lit};
+use crate::ground::{ActionId, GroundAction, Grounding, Lit};
 use crate::guide::Trace;
 use crate::state::State;
 use crate::tree::{Kind, PlanNode, PlanTree};
@@ -409,34 +423,28 @@ impl Policy {
         };
         let fits = |u: &ActionId| {
             let Some(x) = g.action(*u) else { return false };
-            let undoes_itself =
-                x.pre.iter().any(|l| if l.positive { x.del.contains(&l.atom) } else { x.add.contains(&l.atom) });
             let against = |r: &Rule| {
                 g.action(r.action)
                     .is_none_or(|y| x.add.iter().any(|a| y.del.contains(a)) || x.del.iter().any(|a| y.add.contains(a)))
             };
-            undoes_itself
+            falsifies_own_condition(x)
                 && x.cond.is_empty()
                 && !self.undo.iter().any(against)
                 && successor(g, *u, t).as_ref() == Some(s)
         };
-        let candidates = g.achievers(need);
-        let Some(u) = candidates
-            .iter()
-            .copied()
-            .filter(|u| own.contains(u))
-            .find(fits)
-            .or_else(|| candidates.iter().copied().find(fits))
-        else {
-            return false;
-        };
-        let Some(x) = g.action(u) else { return false };
-        let mut when = x.pre.clone();
-        when.sort_unstable();
-        when.dedup();
-        let rule = Rule { when, action: u, distance: u32::MAX, group: self.group_count() };
+        let Some(u) = own_first(g.achievers(need), own).find(fits) else { return false };
+        let Some(rule) = self.undo_rule(g, u) else { return false };
         self.apply(groups::Group { rules: vec![rule], undo: true, plan: None });
         true
+    }
+
+    /// The rule `Sequence(pre(u)?, u!)` of an undo or return rule, in the next group:
+    /// after all the others, so with no distance to the goal.
+    fn undo_rule(&self, g: &Grounding, u: ActionId) -> Option<Rule> {
+        let mut when = g.action(u)?.pre.clone();
+        when.sort_unstable();
+        when.dedup();
+        Some(Rule { when, action: u, distance: u32::MAX, group: self.group_count() })
     }
 
     /// Takes out the undo rule added last.

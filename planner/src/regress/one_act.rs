@@ -17,7 +17,7 @@
 use std::collections::HashSet;
 use std::time::Instant;
 
-use super::{Budget, Policy, Rule, successor};
+use super::{Budget, Policy, Rule, falsifies_own_condition, own_first, successor};
 use crate::ground::{ActionId, Grounding, Lit};
 use crate::state::State;
 
@@ -79,8 +79,7 @@ pub fn close_one_act(g: &Grounding, policy: &mut Policy, budget: &Budget) -> One
                 return done;
             }
             added += cost;
-            let group = policy.group_count();
-            policy.apply(super::groups::Group { rules: vec![Rule { group, ..rule }], undo: true, plan: None });
+            policy.apply(super::groups::Group { rules: vec![rule], undo: true, plan: None });
             done.rules += 1;
         }
     }
@@ -92,22 +91,16 @@ pub fn close_one_act(g: &Grounding, policy: &mut Policy, budget: &Budget) -> One
 fn return_rule(g: &Grounding, policy: &Policy, s: &State, t: &State, own: &[ActionId]) -> Option<Rule> {
     let serves = |u: ActionId| -> Option<Rule> {
         let x = g.action(u).filter(|x| x.cond.is_empty() && x.applicable(t))?;
-        let undoes_itself =
-            x.pre.iter().any(|l| if l.positive { x.del.contains(&l.atom) } else { x.add.contains(&l.atom) });
-        if !undoes_itself || policy.first(&successor(g, u, t)?).is_none() {
+        if !falsifies_own_condition(x) || policy.first(&successor(g, u, t)?).is_none() {
             return None;
         }
-        let mut when = x.pre.clone();
-        when.sort_unstable();
-        when.dedup();
-        let rule = Rule { when, action: u, distance: u32::MAX, group: 0 };
+        let rule = policy.undo_rule(g, u)?;
         (!policy.returns_take_turns(g, &rule)).then_some(rule)
     };
     let lost = s.iter().filter(|&a| !t.holds(a)).map(|atom| Lit { atom, positive: true });
     let gained = t.iter().filter(|&a| !s.holds(a)).map(|atom| Lit { atom, positive: false });
     let undoing: Vec<ActionId> = lost.chain(gained).flat_map(|l| g.achievers(l).iter().copied()).collect();
-    let theirs = undoing.iter().copied().filter(|u| own.contains(u));
-    theirs.chain(undoing.iter().copied().filter(|u| !own.contains(u))).find_map(serves)
+    own_first(&undoing, own).find_map(serves)
 }
 
 impl Policy {
