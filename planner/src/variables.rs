@@ -20,8 +20,9 @@
 //! instead:
 //!
 //! * gives a step its *siblings*: the groundings of the same action, with the same
-//!   other arguments, that start from another value the plan's path visits and differ
-//!   in nothing else (static facts aside). The preconditions they share are checked
+//!   other arguments, that start from another value the plan's path visits, at most
+//!   [`MAX_DISTURBANCES`] actions from the step's own (as many as an agent does in an
+//!   episode), and differ in nothing else (static facts aside). The preconditions they share are checked
 //!   once, then a Fallback of `Sequence(value?, step)` rows, one per value
 //!   ([`crate::algorithm::expand_shared`]): Problem 1 of Colledanchise et al. 2019, its third point,
 //!   several actions achieving a condition so that where one cannot run another can;
@@ -301,7 +302,8 @@ impl Variables {
     /// How to expand `lit` given the plan's choice `first`, in `belief`: a value by an
     /// action that only moves state variables instead (one that runs in `belief` first,
     /// then the cheapest; none: `lit` is not expanded); then that action with its
-    /// siblings from values the plan visits or `belief` holds, and, where it has
+    /// siblings from values the plan visits near the step's own ([`MAX_DISTURBANCES`]
+    /// actions at most) or `belief` holds, and, where it has
     /// siblings, the actions that set its values from such values.
     #[must_use]
     pub fn choices(&self, g: &Grounding, lit: Lit, first: Choice, belief: &State) -> Vec<Choice> {
