@@ -137,3 +137,20 @@ fn a_step_has_groundings_only_from_values_a_few_acts_away() {
     assert_eq!(steps, want, "{got:?}");
     assert!(setters >= 1, "{got:?}");
 }
+
+/// A guided tree whose covered checks make it too large covers as many as fit, rather
+/// than giving way to the plan's regression tree.
+#[test]
+fn a_guided_tree_covers_as_many_checks_as_fit() {
+    let (g, c) = mini_openstacks();
+    let all = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, ..Options::default() }).unwrap();
+    assert_eq!(all.method, Made::SearchGuided);
+    assert!(all.covered >= 2, "{}", all.covered);
+    // One byte less than the tree with every check covered.
+    let fit = planner::Fit { bytes: all.fit.size.bytes - 1, ..planner::Fit::NONE };
+    let some = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, fit, ..Options::default() }).unwrap();
+    assert_eq!(some.method, Made::SearchGuided);
+    assert!(some.fit.fits && some.fit.size.bytes < all.fit.size.bytes, "{}", some.fit);
+    assert!(some.covered > 0 && some.covered < all.covered, "{} of {}", some.covered, all.covered);
+    assert_eq!(some.executed, all.executed);
+}
