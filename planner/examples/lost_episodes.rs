@@ -1,5 +1,5 @@
 //! Why a tree loses disturbed episodes: plans one PDDL problem as `bench-pddl` does
-//! (the same deadline and options), runs the benchmark's seeded disturbed episodes
+//! (its default options; the deadline counts from after grounding), runs the benchmark's seeded disturbed episodes
 //! ([`planner::coverage::Settings`]'s defaults: 20, seed 1) and, for each episode that
 //! does not reach the goal, prints every act of the agents: where on the plan it came
 //! (the step of the undisturbed path, or `off` the path), what it did (`undo`, or the
