@@ -103,3 +103,54 @@ fn a_stack_counter_gets_a_backchained_tree_that_survives_orders_started_out_of_t
     assert!(tried >= 10, "{tried}");
     assert!(regression_failed > 0, "the regression tree copes everywhere too");
 }
+
+/// A step's groundings from other values are those of the values the plan visits that
+/// are at most three actions from the step's own (an agent acts at most three times in
+/// an episode), not every value the plan visits.
+#[test]
+fn a_step_has_groundings_only_from_values_a_few_acts_away() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mini-openstacks");
+    let domain = std::fs::read_to_string(dir.join("domain.pddl")).unwrap();
+    let problem = "(define (problem seven-counts) (:domain mini-openstacks)
+        (:objects n0 n1 n2 n3 n4 n5 n6 - count)
+        (:init (next-count n0 n1) (next-count n1 n2) (next-count n2 n3) (next-count n3 n4)
+               (next-count n4 n5) (next-count n5 n6) (stacks-avail n0) (waiting o1) (waiting o2) (waiting o3))
+        (:goal (and (shipped o1) (shipped o2) (shipped o3))))";
+    let (g, _) = grounding(&domain, problem);
+    let named = |name: &str| (0..g.actions().len() as u32).find(|&a| g.action_name(a) == name).unwrap();
+    // Six stacks opened, then o1 started: the plan visits every count from n0 to n6.
+    let mut plan: Vec<u32> = (0..6).map(|k| named(&format!("open-new-stack(n{k}, n{})", k + 1))).collect();
+    let step = named("start-order(o1, n6, n5)");
+    plan.push(step);
+    let trace = Trace::new(&g, &plan).unwrap();
+    let v = planner::variables::Variables::new(&g, &trace).unwrap();
+    let started = planner::ground::Lit { atom: g.atom_by_name("started", &["o1"]).unwrap(), positive: true };
+    let first = (step, g.action(step).unwrap().pre.clone(), 6);
+    let mut got: Vec<String> = v.choices(&g, started, first, g.init()).iter().map(|c| g.action_name(c.0)).collect();
+    got.sort();
+    // n5, n4 and n3 are one to three stacks opened (or orders started) from n6; n2 and
+    // n1, visited too, are four and five away.
+    let want =
+        ["start-order(o1, n3, n2)", "start-order(o1, n4, n3)", "start-order(o1, n5, n4)", "start-order(o1, n6, n5)"];
+    let setters = got.iter().filter(|n| n.starts_with("open-new-stack")).count();
+    let steps: Vec<&String> = got.iter().filter(|n| n.starts_with("start-order")).collect();
+    assert_eq!(steps, want, "{got:?}");
+    assert!(setters >= 1, "{got:?}");
+}
+
+/// A guided tree whose covered checks make it too large covers as many as fit, rather
+/// than giving way to the plan's regression tree.
+#[test]
+fn a_guided_tree_covers_as_many_checks_as_fit() {
+    let (g, c) = mini_openstacks();
+    let all = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, ..Options::default() }).unwrap();
+    assert_eq!(all.method, Made::SearchGuided);
+    assert!(all.covered >= 2, "{}", all.covered);
+    // One byte less than the tree with every check covered.
+    let fit = planner::Fit { bytes: all.fit.size.bytes - 1, ..planner::Fit::NONE };
+    let some = planner::plan(g.clone(), c.clone(), Options { close_nodes: 0, fit, ..Options::default() }).unwrap();
+    assert_eq!(some.method, Made::SearchGuided);
+    assert!(some.fit.fits && some.fit.size.bytes < all.fit.size.bytes, "{}", some.fit);
+    assert!(some.covered > 0 && some.covered < all.covered, "{} of {}", some.covered, all.covered);
+    assert_eq!(some.executed, all.executed);
+}

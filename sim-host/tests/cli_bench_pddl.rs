@@ -49,7 +49,7 @@ fn the_bench_reports_the_state_variables_a_tree_does_not_pin() {
     assert!(lines[at].contains("solved") && lines[at].contains("search-guided"), "{text}");
     assert_eq!(
         lines[at + 1].trim(),
-        "state variables not pinned: stacks-avail/1 (each step also has its groundings from the other values the plan visits)",
+        "state variables not pinned: stacks-avail/1 (each step also has its groundings from the other values the plan visits up to three actions from its own)",
         "{text}"
     );
 }

@@ -339,11 +339,12 @@ fn keep_smaller<C: Catalog>(kept: &mut Option<Plan<C>>, p: Plan<C>) {
 }
 
 /// [`Plan::variables`] in a line: `state variables not pinned: stacks-avail/1 (each
-/// step also has its groundings from the other values the plan visits)`.
+/// step also has its groundings from the other values the plan visits up to three
+/// actions from its own)`.
 #[must_use]
 pub fn variables_line(variables: &[String]) -> String {
     format!(
-        "state variables not pinned: {} (each step also has its groundings from the other values the plan visits)",
+        "state variables not pinned: {} (each step also has its groundings from the other values the plan visits up to three actions from its own)",
         variables.join(", ")
     )
 }
