@@ -4,7 +4,7 @@
 use std::collections::{HashSet, VecDeque};
 use std::time::Instant;
 
-use super::way_back::{near_way_back, way_back};
+use super::way_back::{Looked, near_way_back, way_back};
 use super::{Policy, successor};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
@@ -228,6 +228,11 @@ pub fn close_with(
 /// the time and the nodes that would have served many states a few of the plan's steps
 /// away (an order started out of turn), and the rules still come nearest the tree's
 /// path first, the order in which a closure that does not fit is cut.
+///
+/// A state left for later keeps what the first look found ([`Looked`]): served, it is
+/// not looked at again unless rules were added since. Where the closure's time runs
+/// out, the states left for later whose first look found a way back all the same (one
+/// farther from the goal than the tree was) take it ([`stopped`]).
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -250,9 +255,10 @@ fn pass(
     let mut acts = tree.actions(policy);
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
-    // States whose only ways back need a new plan, with their depth and the state the
-    // disturbance came from: served once no other state is left.
-    let mut later: VecDeque<(usize, State, State)> = VecDeque::new();
+    // States whose only ways back need a new plan, with their depth, the state the
+    // disturbance came from and what the first look found: served at the end of their
+    // depth.
+    let mut later: VecDeque<(usize, State, State, Looked)> = VecDeque::new();
     let over = |d: &Closed, size: usize| {
         if d.plans >= budget.plans {
             Some(Stop::Plans)
@@ -275,15 +281,14 @@ fn pass(
                         continue;
                     }
                     if let Some(stop) = over(done, size) {
-                        done.stopped = Some(stop);
-                        return Ok(false);
+                        return stopped(g, policy, tree, budget, done, stop, &mut later, &mut size);
                     }
                     if ever.insert(t.clone()) {
                         done.states += 1;
                     }
                     let from = levels[depth][k].0.clone();
-                    match serve(g, policy, tree, budget, done, (&from, &t), &mut size, false)? {
-                        Served::Later => later.push_back((depth, from, t)),
+                    match serve(g, policy, tree, budget, done, (&from, &t), &mut size, Look::Near)? {
+                        Served::Later(looked) => later.push_back((depth, from, t, looked)),
                         Served::Not => {}
                         Served::Path(path, added) => {
                             follow(&mut levels, &mut seen, depth, t, path);
@@ -297,12 +302,13 @@ fn pass(
             }
             // This depth's states that need a new plan, before the next depth's.
             let Some(i) = later.iter().position(|l| l.0 <= depth) else { continue };
-            let Some((depth, from, t)) = later.remove(i) else { continue };
+            let Some((depth, from, t, looked)) = later.remove(i) else { continue };
             if let Some(stop) = over(done, size) {
-                done.stopped = Some(stop);
-                return Ok(false);
+                later.insert(i, (depth, from, t, looked));
+                return stopped(g, policy, tree, budget, done, stop, &mut later, &mut size);
             }
-            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, true)? {
+            let look = Look::Any(&looked);
+            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, look)? {
                 follow(&mut levels, &mut seen, depth, t, path);
                 if added {
                     more_actions(&mut acts, tree.actions(policy));
@@ -312,6 +318,38 @@ fn pass(
         }
         return Ok(true);
     }
+}
+
+/// Ends a pass that a budget, `stop`, ended: false (see [`pass`]). Where it was the
+/// closure's time, the states left for `later` whose first look found a way back take
+/// it, in the order they would have been served, with no search: a search for a new
+/// plan where a way back is known gets a small share of the time left
+/// ([`super::way_back`]), and none is left. So the ways back found for the states
+/// nearest the tree's path are not lost where the closure meets more of them than its
+/// time serves (in psr-large, a dozen a few actions from a rule, each found by a search
+/// of thousands of states). Each takes a few of the rules' nodes; the node and plan
+/// budgets still hold.
+#[allow(clippy::too_many_arguments)]
+fn stopped(
+    g: &Grounding,
+    policy: &mut Policy,
+    tree: &mut dyn Closable,
+    budget: &Budget,
+    done: &mut Closed,
+    stop: Stop,
+    later: &mut VecDeque<(usize, State, State, Looked)>,
+    size: &mut usize,
+) -> Result<bool, PlanError> {
+    done.stopped = Some(stop);
+    if stop == Stop::Deadline {
+        for (_, from, t, looked) in later.drain(..) {
+            if done.plans >= budget.plans || *size >= budget.nodes {
+                break;
+            }
+            serve(g, policy, tree, budget, done, (&from, &t), size, Look::Found(&looked))?;
+        }
+    }
+    Ok(false)
 }
 
 /// Puts `t`, a state `depth` disturbances led to, and the states the tree passes
@@ -343,15 +381,27 @@ enum Served {
     /// The tree reaches the goal from it, or does after the rules added: the states
     /// it passes through, and whether rules were added.
     Path(Vec<State>, bool),
-    /// The tree fails there and its only ways back need a new plan: left for later.
-    Later,
+    /// The tree fails there and its only ways back need a new plan: left for later,
+    /// with what the look found.
+    Later(Looked),
     /// The tree fails there and no way back was added (none, or too long).
     Not,
 }
 
+/// How [`serve`] looks for a way back where neither the tree nor an undo rule serves.
+#[derive(Clone, Copy)]
+enum Look<'a> {
+    /// Only for one that needs no new plan ([`near_way_back`]).
+    Near,
+    /// For any, a new plan too ([`way_back`]), given what the first look found.
+    Any(&'a Looked),
+    /// No look: the way back the first look found, if any.
+    Found(&'a Looked),
+}
+
 /// Serves `t`, the state a disturbance led to from `s`: where the tree fails from it,
-/// adds an undo rule or the rules of a way back (with `new_plan` false only one that
-/// needs no new plan), and counts what it did in `done` and the tree's `size`.
+/// adds an undo rule or the rules of a way back (found as `look` says), and counts what
+/// it did in `done` and the tree's `size`.
 #[allow(clippy::too_many_arguments)]
 fn serve(
     g: &Grounding,
@@ -361,7 +411,7 @@ fn serve(
     done: &mut Closed,
     (s, t): (&State, &State),
     size: &mut usize,
-    new_plan: bool,
+    look: Look<'_>,
 ) -> Result<Served, PlanError> {
     let (path, reached) = tree.run(g, policy, t)?;
     if reached {
@@ -377,13 +427,13 @@ fn serve(
         }
         policy.pop_undo();
     }
-    let back = if new_plan {
-        way_back(g, policy, s, t, &own, budget, done)
-    } else {
-        match near_way_back(g, policy, s, t, &own, budget) {
-            Some(way) => Some(way),
-            None => return Ok(Served::Later),
-        }
+    let back = match look {
+        Look::Near => match near_way_back(g, policy, s, t, &own, budget) {
+            Ok(way) => Some(way),
+            Err(looked) => return Ok(Served::Later(looked)),
+        },
+        Look::Any(looked) => way_back(g, policy, s, t, &own, budget, done, Some(looked)),
+        Look::Found(looked) => looked.known.clone(),
     };
     let Some((steps, rule)) = back else { return Ok(Served::Not) };
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
@@ -399,4 +449,79 @@ fn serve(
     *size = nodes;
     done.plans += 1;
     Ok(Served::Path(tree.run(g, policy, t)?.0, true))
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
+
+    use std::path::Path;
+
+    use super::*;
+    use crate::pddl::{parse_domain, parse_problem};
+
+    fn fixture(domain: &str, problem: &str) -> Grounding {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ipc");
+        let d = std::fs::read_to_string(dir.join(domain)).unwrap();
+        let p = std::fs::read_to_string(dir.join(problem)).unwrap();
+        Grounding::new(&parse_domain(domain, &d).and_then(|d| parse_problem(problem, &p, &d)).unwrap()).unwrap()
+    }
+
+    /// A state one of the tree's actions leads to from the tree's path, where the tree
+    /// fails, no undo rule serves, and the first look finds a way back all the same but
+    /// none that is no farther from the goal: the state the disturbance came from, it,
+    /// and what the look found.
+    fn left_for_later(g: &Grounding, policy: &Policy) -> Option<(State, State, Looked)> {
+        let own = policy.actions();
+        for s in policy.path(g, g.init()) {
+            for &a in &own {
+                let Some(t) = successor(g, a, &s) else { continue };
+                if RulesOnly.run(g, policy, &t).ok()?.1 {
+                    continue;
+                }
+                let mut undone = policy.clone();
+                if undone.push_undo(g, &s, &t, &own) && RulesOnly.run(g, &undone, &t).ok()?.1 {
+                    continue;
+                }
+                if let Err(looked) = near_way_back(g, policy, &s, &t, &own, &Budget::default())
+                    && looked.known.is_some()
+                {
+                    return Some((s, t, looked));
+                }
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn where_the_time_runs_out_a_state_left_for_later_takes_the_way_back_its_first_look_found() {
+        let g = fixture("psr-middle/domain.pddl", "psr-middle/p01-s17-n2-l2-f30.pddl");
+        let plan = crate::search::gbfs(&g, &crate::search::SearchOptions::default()).unwrap().plan;
+        let plain = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
+        let (s, t, looked) = left_for_later(&g, &plain).expect("no state whose only near way back is farther");
+        let (steps, _) = looked.known.clone().unwrap();
+        let end = |stop: Stop| {
+            let mut policy = plain.clone();
+            let mut done = Closed::default();
+            let mut size = RulesOnly.nodes(&g, &policy);
+            let mut later = VecDeque::from([(1, s.clone(), t.clone(), looked.clone())]);
+            let budget = Budget::default();
+            assert!(
+                !stopped(&g, &mut policy, &mut RulesOnly, &budget, &mut done, stop, &mut later, &mut size).unwrap()
+            );
+            assert_eq!(done.stopped, Some(stop));
+            (policy, done)
+        };
+        // The closure's time ran out: the way back found is taken, with no search.
+        let (policy, done) = end(Stop::Deadline);
+        assert_eq!(done.plans, 1, "{done}");
+        let (path, reached) = RulesOnly.run(&g, &policy, &t).unwrap();
+        assert!(reached);
+        assert_eq!(Trace::from_state(&g, &t, &steps).unwrap().state(steps.len()), path.get(steps.len()));
+        // Another budget: the tree is as it was.
+        for stop in [Stop::States, Stop::Plans, Stop::Nodes] {
+            let (policy, done) = end(stop);
+            assert_eq!((policy.rules(), done.plans), (plain.rules(), 0));
+        }
+    }
 }
