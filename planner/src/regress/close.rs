@@ -230,9 +230,9 @@ pub fn close_with(
 /// path first, the order in which a closure that does not fit is cut.
 ///
 /// A state left for later keeps what the first look found ([`Looked`]): served, it is
-/// not looked at again unless rules were added since. Where the closure's time runs
-/// out, the states left for later whose first look found a way back all the same (one
-/// farther from the goal than the tree was) take it ([`stopped`]).
+/// not looked at again unless rules were added since. With a deadline, a state whose
+/// first look found a way back all the same (one farther from the goal than the tree
+/// was) is not left for later but takes it at once ([`serve`]).
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -281,7 +281,8 @@ fn pass(
                         continue;
                     }
                     if let Some(stop) = over(done, size) {
-                        return stopped(g, policy, tree, budget, done, stop, &mut later, &mut size);
+                        done.stopped = Some(stop);
+                        return Ok(false);
                     }
                     if ever.insert(t.clone()) {
                         done.states += 1;
@@ -304,8 +305,8 @@ fn pass(
             let Some(i) = later.iter().position(|l| l.0 <= depth) else { continue };
             let Some((depth, from, t, looked)) = later.remove(i) else { continue };
             if let Some(stop) = over(done, size) {
-                later.insert(i, (depth, from, t, looked));
-                return stopped(g, policy, tree, budget, done, stop, &mut later, &mut size);
+                done.stopped = Some(stop);
+                return Ok(false);
             }
             let look = Look::Any(&looked);
             if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, look)? {
@@ -318,38 +319,6 @@ fn pass(
         }
         return Ok(true);
     }
-}
-
-/// Ends a pass that a budget, `stop`, ended: false (see [`pass`]). Where it was the
-/// closure's time, the states left for `later` whose first look found a way back take
-/// it, in the order they would have been served, with no search: a search for a new
-/// plan where a way back is known gets a small share of the time left
-/// ([`super::way_back`]), and none is left. So the ways back found for the states
-/// nearest the tree's path are not lost where the closure meets more of them than its
-/// time serves (in psr-large, a dozen a few actions from a rule, each found by a search
-/// of thousands of states). Each takes a few of the rules' nodes; the node and plan
-/// budgets still hold.
-#[allow(clippy::too_many_arguments)]
-fn stopped(
-    g: &Grounding,
-    policy: &mut Policy,
-    tree: &mut dyn Closable,
-    budget: &Budget,
-    done: &mut Closed,
-    stop: Stop,
-    later: &mut VecDeque<(usize, State, State, Looked)>,
-    size: &mut usize,
-) -> Result<bool, PlanError> {
-    done.stopped = Some(stop);
-    if stop == Stop::Deadline {
-        for (_, from, t, looked) in later.drain(..) {
-            if done.plans >= budget.plans || *size >= budget.nodes {
-                break;
-            }
-            serve(g, policy, tree, budget, done, (&from, &t), size, Look::Found(&looked))?;
-        }
-    }
-    Ok(false)
 }
 
 /// Puts `t`, a state `depth` disturbances led to, and the states the tree passes
@@ -395,8 +364,6 @@ enum Look<'a> {
     Near,
     /// For any, a new plan too ([`way_back`]), given what the first look found.
     Any(&'a Looked),
-    /// No look: the way back the first look found, if any.
-    Found(&'a Looked),
 }
 
 /// Serves `t`, the state a disturbance led to from `s`: where the tree fails from it,
@@ -430,10 +397,14 @@ fn serve(
     let back = match look {
         Look::Near => match near_way_back(g, policy, s, t, &own, budget) {
             Ok(way) => Some(way),
+            // With a deadline, a way back found is taken at once: served later, the
+            // search for a new plan that might be cheaper would get a small share of the
+            // time left ([`way_back`]), while the way found needs no search and adds few
+            // rules, after which many of the states met next need no look at all.
+            Err(looked) if budget.deadline.is_some() && looked.known.is_some() => looked.known,
             Err(looked) => return Ok(Served::Later(looked)),
         },
-        Look::Any(looked) => way_back(g, policy, s, t, &own, budget, done, Some(looked)),
-        Look::Found(looked) => looked.known.clone(),
+        Look::Any(looked) => way_back(g, policy, s, t, &own, budget, done, looked),
     };
     let Some((steps, rule)) = back else { return Ok(Served::Not) };
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
@@ -494,34 +465,32 @@ mod tests {
     }
 
     #[test]
-    fn where_the_time_runs_out_a_state_left_for_later_takes_the_way_back_its_first_look_found() {
+    fn with_a_deadline_a_state_whose_first_look_found_a_way_back_takes_it_at_once() {
         let g = fixture("psr-middle/domain.pddl", "psr-middle/p01-s17-n2-l2-f30.pddl");
         let plan = crate::search::gbfs(&g, &crate::search::SearchOptions::default()).unwrap().plan;
         let plain = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
         let (s, t, looked) = left_for_later(&g, &plain).expect("no state whose only near way back is farther");
         let (steps, _) = looked.known.clone().unwrap();
-        let end = |stop: Stop| {
+        let serve_with = |budget: &Budget| {
             let mut policy = plain.clone();
             let mut done = Closed::default();
             let mut size = RulesOnly.nodes(&g, &policy);
-            let mut later = VecDeque::from([(1, s.clone(), t.clone(), looked.clone())]);
-            let budget = Budget::default();
-            assert!(
-                !stopped(&g, &mut policy, &mut RulesOnly, &budget, &mut done, stop, &mut later, &mut size).unwrap()
-            );
-            assert_eq!(done.stopped, Some(stop));
-            (policy, done)
+            let served = serve(&g, &mut policy, &mut RulesOnly, budget, &mut done, (&s, &t), &mut size, Look::Near);
+            (served.unwrap(), policy, done)
         };
-        // The closure's time ran out: the way back found is taken, with no search.
-        let (policy, done) = end(Stop::Deadline);
+        // Without a deadline: left for later, with what the look found.
+        let (served, policy, done) = serve_with(&Budget::default());
+        let Served::Later(kept) = served else { panic!("not left for later") };
+        assert_eq!(kept.known, looked.known);
+        assert_eq!((policy.rules(), done.plans), (plain.rules(), 0));
+        // With a deadline (one far off, so that no search is cut): the way taken at once.
+        let far =
+            Budget { deadline: Some(Instant::now() + std::time::Duration::from_secs(3_600)), ..Budget::default() };
+        let (served, policy, done) = serve_with(&far);
+        assert!(matches!(served, Served::Path(_, true)));
         assert_eq!(done.plans, 1, "{done}");
         let (path, reached) = RulesOnly.run(&g, &policy, &t).unwrap();
         assert!(reached);
         assert_eq!(Trace::from_state(&g, &t, &steps).unwrap().state(steps.len()), path.get(steps.len()));
-        // Another budget: the tree is as it was.
-        for stop in [Stop::States, Stop::Plans, Stop::Nodes] {
-            let (policy, done) = end(stop);
-            assert_eq!((policy.rules(), done.plans), (plain.rules(), 0));
-        }
     }
 }

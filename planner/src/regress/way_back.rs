@@ -317,9 +317,9 @@ pub(super) fn near_way_back(
 
 /// A way back for `t`, the state a disturbance led to from `s`: one that needs no new
 /// plan ([`near`]); else the cheapest of those and a new plan (see the module docs).
-/// `own` is the tree's actions. `looked` is what an earlier look for one that needs no
-/// new plan found: taken as it is where nothing it depended on changed since, else
-/// looked for again. `None` when there is none (counted in `done` as a dead end, or as
+/// `own` is the tree's actions. `looked` is what the first look for one that needs no
+/// new plan found ([`near_way_back`]): taken as it is where nothing it depended on
+/// changed since, else looked for again. `None` when there is none (counted in `done` as a dead end, or as
 /// given up when the search ran out of time).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn way_back(
@@ -330,15 +330,16 @@ pub(super) fn way_back(
     own: &[ActionId],
     budget: &Budget,
     done: &mut Closed,
-    looked: Option<&Looked>,
+    looked: &Looked,
 ) -> Option<Way> {
     let deadline = search_deadline(budget.deadline, Instant::now(), false);
-    let known = match looked.filter(|l| l.still(policy, own)) {
-        Some(l) => l.known.clone(),
-        None => match near(g, policy, s, t, own, deadline) {
+    let known = if looked.still(policy, own) {
+        looked.known.clone()
+    } else {
+        match near(g, policy, s, t, own, deadline) {
             Ok(way) => return Some(way),
             Err(known) => known,
-        },
+        }
     };
     // Both `None` without a closure deadline, else both `Some`.
     let deadline =
@@ -483,7 +484,7 @@ mod tests {
         let looked = Looked { known: Some(marker.clone()), groups: policy.rule_groups(), own: own.clone() };
         let budget = Budget::default();
         let back =
-            |p: &Policy, own: &[ActionId]| way_back(&g, p, &s, &t, own, &budget, &mut Closed::default(), Some(&looked));
+            |p: &Policy, own: &[ActionId]| way_back(&g, p, &s, &t, own, &budget, &mut Closed::default(), &looked);
         assert_eq!(back(&policy, &own), Some(marker.clone()));
         // Another plan's rules: looked for again, and a real way back found.
         let mut more = policy.clone();
