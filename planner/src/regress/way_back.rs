@@ -273,7 +273,7 @@ fn cheaper(own: &[ActionId], a: Option<Way>, b: Option<Way>) -> Option<Way> {
 /// actions). [`close`] keeps it with a state it leaves for later, so that [`way_back`]
 /// does not look again while none of that changed.
 ///
-/// [`close`]: super::close
+/// [`close`]: super::close()
 #[derive(Clone, Debug)]
 pub(super) struct Looked {
     /// The cheapest way back found, if any.
@@ -299,7 +299,7 @@ impl Looked {
 /// that need a new plan to the goal, whose rules take many more nodes and whose search
 /// takes many times longer.
 ///
-/// [`close`]: super::close
+/// [`close`]: super::close()
 pub(super) fn near_way_back(
     g: &Grounding,
     policy: &Policy,
@@ -319,8 +319,8 @@ pub(super) fn near_way_back(
 /// plan ([`near`]); else the cheapest of those and a new plan (see the module docs).
 /// `own` is the tree's actions. `looked` is what the first look for one that needs no
 /// new plan found ([`near_way_back`]): taken as it is where nothing it depended on
-/// changed since, else looked for again. `None` when there is none (counted in `done` as a dead end, or as
-/// given up when the search ran out of time).
+/// changed since, else looked for again. `None` when there is none (counted in `done`
+/// as a dead end, or as given up when the search ran out of time).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn way_back(
     g: &Grounding,
