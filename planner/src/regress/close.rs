@@ -4,7 +4,7 @@
 use std::collections::{HashSet, VecDeque};
 use std::time::Instant;
 
-use super::way_back::{near_way_back, way_back};
+use super::way_back::{Looked, near_way_back, way_back};
 use super::{Policy, successor};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
@@ -228,6 +228,11 @@ pub fn close_with(
 /// the time and the nodes that would have served many states a few of the plan's steps
 /// away (an order started out of turn), and the rules still come nearest the tree's
 /// path first, the order in which a closure that does not fit is cut.
+///
+/// A state left for later keeps what the first look found ([`Looked`]): served, it is
+/// not looked at again unless rules were added since. With a deadline, a state whose
+/// first look found a way back all the same (one farther from the goal than the tree
+/// was) is not left for later but takes it at once ([`serve`]).
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -250,9 +255,10 @@ fn pass(
     let mut acts = tree.actions(policy);
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
-    // States whose only ways back need a new plan, with their depth and the state the
-    // disturbance came from: served once no other state is left.
-    let mut later: VecDeque<(usize, State, State)> = VecDeque::new();
+    // States whose only ways back need a new plan, with their depth, the state the
+    // disturbance came from and what the first look found: served at the end of their
+    // depth.
+    let mut later: VecDeque<(usize, State, State, Looked)> = VecDeque::new();
     let over = |d: &Closed, size: usize| {
         if d.plans >= budget.plans {
             Some(Stop::Plans)
@@ -282,8 +288,8 @@ fn pass(
                         done.states += 1;
                     }
                     let from = levels[depth][k].0.clone();
-                    match serve(g, policy, tree, budget, done, (&from, &t), &mut size, false)? {
-                        Served::Later => later.push_back((depth, from, t)),
+                    match serve(g, policy, tree, budget, done, (&from, &t), &mut size, Look::Near)? {
+                        Served::Later(looked) => later.push_back((depth, from, t, looked)),
                         Served::Not => {}
                         Served::Path(path, added) => {
                             follow(&mut levels, &mut seen, depth, t, path);
@@ -297,12 +303,13 @@ fn pass(
             }
             // This depth's states that need a new plan, before the next depth's.
             let Some(i) = later.iter().position(|l| l.0 <= depth) else { continue };
-            let Some((depth, from, t)) = later.remove(i) else { continue };
+            let Some((depth, from, t, looked)) = later.remove(i) else { continue };
             if let Some(stop) = over(done, size) {
                 done.stopped = Some(stop);
                 return Ok(false);
             }
-            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, true)? {
+            let look = Look::Any(&looked);
+            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, look)? {
                 follow(&mut levels, &mut seen, depth, t, path);
                 if added {
                     more_actions(&mut acts, tree.actions(policy));
@@ -343,15 +350,25 @@ enum Served {
     /// The tree reaches the goal from it, or does after the rules added: the states
     /// it passes through, and whether rules were added.
     Path(Vec<State>, bool),
-    /// The tree fails there and its only ways back need a new plan: left for later.
-    Later,
+    /// The tree fails there and its only ways back need a new plan: left for later,
+    /// with what the look found.
+    Later(Looked),
     /// The tree fails there and no way back was added (none, or too long).
     Not,
 }
 
+/// How [`serve`] looks for a way back where neither the tree nor an undo rule serves.
+#[derive(Clone, Copy)]
+enum Look<'a> {
+    /// Only for one that needs no new plan ([`near_way_back`]).
+    Near,
+    /// For any, a new plan too ([`way_back`]), given what the first look found.
+    Any(&'a Looked),
+}
+
 /// Serves `t`, the state a disturbance led to from `s`: where the tree fails from it,
-/// adds an undo rule or the rules of a way back (with `new_plan` false only one that
-/// needs no new plan), and counts what it did in `done` and the tree's `size`.
+/// adds an undo rule or the rules of a way back (found as `look` says), and counts what
+/// it did in `done` and the tree's `size`.
 #[allow(clippy::too_many_arguments)]
 fn serve(
     g: &Grounding,
@@ -361,7 +378,7 @@ fn serve(
     done: &mut Closed,
     (s, t): (&State, &State),
     size: &mut usize,
-    new_plan: bool,
+    look: Look<'_>,
 ) -> Result<Served, PlanError> {
     let (path, reached) = tree.run(g, policy, t)?;
     if reached {
@@ -377,13 +394,17 @@ fn serve(
         }
         policy.pop_undo();
     }
-    let back = if new_plan {
-        way_back(g, policy, s, t, &own, budget, done)
-    } else {
-        match near_way_back(g, policy, s, t, &own, budget) {
-            Some(way) => Some(way),
-            None => return Ok(Served::Later),
-        }
+    let back = match look {
+        Look::Near => match near_way_back(g, policy, s, t, &own, budget) {
+            Ok(way) => Some(way),
+            // With a deadline, a way back found is taken at once: served later, the
+            // search for a new plan that might be cheaper would get a small share of the
+            // time left ([`way_back`]), while the way found needs no search and adds few
+            // rules, after which many of the states met next need no look at all.
+            Err(looked) if budget.deadline.is_some() && looked.known.is_some() => looked.known,
+            Err(looked) => return Ok(Served::Later(looked)),
+        },
+        Look::Any(looked) => way_back(g, policy, s, t, &own, budget, done, looked),
     };
     let Some((steps, rule)) = back else { return Ok(Served::Not) };
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
@@ -399,4 +420,77 @@ fn serve(
     *size = nodes;
     done.plans += 1;
     Ok(Served::Path(tree.run(g, policy, t)?.0, true))
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
+
+    use std::path::Path;
+
+    use super::*;
+    use crate::pddl::{parse_domain, parse_problem};
+
+    fn fixture(domain: &str, problem: &str) -> Grounding {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ipc");
+        let d = std::fs::read_to_string(dir.join(domain)).unwrap();
+        let p = std::fs::read_to_string(dir.join(problem)).unwrap();
+        Grounding::new(&parse_domain(domain, &d).and_then(|d| parse_problem(problem, &p, &d)).unwrap()).unwrap()
+    }
+
+    /// A state one of the tree's actions leads to from the tree's path, where the tree
+    /// fails, no undo rule serves, and the first look finds a way back all the same but
+    /// none that is no farther from the goal: the state the disturbance came from, it,
+    /// and what the look found.
+    fn left_for_later(g: &Grounding, policy: &Policy) -> Option<(State, State, Looked)> {
+        let own = policy.actions();
+        for s in policy.path(g, g.init()) {
+            for &a in &own {
+                let Some(t) = successor(g, a, &s) else { continue };
+                if RulesOnly.run(g, policy, &t).ok()?.1 {
+                    continue;
+                }
+                let mut undone = policy.clone();
+                if undone.push_undo(g, &s, &t, &own) && RulesOnly.run(g, &undone, &t).ok()?.1 {
+                    continue;
+                }
+                if let Err(looked) = near_way_back(g, policy, &s, &t, &own, &Budget::default())
+                    && looked.known.is_some()
+                {
+                    return Some((s, t, looked));
+                }
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn with_a_deadline_a_state_whose_first_look_found_a_way_back_takes_it_at_once() {
+        let g = fixture("psr-middle/domain.pddl", "psr-middle/p01-s17-n2-l2-f30.pddl");
+        let plan = crate::search::gbfs(&g, &crate::search::SearchOptions::default()).unwrap().plan;
+        let plain = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
+        let (s, t, looked) = left_for_later(&g, &plain).expect("no state whose only near way back is farther");
+        let (steps, _) = looked.known.clone().unwrap();
+        let serve_with = |budget: &Budget| {
+            let mut policy = plain.clone();
+            let mut done = Closed::default();
+            let mut size = RulesOnly.nodes(&g, &policy);
+            let served = serve(&g, &mut policy, &mut RulesOnly, budget, &mut done, (&s, &t), &mut size, Look::Near);
+            (served.unwrap(), policy, done)
+        };
+        // Without a deadline: left for later, with what the look found.
+        let (served, policy, done) = serve_with(&Budget::default());
+        let Served::Later(kept) = served else { panic!("not left for later") };
+        assert_eq!(kept.known, looked.known);
+        assert_eq!((policy.rules(), done.plans), (plain.rules(), 0));
+        // With a deadline (one far off, so that no search is cut): the way taken at once.
+        let far =
+            Budget { deadline: Some(Instant::now() + std::time::Duration::from_secs(3_600)), ..Budget::default() };
+        let (served, policy, done) = serve_with(&far);
+        assert!(matches!(served, Served::Path(_, true)));
+        assert_eq!(done.plans, 1, "{done}");
+        let (path, reached) = RulesOnly.run(&g, &policy, &t).unwrap();
+        assert!(reached);
+        assert_eq!(Trace::from_state(&g, &t, &steps).unwrap().state(steps.len()), path.get(steps.len()));
+    }
 }
