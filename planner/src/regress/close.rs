@@ -4,7 +4,7 @@
 use std::collections::{HashSet, VecDeque};
 use std::time::Instant;
 
-use super::way_back::{Looked, near_way_back, way_back};
+use super::way_back::{near_way_back, way_back};
 use super::{Policy, successor};
 use crate::PlanError;
 use crate::ground::{ActionId, Grounding};
@@ -229,10 +229,9 @@ pub fn close_with(
 /// away (an order started out of turn), and the rules still come nearest the tree's
 /// path first, the order in which a closure that does not fit is cut.
 ///
-/// A state left for later keeps what the first look found ([`Looked`]): served, it is
-/// not looked at again unless rules were added since. With a deadline, a state whose
-/// first look found a way back all the same (one farther from the goal than the tree
-/// was) is not left for later but takes it at once ([`serve`]).
+/// With a deadline, a state whose first look found a way back all the same (one
+/// farther from the goal than the tree was) is not left for later but takes it at once
+/// ([`serve`]).
 fn pass(
     g: &Grounding,
     policy: &mut Policy,
@@ -255,10 +254,9 @@ fn pass(
     let mut acts = tree.actions(policy);
     // The tree's size, counted again whenever rules are added.
     let mut size = tree.nodes(g, policy);
-    // States whose only ways back need a new plan, with their depth, the state the
-    // disturbance came from and what the first look found: served at the end of their
-    // depth.
-    let mut later: VecDeque<(usize, State, State, Looked)> = VecDeque::new();
+    // States whose only ways back need a new plan, with their depth and the state the
+    // disturbance came from: served at the end of their depth.
+    let mut later: VecDeque<(usize, State, State)> = VecDeque::new();
     let over = |d: &Closed, size: usize| {
         if d.plans >= budget.plans {
             Some(Stop::Plans)
@@ -289,7 +287,7 @@ fn pass(
                     }
                     let from = levels[depth][k].0.clone();
                     match serve(g, policy, tree, budget, done, (&from, &t), &mut size, Look::Near)? {
-                        Served::Later(looked) => later.push_back((depth, from, t, looked)),
+                        Served::Later => later.push_back((depth, from, t)),
                         Served::Not => {}
                         Served::Path(path, added) => {
                             follow(&mut levels, &mut seen, depth, t, path);
@@ -303,13 +301,13 @@ fn pass(
             }
             // This depth's states that need a new plan, before the next depth's.
             let Some(i) = later.iter().position(|l| l.0 <= depth) else { continue };
-            let Some((depth, from, t, looked)) = later.remove(i) else { continue };
+            let Some((depth, from, t)) = later.remove(i) else { continue };
             if let Some(stop) = over(done, size) {
                 done.stopped = Some(stop);
                 return Ok(false);
             }
-            let look = Look::Any(&looked);
-            if let Served::Path(path, added) = serve(g, policy, tree, budget, done, (&from, &t), &mut size, look)? {
+            let served = serve(g, policy, tree, budget, done, (&from, &t), &mut size, Look::Any)?;
+            if let Served::Path(path, added) = served {
                 follow(&mut levels, &mut seen, depth, t, path);
                 if added {
                     more_actions(&mut acts, tree.actions(policy));
@@ -350,20 +348,19 @@ enum Served {
     /// The tree reaches the goal from it, or does after the rules added: the states
     /// it passes through, and whether rules were added.
     Path(Vec<State>, bool),
-    /// The tree fails there and its only ways back need a new plan: left for later,
-    /// with what the look found.
-    Later(Looked),
+    /// The tree fails there and its only ways back need a new plan: left for later.
+    Later,
     /// The tree fails there and no way back was added (none, or too long).
     Not,
 }
 
 /// How [`serve`] looks for a way back where neither the tree nor an undo rule serves.
 #[derive(Clone, Copy)]
-enum Look<'a> {
+enum Look {
     /// Only for one that needs no new plan ([`near_way_back`]).
     Near,
-    /// For any, a new plan too ([`way_back`]), given what the first look found.
-    Any(&'a Looked),
+    /// For any, a new plan too ([`way_back`]).
+    Any,
 }
 
 /// Serves `t`, the state a disturbance led to from `s`: where the tree fails from it,
@@ -378,7 +375,7 @@ fn serve(
     done: &mut Closed,
     (s, t): (&State, &State),
     size: &mut usize,
-    look: Look<'_>,
+    look: Look,
 ) -> Result<Served, PlanError> {
     let (path, reached) = tree.run(g, policy, t)?;
     if reached {
@@ -401,10 +398,10 @@ fn serve(
             // search for a new plan that might be cheaper would get a small share of the
             // time left ([`way_back`]), while the way found needs no search and adds few
             // rules, after which many of the states met next need no look at all.
-            Err(looked) if budget.deadline.is_some() && looked.known.is_some() => looked.known,
-            Err(looked) => return Ok(Served::Later(looked)),
+            Err(known) if budget.deadline.is_some() && known.is_some() => known,
+            Err(_) => return Ok(Served::Later),
         },
-        Look::Any(looked) => way_back(g, policy, s, t, &own, budget, done, looked),
+        Look::Any => way_back(g, policy, s, t, &own, budget, done),
     };
     let Some((steps, rule)) = back else { return Ok(Served::Not) };
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
@@ -430,6 +427,7 @@ mod tests {
 
     use super::*;
     use crate::pddl::{parse_domain, parse_problem};
+    use crate::regress::way_back::Way;
 
     fn fixture(domain: &str, problem: &str) -> Grounding {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ipc");
@@ -441,8 +439,8 @@ mod tests {
     /// A state one of the tree's actions leads to from the tree's path, where the tree
     /// fails, no undo rule serves, and the first look finds a way back all the same but
     /// none that is no farther from the goal: the state the disturbance came from, it,
-    /// and what the look found.
-    fn left_for_later(g: &Grounding, policy: &Policy) -> Option<(State, State, Looked)> {
+    /// and the way the look found.
+    fn left_for_later(g: &Grounding, policy: &Policy) -> Option<(State, State, Way)> {
         let own = policy.actions();
         for s in policy.path(g, g.init()) {
             for &a in &own {
@@ -454,10 +452,8 @@ mod tests {
                 if undone.push_undo(g, &s, &t, &own) && RulesOnly.run(g, &undone, &t).ok()?.1 {
                     continue;
                 }
-                if let Err(looked) = near_way_back(g, policy, &s, &t, &own, &Budget::default())
-                    && looked.known.is_some()
-                {
-                    return Some((s, t, looked));
+                if let Err(Some(known)) = near_way_back(g, policy, &s, &t, &own, &Budget::default()) {
+                    return Some((s, t, known));
                 }
             }
         }
@@ -469,8 +465,7 @@ mod tests {
         let g = fixture("psr-middle/domain.pddl", "psr-middle/p01-s17-n2-l2-f30.pddl");
         let plan = crate::search::gbfs(&g, &crate::search::SearchOptions::default()).unwrap().plan;
         let plain = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
-        let (s, t, looked) = left_for_later(&g, &plain).expect("no state whose only near way back is farther");
-        let (steps, _) = looked.known.clone().unwrap();
+        let (s, t, (steps, _)) = left_for_later(&g, &plain).expect("no state whose only near way back is farther");
         let serve_with = |budget: &Budget| {
             let mut policy = plain.clone();
             let mut done = Closed::default();
@@ -478,10 +473,9 @@ mod tests {
             let served = serve(&g, &mut policy, &mut RulesOnly, budget, &mut done, (&s, &t), &mut size, Look::Near);
             (served.unwrap(), policy, done)
         };
-        // Without a deadline: left for later, with what the look found.
+        // Without a deadline: left for later.
         let (served, policy, done) = serve_with(&Budget::default());
-        let Served::Later(kept) = served else { panic!("not left for later") };
-        assert_eq!(kept.known, looked.known);
+        assert!(matches!(served, Served::Later), "not left for later");
         assert_eq!((policy.rules(), done.plans), (plain.rules(), 0));
         // With a deadline (one far off, so that no search is cut): the way taken at once.
         let far =

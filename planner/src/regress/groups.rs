@@ -25,13 +25,6 @@ impl Policy {
         u32::try_from(self.log.len()).unwrap_or(u32::MAX)
     }
 
-    /// How many groups of rules other than undo rules were added: the rules and the
-    /// plans of a policy that is only ever added to are the same while this is (undo
-    /// rules change neither).
-    pub(super) fn rule_groups(&self) -> usize {
-        self.log.iter().filter(|grp| !grp.undo).count()
-    }
-
     /// Adds `group`'s rules and logs it; returns how many rules were kept.
     pub(super) fn apply(&mut self, group: Group) -> usize {
         let mut kept = 0;

@@ -267,37 +267,11 @@ fn cheaper(own: &[ActionId], a: Option<Way>, b: Option<Way>) -> Option<Way> {
     }
 }
 
-/// What a look for a way back that needs no new plan ([`near`]) found where there was
-/// none: the cheapest way back it found all the same (one that leads farther from the
-/// goal than the tree was), and what that depended on (the rules, the plans, the tree's
-/// actions). [`close`] keeps it with a state it leaves for later, so that [`way_back`]
-/// does not look again while none of that changed.
-///
-/// [`close`]: super::close()
-#[derive(Clone, Debug)]
-pub(super) struct Looked {
-    /// The cheapest way back found, if any.
-    pub(super) known: Option<Way>,
-    /// [`Policy::rule_groups`] when it was found.
-    groups: usize,
-    /// The tree's actions when it was found.
-    own: Vec<ActionId>,
-}
-
-impl Looked {
-    /// Whether [`near`] would find the same again: the closure only adds to a policy,
-    /// so the same count of rule groups means the same rules and plans; with the same
-    /// actions, [`repair`], [`Policy::resume`] and [`Policy::rejoin`] do the same (but
-    /// for a search cut by a deadline, which may stop elsewhere another time).
-    fn still(&self, policy: &Policy, own: &[ActionId]) -> bool {
-        self.groups == policy.rule_groups() && self.own == own
-    }
-}
-
-/// A way back for `t` that needs no new plan ([`near`]), or what the look found where
-/// there is none ([`Looked`]): [`close`] serves the states that have one before those
-/// that need a new plan to the goal, whose rules take many more nodes and whose search
-/// takes many times longer.
+/// A way back for `t` that needs no new plan ([`near`]), or else the cheapest way back
+/// the look found all the same (one that leads farther from the goal than the tree
+/// was), if any: [`close`] serves the states that have one before those that need a
+/// new plan to the goal, whose rules take many more nodes and whose search takes many
+/// times longer.
 ///
 /// [`close`]: super::close()
 pub(super) fn near_way_back(
@@ -307,21 +281,14 @@ pub(super) fn near_way_back(
     t: &State,
     own: &[ActionId],
     budget: &Budget,
-) -> Result<Way, Looked> {
-    near(g, policy, s, t, own, search_deadline(budget.deadline, Instant::now(), false)).map_err(|known| Looked {
-        known,
-        groups: policy.rule_groups(),
-        own: own.to_vec(),
-    })
+) -> Result<Way, Option<Way>> {
+    near(g, policy, s, t, own, search_deadline(budget.deadline, Instant::now(), false))
 }
 
 /// A way back for `t`, the state a disturbance led to from `s`: one that needs no new
 /// plan ([`near`]); else the cheapest of those and a new plan (see the module docs).
-/// `own` is the tree's actions. `looked` is what the first look for one that needs no
-/// new plan found ([`near_way_back`]): taken as it is where nothing it depended on
-/// changed since, else looked for again. `None` when there is none (counted in `done`
-/// as a dead end, or as given up when the search ran out of time).
-#[allow(clippy::too_many_arguments)]
+/// `own` is the tree's actions. `None` when there is none (counted in `done` as a dead
+/// end, or as given up when the search ran out of time).
 pub(super) fn way_back(
     g: &Grounding,
     policy: &Policy,
@@ -330,16 +297,11 @@ pub(super) fn way_back(
     own: &[ActionId],
     budget: &Budget,
     done: &mut Closed,
-    looked: &Looked,
 ) -> Option<Way> {
     let deadline = search_deadline(budget.deadline, Instant::now(), false);
-    let known = if looked.still(policy, own) {
-        looked.known.clone()
-    } else {
-        match near(g, policy, s, t, own, deadline) {
-            Ok(way) => return Some(way),
-            Err(known) => known,
-        }
+    let known = match near(g, policy, s, t, own, deadline) {
+        Ok(way) => return Some(way),
+        Err(known) => known,
     };
     // Both `None` without a closure deadline, else both `Some`.
     let deadline =
@@ -465,42 +427,6 @@ mod tests {
         // Never past the closure's deadline.
         assert_eq!(search_deadline(Some(at(10)), now, false), Some(at(10)));
         assert_eq!(search_deadline(Some(now), now, true), Some(now));
-    }
-
-    /// What a first look found is taken as it is while the rules, the plans and the
-    /// tree's actions are the same (a marker no look finds: an empty way to the goal
-    /// from a state where the goal does not hold), and looked for again once any of
-    /// them changed.
-    #[test]
-    fn a_way_back_is_not_looked_for_again_while_what_the_look_depended_on_is_the_same() {
-        let g = crate::domains::blocks_world(6).unwrap();
-        let found = search::gbfs(&g, &SearchOptions::default()).unwrap();
-        let trace = Trace::new(&g, &found.plan).unwrap();
-        let policy = Policy::of_trace(&g, &trace);
-        let own = policy.actions();
-        let (s, t) = (trace.state(1).unwrap().clone(), g.init().clone());
-        assert!(!g.goal_holds(&t));
-        let marker: Way = (Vec::new(), Rule::goal(&g));
-        let looked = Looked { known: Some(marker.clone()), groups: policy.rule_groups(), own: own.clone() };
-        let budget = Budget::default();
-        let back =
-            |p: &Policy, own: &[ActionId]| way_back(&g, p, &s, &t, own, &budget, &mut Closed::default(), &looked);
-        assert_eq!(back(&policy, &own), Some(marker.clone()));
-        // Another plan's rules: looked for again, and a real way back found.
-        let mut more = policy.clone();
-        let other = search::gbfs_from(&g, trace.state(2).unwrap(), &SearchOptions::default()).unwrap().plan;
-        more.add_trace(&g, &Trace::from_state(&g, trace.state(2).unwrap(), &other).unwrap());
-        assert_eq!(more.rule_groups(), policy.rule_groups() + 1);
-        let again = back(&more, &own).unwrap();
-        assert_ne!(again, marker);
-        assert!(!again.0.is_empty());
-        // Other actions of the tree: looked for again.
-        assert_ne!(back(&policy, &own[1..]), Some(marker.clone()));
-        // An undo rule changes neither the rules nor the plans.
-        let mut undo = policy.clone();
-        let u = undo.undo_rule(&g, own[0]).unwrap();
-        undo.apply(super::super::groups::Group { rules: vec![u], undo: true, plan: None });
-        assert_eq!(back(&undo, &own), Some(marker));
     }
 
     /// The score counted the plain way: every rule's unmet conditions.
