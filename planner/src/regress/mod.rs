@@ -14,11 +14,11 @@
 //! Ticked, it does the step after the latest `C_i` that holds: from the initial state
 //! it executes the plan; when an external change undoes a step it goes back, when one
 //! does a step for it it skips ahead (the reactivity of Problem 1 in Colledanchise et al. 2019, for
-//! the states the plan passes through). Its depth grows only with the logarithm of
-//! the plan's length: the conditions that neighbouring rules share are checked once,
-//! in a `Sequence(shared?, Fallback(rules...))` around them, which ticks exactly as
-//! the rules side by side do (the regressed conditions of consecutive steps differ in a
-//! few literals, so this makes the tree several times smaller).
+//! the states the plan passes through). The conditions that a run of neighbouring
+//! rules share are checked once, in a `Sequence(shared?, Fallback(rules...))` around
+//! them, which ticks exactly as the rules side by side do (the regressed conditions of
+//! consecutive steps differ in a few literals, so this makes the tree several times
+//! smaller); [`factor`] chooses the runs that make the tree smallest.
 //!
 //! # Rules, and why the tree always progresses
 //!
@@ -87,6 +87,7 @@
 //! the rules take over.
 
 mod close;
+mod factor;
 mod groups;
 mod one_act;
 mod way_back;
@@ -113,7 +114,7 @@ pub use one_act::{ONE_ACT_SHARE, OneAct, STATES_PER_STEP, close_one_act};
 use crate::ground::{ActionId, GroundAction, Grounding, Lit};
 use crate::guide::Trace;
 use crate::state::State;
-use crate::tree::{Kind, PlanNode, PlanTree};
+use crate::tree::{Kind, PlanTree};
 fn add(set: &mut Vec<Lit>, l: Lit) {
     if !set.contains(&l) {
         set.push(l);
@@ -361,8 +362,9 @@ impl Policy {
     }
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
-    /// with the conditions that neighbouring rules share checked once (in a
-    /// `Sequence(shared?, Fallback(rules...))` around them), then the undo rules.
+    /// then the undo rules, with the conditions that runs of neighbouring rules share
+    /// checked once (in a `Sequence(shared?, Fallback(rules...))` around them: see
+    /// [`factor`]).
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
         self.tree_with(g, None)
@@ -383,21 +385,14 @@ impl Policy {
             s
         };
         t.push_child(root, goal);
-        Self::factor(&mut t, root, &self.rules, &[]);
         if let Some(base) = base {
+            factor::push(g, &mut t, root, &self.rules.iter().collect::<Vec<_>>());
             t.graft(root, base);
-        }
-        for r in &self.undo {
-            Self::push_rule(&mut t, root, r, &[]);
+            factor::push(g, &mut t, root, &self.undo.iter().collect::<Vec<_>>());
+        } else {
+            factor::push(g, &mut t, root, &self.rules.iter().chain(&self.undo).collect::<Vec<_>>());
         }
         t
-    }
-
-    /// Appends `Sequence(when?, action)` for `rule` to `parent` (the action alone when
-    /// `known`, what the ancestors checked, covers every condition).
-    fn push_rule(t: &mut PlanTree, parent: PlanNode, rule: &Rule, known: &[Lit]) {
-        let when: Vec<Lit> = rule.when.iter().copied().filter(|l| !known.contains(l)).collect();
-        t.push_step(parent, &when, rule.action);
     }
 
     /// Adds an undo rule for `t`, a state an agent's action led to from `s`, when one
@@ -451,48 +446,6 @@ impl Policy {
     fn pop_undo(&mut self) {
         self.undo.pop();
         self.log.pop();
-    }
-
-    /// Appends `rules` to the Fallback `parent`, whose ancestors have checked `known`.
-    /// A run of rules that share conditions becomes `Sequence(shared?, Fallback(rules
-    /// without them))`: ticked, it does exactly what the rules side by side do (the
-    /// shared conditions false: none of them holds, and the Fallback goes on to the
-    /// next rule; true: the first that holds), with the shared conditions in the tree
-    /// once. The runs are the halves of `rules`, then their halves, so the nesting is
-    /// about twice the logarithm of the number of rules deep.
-    fn factor(t: &mut PlanTree, parent: PlanNode, rules: &[Rule], known: &[Lit]) {
-        if rules.len() <= 2 {
-            for r in rules {
-                Self::push_rule(t, parent, r, known);
-            }
-            return;
-        }
-        let (a, b) = rules.split_at(rules.len() / 2);
-        for half in [a, b] {
-            let shared: Vec<Lit> = half[0]
-                .when
-                .iter()
-                .copied()
-                .filter(|l| !known.contains(l) && half[1..].iter().all(|r| r.when.binary_search(l).is_ok()))
-                .collect();
-            // The Sequence and the Fallback cost two nodes; sharing saves the shared
-            // conditions once per rule but the first.
-            if (half.len() - 1) * shared.len() <= 2 {
-                Self::factor(t, parent, half, known);
-                continue;
-            }
-            let seq = t.add(Kind::Sequence);
-            for &l in &shared {
-                let c = t.add(Kind::Condition(l));
-                t.push_child(seq, c);
-            }
-            let fb = t.add(Kind::Fallback);
-            t.push_child(seq, fb);
-            t.push_child(parent, seq);
-            let mut inner = known.to_vec();
-            inner.extend_from_slice(&shared);
-            Self::factor(t, fb, half, &inner);
-        }
     }
 
     /// The rules in front of `base`, the undo rules behind it: `Fallback(goal?,
