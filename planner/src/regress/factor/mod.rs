@@ -1,5 +1,5 @@
-//! The nesting of a regression tree's rules that makes the tree smallest while it
-//! ticks exactly as the rules side by side do.
+//! The nesting of a regression tree's rules that makes the tree small while it ticks
+//! exactly as the rules side by side do.
 //!
 //! A contiguous run of rules that all have the conditions `I` (and whose ancestors
 //! checked `K`) can become `Sequence(I - K?, Fallback(rules without I))`: ticked, it
@@ -12,24 +12,23 @@
 //! condition. The value table holds each extended leaf's arguments once however often
 //! the leaf appears, so it does not change.
 //!
-//! [`Nesting`] finds the cheapest nesting by a dynamic programme over runs. Two facts
-//! keep it small:
+//! [`Nesting`] finds the cheapest nesting of *maximal* runs by a dynamic programme:
 //!
-//! - A run is best checked with *all* the conditions its rules share (what it leaves
-//!   to the rules, each of them checks again), so the conditions a nested rule still
-//!   checks are those not shared by the whole run around it: a rule's condition is
-//!   known inside the run `[a, b]` exactly when the run of neighbours having it spans
-//!   `[a, b]`, which precomputed run bounds answer at once.
-//! - Only *maximal* runs need be looked at: a run that could take in its neighbour
-//!   without losing a shared condition is never cheaper than the run that does (the
-//!   neighbour, inside, checks fewer conditions). From each rule, the maximal runs end
-//!   where one of its conditions stops being shared, so there are at most as many as
-//!   it has conditions.
+//! - A run is checked with *all* the conditions its rules share (what it leaves to
+//!   the rules, each of them checks again), so a rule's condition is known inside the
+//!   run `[a, b]` exactly when the run of neighbours having it spans `[a, b]`, which
+//!   precomputed run bounds answer at once.
+//! - The runs looked at are those that could take in neither neighbouring rule
+//!   without losing a shared condition: from each rule they end where one of its
+//!   conditions stops being shared, so there are at most as many as it has
+//!   conditions. A run cut short where another run begins can be cheaper still, so
+//!   the nesting is the cheaper of this one and the halves' ([`halves`], which split
+//!   the rules at the middle, then each half at its middle).
 //!
-//! The work is bounded ([`WORK`]); a closure of rules so large that the programme
-//! would take longer, and runs nested more than [`NEST`] deep (bt-core's depth limit),
-//! fall back to splitting at the halves ([`halves`]), whose depth grows with the
-//! logarithm of the number of rules.
+//! The work is bounded: on more than [`CHUNK`] rules, or where the programme would
+//! take more than [`WORK`] steps, the rules are split at the halves first and each
+//! half nested so; runs nested more than [`NEST`] deep (bt-core's depth limit) are
+//! split at the halves too.
 
 use std::collections::HashMap;
 
@@ -45,9 +44,9 @@ use crate::tree::{Kind, PlanNode, PlanTree};
 /// [`crate::tree::DEPTH`] levels.
 const NEST: usize = 24;
 
-/// The most steps (a rule or a run looked at) the programme takes before it leaves
-/// the rules to [`halves`]: about 20 ms. The closure over disturbances counts the
-/// tree's nodes after every addition.
+/// The most steps (a rule or a run looked at) the programme takes on one set of
+/// rules, about 20 ms: the closure over disturbances counts the tree's nodes after
+/// every addition.
 const WORK: usize = 1_000_000;
 
 /// The most rules the programme is tried on at once; more are split at the halves
@@ -508,165 +507,4 @@ pub(super) fn halves(t: &mut PlanTree, parent: PlanNode, rules: &[&Rule], known:
 }
 
 #[cfg(test)]
-mod tests {
-    #![allow(clippy::unwrap_used, clippy::panic, clippy::indexing_slicing)]
-
-    use std::path::Path;
-
-    use proptest::prelude::*;
-
-    use super::{Cost, halves, push_with};
-    use crate::ground::{ActionId, Grounding, Lit};
-    use crate::guide::Trace;
-    use crate::pddl::{parse_domain, parse_problem};
-    use crate::regress::{Budget, Policy, Rule, close};
-    use crate::state::State;
-    use crate::tree::{Kind, PlanNode, PlanTree};
-
-    /// What a reactive tree of Sequences, Fallbacks, conditions and actions returns in
-    /// a state: an action ticked stands for Running.
-    #[derive(Debug, PartialEq, Eq)]
-    enum Tick {
-        Success,
-        Failure,
-        Act(ActionId),
-    }
-
-    fn tick(t: &PlanTree, n: PlanNode, s: &State) -> Tick {
-        match t.kind(n) {
-            Kind::Condition(l) if l.holds(s) => Tick::Success,
-            Kind::Condition(_) => Tick::Failure,
-            Kind::Action(a) => Tick::Act(a),
-            Kind::Sequence => {
-                t.children(n).iter().map(|&c| tick(t, c, s)).find(|r| *r != Tick::Success).unwrap_or(Tick::Success)
-            }
-            Kind::Fallback => {
-                t.children(n).iter().map(|&c| tick(t, c, s)).find(|r| *r != Tick::Failure).unwrap_or(Tick::Failure)
-            }
-        }
-    }
-
-    /// What the rules side by side do: the first that holds acts.
-    fn flat(rules: &[Rule], s: &State) -> Tick {
-        rules.iter().find(|r| r.holds(s)).map_or(Tick::Failure, |r| Tick::Act(r.action))
-    }
-
-    fn condition(l: Lit) -> Cost {
-        if l.positive { Cost { bytes: 3, nodes: 1 } } else { Cost { bytes: 5, nodes: 2 } }
-    }
-
-    fn action(_: ActionId) -> Cost {
-        Cost { bytes: 4, nodes: 1 }
-    }
-
-    /// The cost of `t`'s nodes under `condition` and `action`.
-    fn cost_of(t: &PlanTree, n: PlanNode) -> Cost {
-        match t.kind(n) {
-            Kind::Condition(l) => condition(l),
-            Kind::Action(a) => action(a),
-            _ => Cost::control(t.children(n).iter().fold(Cost::default(), |s, &c| s + cost_of(t, c))),
-        }
-    }
-
-    /// Rules as a plan's regression makes them: each differs from the one before in a
-    /// few literals.
-    fn rules() -> impl Strategy<Value = Vec<Rule>> {
-        let step = (prop::collection::vec(0..10u32, 0..3), prop::collection::vec((0..10u32, any::<bool>()), 0..3));
-        (prop::collection::vec((0..10u32, any::<bool>()), 1..6), prop::collection::vec(step, 0..50)).prop_map(
-            |(first, steps)| {
-                let mut when: Vec<Lit> = Vec::new();
-                let put = |when: &mut Vec<Lit>, (atom, positive): (u32, bool)| {
-                    when.retain(|l| l.atom != atom);
-                    when.push(Lit { atom, positive });
-                };
-                for l in first {
-                    put(&mut when, l);
-                }
-                let mut out = Vec::new();
-                for (k, (drop, add)) in std::iter::once((Vec::new(), Vec::new())).chain(steps).enumerate() {
-                    when.retain(|l| !drop.contains(&l.atom));
-                    for l in add {
-                        put(&mut when, l);
-                    }
-                    let mut sorted = when.clone();
-                    sorted.sort_unstable();
-                    out.push(Rule { when: sorted, action: k as ActionId, distance: k as u32 + 1, group: 0 });
-                }
-                out
-            },
-        )
-    }
-
-    proptest! {
-        /// The nesting ticks exactly as the rules side by side do, in every state of
-        /// their atoms, and is never larger than the halves'.
-        #[test]
-        fn the_cheapest_nesting_ticks_as_the_rules_side_by_side(rules in rules()) {
-            let refs: Vec<&Rule> = rules.iter().collect();
-            let mut nested = PlanTree::with_root(Kind::Fallback);
-            let root = nested.root();
-            push_with(&mut nested, root, &refs, &condition, &action);
-            let mut by_halves = PlanTree::with_root(Kind::Fallback);
-            halves(&mut by_halves, root, &refs, &[]);
-            for bits in 0..1u32 << 10 {
-                let mut s = State::new(10);
-                for atom in 0..10 {
-                    s.set(atom, bits & (1 << atom) != 0);
-                }
-                prop_assert_eq!(tick(&nested, root, &s), flat(&rules, &s), "state {:010b}", bits);
-            }
-            prop_assert!(cost_of(&nested, root) <= cost_of(&by_halves, root));
-        }
-    }
-
-    /// The IPC fixtures' regression trees, closed over disturbances: each ticks as its
-    /// rules side by side do (from states where a rule holds), and its image is no
-    /// larger than the one the halves make.
-    #[test]
-    fn fixture_trees_tick_as_their_rules_and_are_no_larger_than_halves() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ipc");
-        let mut looked = 0;
-        let mut dirs: Vec<_> = std::fs::read_dir(&root).unwrap().map(|e| e.unwrap().path()).collect();
-        dirs.sort();
-        for dir in dirs.iter().filter(|d| d.join("domain.pddl").exists()) {
-            let d = std::fs::read_to_string(dir.join("domain.pddl")).unwrap();
-            let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
-            files.sort();
-            for file in
-                files.iter().filter(|f| f.extension().is_some_and(|e| e == "pddl") && !f.ends_with("domain.pddl"))
-            {
-                let p = std::fs::read_to_string(file).unwrap();
-                let name = file.display().to_string();
-                let problem = parse_domain("domain.pddl", &d).and_then(|d| parse_problem(&name, &p, &d)).unwrap();
-                let g = Grounding::new(&problem).unwrap();
-                let plan = crate::search::gbfs(&g, &crate::search::SearchOptions::default()).unwrap().plan;
-                let mut policy = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
-                close(&g, &mut policy, &Budget { nodes: 2_000, ..Budget::default() }).unwrap();
-                let tree = policy.tree(&g);
-                let mut by_halves = PlanTree::with_root(Kind::Fallback);
-                let top = by_halves.root();
-                by_halves.graft(top, &PlanTree::from_goal(g.goal()));
-                let all: Vec<&Rule> = policy.rules().iter().chain(policy.undo_rules()).collect();
-                halves(&mut by_halves, top, &all, &[]);
-                let bytes = |t: &PlanTree| {
-                    let f = t.flatten(&g).unwrap();
-                    crate::offline::fit::size_of(&f.nodes, &f.values).unwrap().bytes
-                };
-                assert!(bytes(&tree) <= bytes(&by_halves), "{name}: {} > {}", bytes(&tree), bytes(&by_halves));
-                // States where each rule holds, the others' atoms as the initial state has them.
-                let goal = |s: &State| g.goal_holds(s);
-                for r in &all {
-                    let mut s = g.init().clone();
-                    for l in &r.when {
-                        s.set(l.atom, l.positive);
-                    }
-                    let want = if goal(&s) { Tick::Success } else { flat(policy.rules(), &s) };
-                    let want = if want == Tick::Failure { flat(policy.undo_rules(), &s) } else { want };
-                    assert_eq!(tick(&tree, tree.root(), &s), want, "{name}");
-                    looked += 1;
-                }
-            }
-        }
-        assert!(looked > 100, "{looked} states looked at");
-    }
-}
+mod tests;
