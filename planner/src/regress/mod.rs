@@ -18,7 +18,9 @@
 //! rules share are checked once, in a `Sequence(shared?, Fallback(rules...))` around
 //! them, which ticks exactly as the rules side by side do (the regressed conditions of
 //! consecutive steps differ in a few literals, so this makes the tree several times
-//! smaller); [`factor`] chooses the runs that make the tree smallest.
+//! smaller); the runs are chosen to make the tree's image small (a dynamic
+//! programme over runs of shared conditions, never larger than splitting the rules at
+//! their halves).
 //!
 //! # Rules, and why the tree always progresses
 //!
@@ -366,8 +368,8 @@ impl Policy {
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
     /// then the undo rules, with the conditions that runs of neighbouring rules share
-    /// checked once (in a `Sequence(shared?, Fallback(rules...))` around them: see
-    /// [`factor`]).
+    /// checked once (in a `Sequence(shared?, Fallback(rules...))` around them), the
+    /// runs chosen to make the image small.
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
         self.tree_with(g, None, true)
