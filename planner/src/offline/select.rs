@@ -60,7 +60,11 @@ pub(super) fn closed_to_fit<C: Catalog>(
         }
         return one_act(g, plain, bare, (options.close_nodes, until), make, &measure);
     }
-    let budget = fit::first_budget(options, bare.fit.size);
+    // The closure counts the nodes of its rules nested by halves ([`Policy::nodes`]),
+    // more than the tree it hands over has: the budget is in those nodes.
+    let tree = plain.tree(g);
+    let counted = plain.nodes(g) as f64 / tree.preorder(tree.root()).len().max(1) as f64;
+    let budget = fit::first_budget(options, bare.fit.size, counted.max(1.0));
     let mut policy = plain.clone();
     let closed =
         crate::regress::close(g, &mut policy, &close_budget(Options { close_nodes: budget, ..options }, until))?;
