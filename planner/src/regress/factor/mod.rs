@@ -39,9 +39,9 @@ use crate::ground::{ActionId, Grounding, Lit};
 use crate::tree::{Kind, PlanNode, PlanTree};
 
 /// The most runs nested in one another (each is a Sequence and a Fallback: two
-/// levels). With the root, a rule's Sequence, an Inverter and a condition, and the
-/// halves' nesting below it for 65,535 rules, a tree stays within bt-core's
-/// [`crate::tree::DEPTH`] levels.
+/// levels). With the root, a rule's Sequence, an Inverter and a condition, the halves
+/// above [`CHUNK`] rules of 65,535 (18 levels) and below the deepest run (14), a tree
+/// stays within bt-core's [`crate::tree::DEPTH`] levels (84 of 128).
 const NEST: usize = 24;
 
 /// The most steps (a rule or a run looked at) the programme takes on one set of
