@@ -240,14 +240,20 @@ impl PlanTree {
     /// Copies `other` (from its root) in as the last child of `parent`; returns the
     /// copy's root.
     pub fn graft(&mut self, parent: PlanNode, other: &PlanTree) -> PlanNode {
+        self.graft_from(parent, other, other.root)
+    }
+
+    /// Copies `other`'s subtree under `from` in as the last child of `parent`; returns
+    /// the copy's root.
+    pub fn graft_from(&mut self, parent: PlanNode, other: &PlanTree, from: PlanNode) -> PlanNode {
         let mut copy = vec![NONE; other.slots.len()];
-        for n in other.preorder(other.root) {
+        for n in other.preorder(from) {
             let c = self.add(other.kind(n));
             copy[n as usize] = c;
-            let up = other.parent(n).map_or(parent, |p| copy[p as usize]);
+            let up = if n == from { parent } else { other.parent(n).map_or(parent, |p| copy[p as usize]) };
             self.push_child(up, c);
         }
-        copy[other.root as usize]
+        copy[from as usize]
     }
 
     /// The action of a row of an atomic BT: `n` itself if it is an action, the last

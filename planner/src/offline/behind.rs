@@ -56,7 +56,7 @@ impl<C: Catalog + ?Sized> crate::regress::Closable for Behind<'_, C> {
             }
             built => {
                 let key = (policy.rules().to_vec(), policy.undo_rules().to_vec());
-                &built.insert((key, policy.tree_before(g, self.base).flatten(g)?)).1
+                &built.insert((key, policy.tree_before_by_halves(g, self.base).flatten(g)?)).1
             }
         };
         let mut world = StripsWorld::new(self.g.clone());

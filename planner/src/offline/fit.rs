@@ -79,10 +79,12 @@ pub(super) fn too_big(size: Size, fit: Fit) -> PlanError {
 
 /// The first node budget of a closure that must fit `options.fit`, for a tree of
 /// `plain` size without it: [`Options::close_nodes`], or as many nodes as the bytes
-/// allowed hold at the bytes a node of the plain tree takes, if fewer.
-pub(super) fn first_budget(options: Options, plain: Size) -> usize {
+/// allowed hold at the bytes a node of the plain tree takes, if fewer; `counted`
+/// nodes for each node of the tree, as the closure counts them.
+pub(super) fn first_budget(options: Options, plain: Size, counted: f64) -> usize {
     let per_node = plain.bytes as f64 / plain.nodes.max(1) as f64;
-    options.close_nodes.min((options.fit.bytes as f64 / per_node) as usize).min(options.fit.nodes)
+    let held = |n: usize| (n as f64 * counted) as usize;
+    options.close_nodes.min(held((options.fit.bytes as f64 / per_node) as usize)).min(held(options.fit.nodes))
 }
 
 /// Makes a tree with `make(budget)`, the closure over disturbances within `budget`
@@ -109,7 +111,7 @@ pub(super) fn within<C: Catalog>(
     if options.close_nodes == 0 || !plain.fit.fits {
         return Ok(Plan { fit: Fitted { cut: (options.close_nodes > 0).then_some(0), ..plain.fit }, ..plain });
     }
-    let mut budget = first_budget(options, plain.fit.size);
+    let mut budget = first_budget(options, plain.fit.size, 1.0);
     let mut tries = 0;
     loop {
         let mut p = make(budget)?;

@@ -14,11 +14,13 @@
 //! Ticked, it does the step after the latest `C_i` that holds: from the initial state
 //! it executes the plan; when an external change undoes a step it goes back, when one
 //! does a step for it it skips ahead (the reactivity of Problem 1 in Colledanchise et al. 2019, for
-//! the states the plan passes through). Its depth grows only with the logarithm of
-//! the plan's length: the conditions that neighbouring rules share are checked once,
-//! in a `Sequence(shared?, Fallback(rules...))` around them, which ticks exactly as
-//! the rules side by side do (the regressed conditions of consecutive steps differ in a
-//! few literals, so this makes the tree several times smaller).
+//! the states the plan passes through). The conditions that a run of neighbouring
+//! rules share are checked once, in a `Sequence(shared?, Fallback(rules...))` around
+//! them, which ticks exactly as the rules side by side do (the regressed conditions of
+//! consecutive steps differ in a few literals, so this makes the tree several times
+//! smaller); the runs are chosen to make the tree's image small (a dynamic
+//! programme over runs of shared conditions, never larger than splitting the rules at
+//! their halves).
 //!
 //! # Rules, and why the tree always progresses
 //!
@@ -87,6 +89,7 @@
 //! the rules take over.
 
 mod close;
+mod factor;
 mod groups;
 mod one_act;
 mod way_back;
@@ -113,7 +116,7 @@ pub use one_act::{ONE_ACT_SHARE, OneAct, STATES_PER_STEP, close_one_act};
 use crate::ground::{ActionId, GroundAction, Grounding, Lit};
 use crate::guide::Trace;
 use crate::state::State;
-use crate::tree::{Kind, PlanNode, PlanTree};
+use crate::tree::{Kind, PlanTree};
 fn add(set: &mut Vec<Lit>, l: Lit) {
     if !set.contains(&l) {
         set.push(l);
@@ -352,24 +355,29 @@ impl Policy {
         self.apply(groups::Group { rules, undo: false, plan })
     }
 
-    /// Planner nodes of [`Policy::tree`] (it builds the tree: keep the count while the
-    /// rules do not change).
+    /// Planner nodes of the tree with its rules nested by halves and the undo rules
+    /// side by side: quick to count after every addition of the closure over
+    /// disturbances, where [`Policy::tree`]'s nesting takes up to a few tens of
+    /// milliseconds, and about as many as that tree has (whose image is never larger).
+    /// It builds the tree: keep the count while the rules do not change.
     #[must_use]
     pub fn nodes(&self, g: &Grounding) -> usize {
-        let t = self.tree(g);
+        let t = self.tree_with(g, None, false);
         t.preorder(t.root()).len()
     }
 
     /// The tree: `Fallback(goal?, Sequence(when?, action), ...)`, the rules in order,
-    /// with the conditions that neighbouring rules share checked once (in a
-    /// `Sequence(shared?, Fallback(rules...))` around them), then the undo rules.
+    /// then the undo rules, with the conditions that runs of neighbouring rules share
+    /// checked once (in a `Sequence(shared?, Fallback(rules...))` around them), the
+    /// runs chosen to make the image small.
     #[must_use]
     pub fn tree(&self, g: &Grounding) -> PlanTree {
-        self.tree_with(g, None)
+        self.tree_with(g, None, true)
     }
 
     /// [`Policy::tree`] with `base` between the rules and the undo rules.
-    fn tree_with(&self, g: &Grounding, base: Option<&PlanTree>) -> PlanTree {
+    /// `cheapest`: nested by [`factor::push`], else by halves ([`Policy::nodes`]).
+    fn tree_with(&self, g: &Grounding, base: Option<&PlanTree>, cheapest: bool) -> PlanTree {
         let mut t = PlanTree::with_root(Kind::Fallback);
         let root = t.root();
         let goal = if let [single] = g.goal() {
@@ -383,21 +391,22 @@ impl Policy {
             s
         };
         t.push_child(root, goal);
-        Self::factor(&mut t, root, &self.rules, &[]);
-        if let Some(base) = base {
+        if !cheapest {
+            factor::halves(&mut t, root, &self.rules.iter().collect::<Vec<_>>(), &[]);
+            if let Some(base) = base {
+                t.graft(root, base);
+            }
+            for r in &self.undo {
+                t.push_step(root, &r.when, r.action);
+            }
+        } else if let Some(base) = base {
+            factor::push(g, &mut t, root, &self.rules.iter().collect::<Vec<_>>());
             t.graft(root, base);
-        }
-        for r in &self.undo {
-            Self::push_rule(&mut t, root, r, &[]);
+            factor::push(g, &mut t, root, &self.undo.iter().collect::<Vec<_>>());
+        } else {
+            factor::push(g, &mut t, root, &self.rules.iter().chain(&self.undo).collect::<Vec<_>>());
         }
         t
-    }
-
-    /// Appends `Sequence(when?, action)` for `rule` to `parent` (the action alone when
-    /// `known`, what the ancestors checked, covers every condition).
-    fn push_rule(t: &mut PlanTree, parent: PlanNode, rule: &Rule, known: &[Lit]) {
-        let when: Vec<Lit> = rule.when.iter().copied().filter(|l| !known.contains(l)).collect();
-        t.push_step(parent, &when, rule.action);
     }
 
     /// Adds an undo rule for `t`, a state an agent's action led to from `s`, when one
@@ -453,48 +462,6 @@ impl Policy {
         self.log.pop();
     }
 
-    /// Appends `rules` to the Fallback `parent`, whose ancestors have checked `known`.
-    /// A run of rules that share conditions becomes `Sequence(shared?, Fallback(rules
-    /// without them))`: ticked, it does exactly what the rules side by side do (the
-    /// shared conditions false: none of them holds, and the Fallback goes on to the
-    /// next rule; true: the first that holds), with the shared conditions in the tree
-    /// once. The runs are the halves of `rules`, then their halves, so the nesting is
-    /// about twice the logarithm of the number of rules deep.
-    fn factor(t: &mut PlanTree, parent: PlanNode, rules: &[Rule], known: &[Lit]) {
-        if rules.len() <= 2 {
-            for r in rules {
-                Self::push_rule(t, parent, r, known);
-            }
-            return;
-        }
-        let (a, b) = rules.split_at(rules.len() / 2);
-        for half in [a, b] {
-            let shared: Vec<Lit> = half[0]
-                .when
-                .iter()
-                .copied()
-                .filter(|l| !known.contains(l) && half[1..].iter().all(|r| r.when.binary_search(l).is_ok()))
-                .collect();
-            // The Sequence and the Fallback cost two nodes; sharing saves the shared
-            // conditions once per rule but the first.
-            if (half.len() - 1) * shared.len() <= 2 {
-                Self::factor(t, parent, half, known);
-                continue;
-            }
-            let seq = t.add(Kind::Sequence);
-            for &l in &shared {
-                let c = t.add(Kind::Condition(l));
-                t.push_child(seq, c);
-            }
-            let fb = t.add(Kind::Fallback);
-            t.push_child(seq, fb);
-            t.push_child(parent, seq);
-            let mut inner = known.to_vec();
-            inner.extend_from_slice(&shared);
-            Self::factor(t, fb, half, &inner);
-        }
-    }
-
     /// The rules in front of `base`, the undo rules behind it: `Fallback(goal?,
     /// rules..., base, undo rules...)`; `base` itself while there are none.
     #[must_use]
@@ -502,7 +469,17 @@ impl Policy {
         if self.rules.is_empty() && self.undo.is_empty() {
             return base.clone();
         }
-        self.tree_with(g, Some(base))
+        self.tree_with(g, Some(base), true)
+    }
+
+    /// A tree that ticks exactly as [`Policy::tree_before`]'s, its rules nested by
+    /// halves: quicker to make where the closure runs it after every addition.
+    #[must_use]
+    pub fn tree_before_by_halves(&self, g: &Grounding, base: &PlanTree) -> PlanTree {
+        if self.rules.is_empty() && self.undo.is_empty() {
+            return base.clone();
+        }
+        self.tree_with(g, Some(base), false)
     }
 
     /// An empty policy (no rules).
