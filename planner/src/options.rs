@@ -62,7 +62,7 @@ pub struct Options {
     /// bt-core nodes than this and does not reach the goal yet, and the search-guided
     /// methods take over (guided backchaining has a budget of its own, this or four
     /// times the plan's regression tree). The largest tree Algorithm 1 finished in the
-    /// IPC benchmark of `docs/planning.md` had 1,267 nodes, the shipped ones (the
+    /// IPC benchmark of `docs/planning-results.md` had 1,267 nodes, the shipped ones (the
     /// paper's figures, the brick tasks, 40 blocks) have at most 664; where it went on
     /// past a few thousand it did not finish (blocks, pegsol: to the 65,535 nodes a
     /// bt-core tree holds, for seconds).
@@ -79,7 +79,7 @@ pub struct Options {
     /// gets 20,000 evaluated states, and where it finds no plan within them the
     /// deferred search's plan is taken (both run at once on a machine with two cores,
     /// and the plan never depends on which ends first). On by default, with
-    /// [`Options::landmarks`]: in the IPC benchmark of `docs/planning.md` eager search
+    /// [`Options::landmarks`]: in the IPC benchmark of `docs/planning-results.md` eager search
     /// alone missed visitall, childsnack and tetris problems, deferred search alone
     /// parcprinter and maintenance ones.
     pub deferred: bool,
