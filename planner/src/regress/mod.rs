@@ -466,20 +466,22 @@ impl Policy {
     /// rules..., base, undo rules...)`; `base` itself while there are none.
     #[must_use]
     pub fn tree_before(&self, g: &Grounding, base: &PlanTree) -> PlanTree {
-        if self.rules.is_empty() && self.undo.is_empty() {
-            return base.clone();
-        }
-        self.tree_with(g, Some(base), true)
+        self.before(g, base, true)
     }
 
     /// A tree that ticks exactly as [`Policy::tree_before`]'s, its rules nested by
     /// halves: quicker to make where the closure runs it after every addition.
     #[must_use]
     pub fn tree_before_by_halves(&self, g: &Grounding, base: &PlanTree) -> PlanTree {
+        self.before(g, base, false)
+    }
+
+    /// `base` where there are no rules, else [`Policy::tree_with`] around it.
+    fn before(&self, g: &Grounding, base: &PlanTree, cheapest: bool) -> PlanTree {
         if self.rules.is_empty() && self.undo.is_empty() {
             return base.clone();
         }
-        self.tree_with(g, Some(base), false)
+        self.tree_with(g, Some(base), cheapest)
     }
 
     /// An empty policy (no rules).

@@ -129,14 +129,14 @@ fn push_with(
     condition: &dyn Fn(Lit) -> Cost,
     action: &dyn Fn(ActionId) -> Cost,
 ) {
-    nest(t, parent, rules, &[], (condition, action));
+    nest(t, parent, rules, &[], Some((condition, action)));
 }
 
 /// Appends `rules` to the Fallback `parent`, whose ancestors checked `known`: nested
-/// by [`Nesting`] where that is cheaper than by [`halves`] and takes at most
-/// [`WORK`] steps (tried on at most [`CHUNK`] rules), else split at the halves as
-/// [`halves`] does, each half nested likewise.
-fn nest(t: &mut PlanTree, parent: PlanNode, rules: &[&Rule], known: &[Lit], costs: Costs<'_>) {
+/// by [`Nesting`] where `costs` are given, that is cheaper than by [`halves`] and takes
+/// at most [`WORK`] steps (tried on at most [`CHUNK`] rules), else split at the halves,
+/// each half nested likewise.
+fn nest(t: &mut PlanTree, parent: PlanNode, rules: &[&Rule], known: &[Lit], costs: Option<Costs<'_>>) {
     if rules.len() <= 2 {
         for r in rules {
             let when: Vec<Lit> = r.when.iter().copied().filter(|l| !known.contains(l)).collect();
@@ -144,7 +144,10 @@ fn nest(t: &mut PlanTree, parent: PlanNode, rules: &[&Rule], known: &[Lit], cost
         }
         return;
     }
-    if rules.len() <= CHUNK && nest_runs(t, parent, rules, known, costs) {
+    if let Some(costs) = costs
+        && rules.len() <= CHUNK
+        && nest_runs(t, parent, rules, known, costs)
+    {
         return;
     }
     for (half, shared) in split(rules, known) {
@@ -488,22 +491,7 @@ impl<'a> Nesting<'a> {
 /// twice the logarithm of the number of rules deep; the cheapest nesting ([`push`])
 /// falls back to it.
 pub(super) fn halves(t: &mut PlanTree, parent: PlanNode, rules: &[&Rule], known: &[Lit]) {
-    if rules.len() <= 2 {
-        for r in rules {
-            let when: Vec<Lit> = r.when.iter().copied().filter(|l| !known.contains(l)).collect();
-            t.push_step(parent, &when, r.action);
-        }
-        return;
-    }
-    for (half, shared) in split(rules, known) {
-        if shared.is_empty() {
-            halves(t, parent, half, known);
-        } else {
-            let fb = push_shared(t, parent, &shared);
-            let inner: Vec<Lit> = known.iter().chain(&shared).copied().collect();
-            halves(t, fb, half, &inner);
-        }
-    }
+    nest(t, parent, rules, known, None);
 }
 
 #[cfg(test)]
