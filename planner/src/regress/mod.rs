@@ -355,8 +355,8 @@ impl Policy {
         self.apply(groups::Group { rules, undo: false, plan })
     }
 
-    /// Planner nodes of the tree with its rules nested by halves and the undo rules
-    /// side by side: quick to count after every addition of the closure over
+    /// Planner nodes of the tree with its rules and its undo rules nested by halves
+    /// (each apart): quick to count after every addition of the closure over
     /// disturbances, where [`Policy::tree`]'s nesting takes up to a few tens of
     /// milliseconds, and about as many as that tree has (whose image is never larger).
     /// It builds the tree: keep the count while the rules do not change.
@@ -396,9 +396,7 @@ impl Policy {
             if let Some(base) = base {
                 t.graft(root, base);
             }
-            for r in &self.undo {
-                t.push_step(root, &r.when, r.action);
-            }
+            factor::halves(&mut t, root, &self.undo.iter().collect::<Vec<_>>(), &[]);
         } else if let Some(base) = base {
             factor::push(g, &mut t, root, &self.rules.iter().collect::<Vec<_>>());
             t.graft(root, base);
