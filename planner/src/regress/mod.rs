@@ -64,6 +64,15 @@
 //! ones, because a tree with fewer distinct actions gives an external agent fewer to
 //! do, and its closure fewer states to look at.
 //!
+//! Any of these ways back is added as *return rules* instead where they
+//! serve: for each of its actions, `Sequence(pre(u)?, u)` after all the other rules
+//! (as the undo rules below), where the tree then reaches the goal from the disturbed
+//! state, no return rules could take turns, and they take no more nodes than the way's
+//! regressed rules, which carry all the conditions of the rule it leads to. A return
+//! rule serves every state where no other rule holds: where an agent did one of a run
+//! of interchangeable steps out of turn (a process activated before the others), the
+//! same few rules lead back from every step of the run.
+//!
 //! Before any of these, an *undo rule* ([`Policy::undo_rules`]): where the agent's
 //! action can be undone by one action (an object picked up out of turn, put back),
 //! a rule `Sequence(pre(u)?, u)` after all the others, where the tree would otherwise
