@@ -38,10 +38,15 @@ impl Default for Budget {
 pub struct Closed {
     /// States looked at.
     pub states: usize,
-    /// States where the tree failed, each given a plan and its rules.
+    /// States where the tree failed, each given a way back (a plan to the goal, or to a
+    /// state where one of the tree's rules holds) and its rules.
     pub plans: usize,
     /// Undo rules added ([`Policy::undo_rules`]).
     pub undo: usize,
+    /// Of [`Closed::plans`], the ways back added as return rules (each action's
+    /// preconditions only, after all the other rules), where those take no more nodes
+    /// than the way's rules regressed from the rule it leads to.
+    pub returns: usize,
     /// States where the tree failed and no plan reaches the goal.
     pub dead_ends: usize,
     /// States where the tree failed and the search for a plan ran out of its time.
@@ -112,6 +117,9 @@ impl std::fmt::Display for Closed {
             count(self.plans, "plan"),
             count(self.states, "state")
         )?;
+        if self.returns > 0 {
+            write!(f, ", {} as return rules", self.returns)?;
+        }
         if self.undo > 0 {
             write!(f, ", {}", count(self.undo, "undo rule"))?;
         }
@@ -405,9 +413,22 @@ fn serve(
     };
     let Some((steps, rule)) = back else { return Ok(Served::Not) };
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
+    // The way's steps as return rules, where the tree then reaches the goal from `t`.
+    let mut returns = policy.clone();
+    let returned = if returns.push_returns(g, &steps) > 0 && tree.run(g, &returns, t)?.1 {
+        Some(tree.nodes(g, &returns))
+    } else {
+        None
+    };
     let before = policy.clone();
     policy.add_path(g, &trace, &rule);
-    let nodes = tree.nodes(g, policy);
+    let mut nodes = tree.nodes(g, policy);
+    // The return rules where they take no more nodes than the way's regressed rules.
+    let by_returns = returned.is_some_and(|r| r <= nodes);
+    if by_returns {
+        *policy = returns;
+        nodes = returned.unwrap_or(nodes);
+    }
     if nodes.saturating_sub(*size) > budget.nodes / WAY_BACK_SHARE {
         // One hard state would use up the nodes meant for many.
         *policy = before;
@@ -416,6 +437,7 @@ fn serve(
     }
     *size = nodes;
     done.plans += 1;
+    done.returns += usize::from(by_returns);
     Ok(Served::Path(tree.run(g, policy, t)?.0, true))
 }
 

@@ -64,6 +64,15 @@
 //! ones, because a tree with fewer distinct actions gives an external agent fewer to
 //! do, and its closure fewer states to look at.
 //!
+//! Any of these ways back is added as *return rules* instead where they
+//! serve: for each of its actions, `Sequence(pre(u)?, u)` after all the other rules
+//! (as the undo rules below), where the tree then reaches the goal from the disturbed
+//! state, no return rules could take turns, and they take no more nodes than the way's
+//! regressed rules, which carry all the conditions of the rule it leads to. A return
+//! rule serves every state where no other rule holds: where an agent did one of a run
+//! of interchangeable steps out of turn (a process activated before the others), the
+//! same few rules lead back from every step of the run.
+//!
 //! Before any of these, an *undo rule* ([`Policy::undo_rules`]): where the agent's
 //! action can be undone by one action (an object picked up out of turn, put back),
 //! a rule `Sequence(pre(u)?, u)` after all the others, where the tree would otherwise
@@ -355,8 +364,8 @@ impl Policy {
         self.apply(groups::Group { rules, undo: false, plan })
     }
 
-    /// Planner nodes of the tree with its rules nested by halves and the undo rules
-    /// side by side: quick to count after every addition of the closure over
+    /// Planner nodes of the tree with its rules and its undo rules nested by halves
+    /// (each apart): quick to count after every addition of the closure over
     /// disturbances, where [`Policy::tree`]'s nesting takes up to a few tens of
     /// milliseconds, and about as many as that tree has (whose image is never larger).
     /// It builds the tree: keep the count while the rules do not change.
@@ -396,9 +405,7 @@ impl Policy {
             if let Some(base) = base {
                 t.graft(root, base);
             }
-            for r in &self.undo {
-                t.push_step(root, &r.when, r.action);
-            }
+            factor::halves(&mut t, root, &self.undo.iter().collect::<Vec<_>>(), &[]);
         } else if let Some(base) = base {
             factor::push(g, &mut t, root, &self.rules.iter().collect::<Vec<_>>());
             t.graft(root, base);

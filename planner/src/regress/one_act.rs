@@ -104,6 +104,48 @@ fn return_rule(g: &Grounding, policy: &Policy, s: &State, t: &State, own: &[Acti
 }
 
 impl Policy {
+    /// Adds a way back from a disturbed state as return rules, one group: for each
+    /// action of `steps` (a way back found by [`super::close`]'s looks) that no return
+    /// or undo rule has yet, `Sequence(pre(u)?, u!)` after all the others. Each must
+    /// make one of its own conditions false, have no conditional effects and form no
+    /// cycle with the other return rules in which they could take turns. Returns how
+    /// many rules were added (0, and nothing added, where one action does not serve);
+    /// the caller runs the tree from the disturbed state to see whether they serve.
+    ///
+    /// A rule regressed through a way back carries all the conditions of the rule it
+    /// leads to (175 in philosophers p24, for each of a way back's 24 steps), and serves
+    /// the states that meet them all; a return rule carries its action's preconditions
+    /// and serves every state where no other rule holds: where an agent did one of a
+    /// run of interchangeable steps out of turn (a process activated before the others),
+    /// the same few rules lead back from every step of the run.
+    pub(super) fn push_returns(&mut self, g: &Grounding, steps: &[ActionId]) -> usize {
+        let group = self.group_count();
+        let mut rules: Vec<Rule> = Vec::new();
+        for &u in steps {
+            if self.undo.iter().chain(&rules).any(|r| r.action == u) {
+                continue;
+            }
+            let Some(x) = g.action(u) else { return 0 };
+            if !x.cond.is_empty() || !falsifies_own_condition(x) {
+                return 0;
+            }
+            let Some(rule) = self.undo_rule(g, u) else { return 0 };
+            let before = self.undo.len();
+            self.undo.extend(rules.iter().cloned());
+            let turns = self.returns_take_turns(g, &rule);
+            self.undo.truncate(before);
+            if turns {
+                return 0;
+            }
+            rules.push(Rule { group, ..rule });
+        }
+        let added = rules.len();
+        if added > 0 {
+            self.apply(super::groups::Group { rules, undo: true, plan: None });
+        }
+        added
+    }
+
     /// Whether the undo rules with `extra` could act in turn for ever. They act only
     /// where no rule of a plan holds (from a state where one holds, the rules reach the
     /// goal), and each one's action makes one of its own conditions false, so it acts
@@ -222,5 +264,68 @@ pub(crate) mod star {
         assert!(policy.returns_take_turns(&g, &rule("move(x, a)")));
         assert!(policy.returns_take_turns(&g, &rule("move(b, x)")));
         assert!(!policy.returns_take_turns(&g, &rule("move(c, x)")));
+    }
+}
+
+#[cfg(test)]
+mod ways_back {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
+
+    use super::*;
+    use crate::guide::Trace;
+    use crate::pddl::{parse_domain, parse_problem};
+    use crate::regress::{Closable, RulesOnly, close};
+
+    /// Six rockets, each armed, then fired; the plan arms them all, then fires them
+    /// all (as philosophers p24's plan activates 25 processes, then runs them).
+    const DOMAIN: &str = "(define (domain launch) (:requirements :typing)
+        (:types rocket - object)
+        (:predicates (idle ?r - rocket) (armed ?r - rocket) (fired ?r - rocket))
+        (:action arm :parameters (?r - rocket)
+          :precondition (idle ?r) :effect (and (armed ?r) (not (idle ?r))))
+        (:action fire :parameters (?r - rocket)
+          :precondition (armed ?r) :effect (and (fired ?r) (not (armed ?r)))))";
+    const SIX: &str = "(define (problem six) (:domain launch)
+        (:objects r1 r2 r3 r4 r5 r6 - rocket)
+        (:init (idle r1) (idle r2) (idle r3) (idle r4) (idle r5) (idle r6))
+        (:goal (and (fired r1) (fired r2) (fired r3) (fired r4) (fired r5) (fired r6))))";
+
+    fn named(g: &Grounding, name: &str) -> ActionId {
+        (0..g.actions().len()).map(|k| k as ActionId).find(|&a| g.action_name(a) == name).unwrap()
+    }
+
+    /// An agent that arms a rocket out of turn leaves the world where no rule holds
+    /// until the plan has armed all the others: a way back of up to five steps, whose
+    /// rules, regressed from the rule it leads to, would each carry the whole state.
+    /// As return rules (`arm` where the rocket is idle), a few rules serve every such
+    /// act from every step, so the closure serves all the states one act from the
+    /// tree's path within a budget that regressed ways back exceed.
+    #[test]
+    fn a_way_back_through_interchangeable_steps_becomes_return_rules() {
+        let d = parse_domain("domain.pddl", DOMAIN).unwrap();
+        let g = Grounding::new(&parse_problem("six.pddl", SIX, &d).unwrap()).unwrap();
+        let names: Vec<String> =
+            (1..=6).map(|k| format!("arm(r{k})")).chain((1..=6).map(|k| format!("fire(r{k})"))).collect();
+        let plan: Vec<ActionId> = names.iter().map(|s| named(&g, s)).collect();
+        let plain = Policy::of_trace(&g, &Trace::new(&g, &plan).unwrap());
+        let room = plain.nodes(&g) + 40;
+        let mut policy = plain.clone();
+        let done = close(&g, &mut policy, &Budget { nodes: room, ..Budget::default() }).unwrap();
+        assert!(done.complete && done.returns > 0, "{done}");
+        assert!(policy.nodes(&g) <= room, "{} nodes, {room} allowed", policy.nodes(&g));
+        // Every state one of the tree's acts leads to from its path: the tree reaches
+        // the goal, and undisturbed it still follows the plan.
+        let reaches = |s: &State| RulesOnly.run(&g, &policy, s).unwrap().1;
+        let mut disturbed = 0;
+        for s in plain.path(&g, g.init()) {
+            for &a in &plain.actions() {
+                if let Some(t) = successor(&g, a, &s) {
+                    assert!(reaches(&t), "{} out of turn", g.action_name(a));
+                    disturbed += 1;
+                }
+            }
+        }
+        assert!(disturbed > 30, "{disturbed}");
+        assert_eq!(policy.path(&g, g.init()).len(), plan.len() + 1);
     }
 }
