@@ -154,3 +154,22 @@ fn a_guided_tree_covers_as_many_checks_as_fit() {
     assert!(some.covered > 0 && some.covered < all.covered, "{} of {}", some.covered, all.covered);
     assert_eq!(some.executed, all.executed);
 }
+
+/// Where the guided tree with the stack count not pinned does not fit, the planner says
+/// so, apart from why plain guided backchaining gave up (which is another tree's).
+#[test]
+fn a_guided_tree_with_the_count_not_pinned_that_does_not_fit_says_so() {
+    let (g, c) = mini_openstacks();
+    let fit = planner::Fit { bytes: 64, ..planner::Fit::NONE };
+    let plan = planner::plan(g, c, Options { close_nodes: 0, fit, ..Options::default() }).unwrap();
+    assert!(!plan.fit.fits);
+    let said: Vec<String> =
+        plan.gave_up.iter().filter(|x| x.method == Made::SearchGuided).map(|x| x.error.to_string()).collect();
+    assert_eq!(said.len(), 2, "{said:?}");
+    assert!(
+        said[1].starts_with(
+            "with stacks-avail/1 not pinned, the tree does not fit even without its closure over disturbances: its image has"
+        ),
+        "{said:?}"
+    );
+}

@@ -276,6 +276,13 @@ pub fn plan<C: Catalog>(g: Arc<Grounding>, catalog: Arc<C>, options: Options) ->
                 let mut p = fit::within(options, |n| {
                     close_backchained(p.clone(), &g, Options { close_nodes: n, ..options }, until)
                 })?;
+                if !p.fit.fits {
+                    // Said apart from plain guided backchaining's reason, which is
+                    // another tree's.
+                    let what = fit::too_big(p.fit.size, options.fit);
+                    let what = format!("with {} not pinned, {what}", p.variables.join(", "));
+                    gave_up.push(GaveUp { method: Made::SearchGuided, error: PlanError::TooBig { what } });
+                }
                 if p.closed.is_some_and(|c| !c.complete) || !p.fit.fits || p.fit.cut.is_some() {
                     // Its closure did not cover every disturbed state it looked at (or was cut
                     // or left out to fit): the
