@@ -415,30 +415,34 @@ fn serve(
     let Some(trace) = Trace::from_state(g, t, &steps) else { return Ok(Served::Not) };
     // The way's steps as return rules, where the tree then reaches the goal from `t`.
     let mut returns = policy.clone();
-    let returned = if returns.push_returns(g, &steps) > 0 && tree.run(g, &returns, t)?.1 {
-        Some(tree.nodes(g, &returns))
+    let returned = if returns.push_returns(g, &steps) > 0 {
+        let (path, reached) = tree.run(g, &returns, t)?;
+        reached.then(|| (tree.nodes(g, &returns), path))
     } else {
         None
     };
-    let before = policy.clone();
-    policy.add_path(g, &trace, &rule);
-    let mut nodes = tree.nodes(g, policy);
+    let mut regressed = policy.clone();
+    regressed.add_path(g, &trace, &rule);
+    let regressed_nodes = tree.nodes(g, &regressed);
     // The return rules where they take no more nodes than the way's regressed rules.
-    let by_returns = returned.is_some_and(|r| r <= nodes);
-    if by_returns {
-        *policy = returns;
-        nodes = returned.unwrap_or(nodes);
-    }
+    let (chosen, nodes, path) = match returned {
+        Some((nodes, path)) if nodes <= regressed_nodes => (returns, nodes, Some(path)),
+        _ => (regressed, regressed_nodes, None),
+    };
     if nodes.saturating_sub(*size) > budget.nodes / WAY_BACK_SHARE {
         // One hard state would use up the nodes meant for many.
-        *policy = before;
         done.too_long += 1;
         return Ok(Served::Not);
     }
+    *policy = chosen;
     *size = nodes;
     done.plans += 1;
-    done.returns += usize::from(by_returns);
-    Ok(Served::Path(tree.run(g, policy, t)?.0, true))
+    done.returns += usize::from(path.is_some());
+    let path = match path {
+        Some(path) => path,
+        None => tree.run(g, policy, t)?.0,
+    };
+    Ok(Served::Path(path, true))
 }
 
 #[cfg(test)]

@@ -95,7 +95,7 @@ fn return_rule(g: &Grounding, policy: &Policy, s: &State, t: &State, own: &[Acti
             return None;
         }
         let rule = policy.undo_rule(g, u)?;
-        (!policy.returns_take_turns(g, &rule)).then_some(rule)
+        (!policy.returns_take_turns(g, &[], &rule)).then_some(rule)
     };
     let lost = s.iter().filter(|&a| !t.holds(a)).map(|atom| Lit { atom, positive: true });
     let gained = t.iter().filter(|&a| !s.holds(a)).map(|atom| Lit { atom, positive: false });
@@ -130,11 +130,7 @@ impl Policy {
                 return 0;
             }
             let Some(rule) = self.undo_rule(g, u) else { return 0 };
-            let before = self.undo.len();
-            self.undo.extend(rules.iter().cloned());
-            let turns = self.returns_take_turns(g, &rule);
-            self.undo.truncate(before);
-            if turns {
+            if self.returns_take_turns(g, &rules, &rule) {
                 return 0;
             }
             rules.push(Rule { group, ..rule });
@@ -146,15 +142,16 @@ impl Policy {
         added
     }
 
-    /// Whether the undo rules with `extra` could act in turn for ever. They act only
+    /// Whether the undo rules with `pending` (rules about to be added with it) and
+    /// `extra` could act in turn for ever. They act only
     /// where no rule of a plan holds (from a state where one holds, the rules reach the
     /// goal), and each one's action makes one of its own conditions false, so it acts
     /// again only after another made that condition true: undo rules that repeat need a
     /// cycle of rules, each making true a condition that the next makes false. This
     /// looks for such a cycle through `extra` (the undo rules of [`super::close`], no
     /// two changing a fact in opposite directions, have none).
-    fn returns_take_turns(&self, g: &Grounding, extra: &Rule) -> bool {
-        let rules: Vec<&Rule> = self.undo.iter().chain(std::iter::once(extra)).collect();
+    fn returns_take_turns(&self, g: &Grounding, pending: &[Rule], extra: &Rule) -> bool {
+        let rules: Vec<&Rule> = self.undo.iter().chain(pending).chain(std::iter::once(extra)).collect();
         // `enables(k, j)`: rule k makes true a condition of rule j that j makes false.
         let enables = |k: &Rule, j: &Rule| -> bool {
             let (Some(xk), Some(xj)) = (g.action(k.action), g.action(j.action)) else { return true };
@@ -256,14 +253,14 @@ pub(crate) mod star {
             Rule { when, action: u, distance: u32::MAX, group: 0 }
         };
         // a to x, then x to b: a chain, which ends.
-        assert!(!policy.returns_take_turns(&g, &rule("move(a, x)")));
+        assert!(!policy.returns_take_turns(&g, &[], &rule("move(a, x)")));
         policy.undo.push(rule("move(a, x)"));
-        assert!(!policy.returns_take_turns(&g, &rule("move(x, b)")));
+        assert!(!policy.returns_take_turns(&g, &[], &rule("move(x, b)")));
         policy.undo.push(rule("move(x, b)"));
         // x to a closes the cycle a, x; b to x the cycle x, b.
-        assert!(policy.returns_take_turns(&g, &rule("move(x, a)")));
-        assert!(policy.returns_take_turns(&g, &rule("move(b, x)")));
-        assert!(!policy.returns_take_turns(&g, &rule("move(c, x)")));
+        assert!(policy.returns_take_turns(&g, &[], &rule("move(x, a)")));
+        assert!(policy.returns_take_turns(&g, &[], &rule("move(b, x)")));
+        assert!(!policy.returns_take_turns(&g, &[], &rule("move(c, x)")));
     }
 }
 
